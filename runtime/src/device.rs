@@ -1,0 +1,211 @@
+//! Device areas: what kinds of devices exist, how many of each, and how they
+//! are numbered. The compiler's checker, the interpreter, the native code and
+//! the C API all take their ranges from here.
+
+/// Areas whose elements are single bits (stored one byte per bit, 0 or 1).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[repr(u8)]
+pub enum BitArea {
+    /// Inputs X0–X377 (octal numbering).
+    X,
+    /// Outputs Y0–Y377 (octal numbering).
+    Y,
+    /// Auxiliary relays M0–M8511; M8000 and up are special relays.
+    M,
+    /// States S0–S4095.
+    S,
+    /// Special relays SM0–SM1023.
+    Sm,
+    /// Timer contacts T0–T511 (`T`/`TS`).
+    TimerContact,
+    /// Counter contacts C0–C255 (`C`/`CS`).
+    CounterContact,
+}
+
+/// Areas whose elements are signed 16-bit words.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[repr(u8)]
+pub enum WordArea {
+    /// Data registers D0–D8511; D8000 and up are special registers.
+    D,
+    /// Special registers SD0–SD1023.
+    Sd,
+    /// File registers R0–R32767.
+    R,
+    /// Timer current values T0–T511 (`T`/`TN` in word position).
+    TimerValue,
+    /// 16-bit counter current values C0–C199 (`C`/`CN`).
+    CounterValue,
+}
+
+/// First 32-bit counter; C200–C255 hold 32-bit current values.
+pub const FIRST_WIDE_COUNTER: u32 = 200;
+/// Number of counters, 16-bit and 32-bit together.
+pub const COUNTER_COUNT: u32 = 256;
+/// Number of 32-bit counters (C200–C255).
+pub const WIDE_COUNTER_COUNT: u32 = COUNTER_COUNT - FIRST_WIDE_COUNTER;
+/// Number of timers.
+pub const TIMER_COUNT: u32 = 512;
+/// Number of STL states.
+pub const STATE_COUNT: u32 = 4096;
+/// Number of previous-scan slots available to edge instructions of one program.
+pub const EDGE_SLOT_COUNT: u32 = 16384;
+
+impl BitArea {
+    pub const ALL: [BitArea; 7] = [
+        BitArea::X,
+        BitArea::Y,
+        BitArea::M,
+        BitArea::S,
+        BitArea::Sm,
+        BitArea::TimerContact,
+        BitArea::CounterContact,
+    ];
+
+    /// Number of devices in the area.
+    pub const fn len(self) -> u32 {
+        match self {
+            BitArea::X | BitArea::Y => 256,
+            BitArea::M => 8512,
+            BitArea::S => STATE_COUNT,
+            BitArea::Sm => 1024,
+            BitArea::TimerContact => TIMER_COUNT,
+            BitArea::CounterContact => COUNTER_COUNT,
+        }
+    }
+
+    /// Device numbers of X and Y are written in octal (X17 is followed by X20).
+    pub const fn is_octal(self) -> bool {
+        matches!(self, BitArea::X | BitArea::Y)
+    }
+
+    /// The canonical prefix used when printing a device of this area.
+    pub const fn prefix(self) -> &'static str {
+        match self {
+            BitArea::X => "X",
+            BitArea::Y => "Y",
+            BitArea::M => "M",
+            BitArea::S => "S",
+            BitArea::Sm => "SM",
+            BitArea::TimerContact => "T",
+            BitArea::CounterContact => "C",
+        }
+    }
+
+    /// Formats device `index` the way a programmer writes it (`X17`, `M100`).
+    pub fn device_name(self, index: u32) -> String {
+        if self.is_octal() {
+            format!("{}{:o}", self.prefix(), index)
+        } else {
+            format!("{}{}", self.prefix(), index)
+        }
+    }
+}
+
+impl WordArea {
+    pub const ALL: [WordArea; 5] = [
+        WordArea::D,
+        WordArea::Sd,
+        WordArea::R,
+        WordArea::TimerValue,
+        WordArea::CounterValue,
+    ];
+
+    /// Number of words in the area.
+    pub const fn len(self) -> u32 {
+        match self {
+            WordArea::D => 8512,
+            WordArea::Sd => 1024,
+            WordArea::R => 32768,
+            WordArea::TimerValue => TIMER_COUNT,
+            WordArea::CounterValue => FIRST_WIDE_COUNTER,
+        }
+    }
+
+    pub const fn prefix(self) -> &'static str {
+        match self {
+            WordArea::D => "D",
+            WordArea::Sd => "SD",
+            WordArea::R => "R",
+            WordArea::TimerValue => "T",
+            WordArea::CounterValue => "C",
+        }
+    }
+
+    pub fn device_name(self, index: u32) -> String {
+        format!("{}{}", self.prefix(), index)
+    }
+}
+
+/// Timer behaviour fixed by its number.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TimerClass {
+    /// Milliseconds per count of the current value.
+    pub resolution_ms: u32,
+    /// Retentive timers keep their value while the coil is OFF, until RST.
+    pub retentive: bool,
+}
+
+impl TimerClass {
+    /// T0–T199 100 ms, T200–T245 10 ms, T246–T249 1 ms retentive,
+    /// T250–T255 100 ms retentive, T256–T511 1 ms.
+    pub const fn of(timer: u32) -> TimerClass {
+        let (resolution_ms, retentive) = match timer {
+            0..=199 => (100, false),
+            200..=245 => (10, false),
+            246..=249 => (1, true),
+            250..=255 => (100, true),
+            _ => (1, false),
+        };
+        TimerClass {
+            resolution_ms,
+            retentive,
+        }
+    }
+}
+
+/// Is counter `n` one of the 32-bit up/down counters?
+pub const fn is_wide_counter(counter: u32) -> bool {
+    counter >= FIRST_WIDE_COUNTER
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn octal_names() {
+        assert_eq!(BitArea::X.device_name(0o17), "X17");
+        assert_eq!(BitArea::Y.device_name(255), "Y377");
+        assert_eq!(BitArea::M.device_name(17), "M17");
+    }
+
+    #[test]
+    fn timer_classes_follow_numbering() {
+        assert_eq!(TimerClass::of(0).resolution_ms, 100);
+        assert_eq!(TimerClass::of(199).resolution_ms, 100);
+        assert_eq!(TimerClass::of(200).resolution_ms, 10);
+        assert!(!TimerClass::of(245).retentive);
+        assert_eq!(
+            TimerClass::of(246),
+            TimerClass {
+                resolution_ms: 1,
+                retentive: true
+            }
+        );
+        assert_eq!(
+            TimerClass::of(250),
+            TimerClass {
+                resolution_ms: 100,
+                retentive: true
+            }
+        );
+        assert_eq!(
+            TimerClass::of(256),
+            TimerClass {
+                resolution_ms: 1,
+                retentive: false
+            }
+        );
+    }
+}

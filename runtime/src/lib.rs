@@ -1,0 +1,18 @@
+//! Runtime of ladderc programs: the device image, the scan sequence around the
+//! program, forced I/O, and the timer/counter bookkeeping that the reference
+//! interpreter and compiled code share.
+
+pub mod counter;
+pub mod device;
+pub mod force;
+pub mod host;
+pub mod memory;
+pub mod scan;
+pub mod special;
+pub mod timer;
+
+pub use device::{BitArea, TimerClass, WordArea};
+pub use force::ForceError;
+pub use host::{Device, Width};
+pub use memory::Memory;
+pub use special::OperationError;

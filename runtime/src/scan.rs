@@ -1,0 +1,124 @@
+//! The scan sequence around the program (DIALECT.md, "The scan"):
+//!
+//! 1. input refresh (input image to X, forced X over it);
+//! 2. states left pending by a SET transfer turn OFF; special relays update;
+//! 3. the program runs (compiled code or the interpreter);
+//! 4. forced Y and M are written over the results; Y goes to the output image.
+
+use crate::memory::Memory;
+use crate::special::{
+    M_ALWAYS_OFF, M_ALWAYS_ON, M_FIRST_SCAN, M_NOT_FIRST_SCAN, SM_ALWAYS_OFF, SM_ALWAYS_ON,
+    SM_FIRST_SCAN, SM_NOT_FIRST_SCAN,
+};
+
+impl Memory {
+    /// Steps 1 and 2: everything that happens before the program runs.
+    pub fn begin_scan(&mut self, elapsed_ms: u32) {
+        self.elapsed_ms = elapsed_ms;
+        self.x = self.input_image;
+        if self.forced_count > 0 {
+            self.apply_forced_inputs();
+        }
+        if self.stl_pending_any != 0 {
+            self.turn_off_pending_states();
+        }
+        self.update_system_relays();
+    }
+
+    /// Step 4: everything that happens after the program ran.
+    pub fn end_scan(&mut self) {
+        if self.forced_count > 0 {
+            self.apply_forced_outputs();
+        }
+        self.output_image = self.y;
+        self.scan_count = self.scan_count.saturating_add(1);
+    }
+
+    /// A whole scan around `program`, for engines that run in-process.
+    pub fn scan_with(&mut self, elapsed_ms: u32, program: impl FnOnce(&mut Memory)) {
+        self.begin_scan(elapsed_ms);
+        program(self);
+        self.end_scan();
+    }
+
+    /// A SET transfer inside the block of `source`: the source state turns
+    /// OFF at step 2 of the next scan.
+    pub fn schedule_state_off(&mut self, source: u32) {
+        if let Some(flag) = self.stl_pending_off.get_mut(source as usize) {
+            *flag = 1;
+            self.stl_pending_any = 1;
+        }
+    }
+
+    fn turn_off_pending_states(&mut self) {
+        for (state, pending) in self.s.iter_mut().zip(self.stl_pending_off.iter_mut()) {
+            if *pending != 0 {
+                *state = 0;
+                *pending = 0;
+            }
+        }
+        self.stl_pending_any = 0;
+    }
+
+    fn update_system_relays(&mut self) {
+        let first = self.scan_count == 0;
+        self.sm[SM_ALWAYS_ON as usize] = 1;
+        self.sm[SM_ALWAYS_OFF as usize] = 0;
+        self.sm[SM_FIRST_SCAN as usize] = first as u8;
+        self.sm[SM_NOT_FIRST_SCAN as usize] = (!first) as u8;
+        for (relays, on) in [
+            (&M_ALWAYS_ON[..], true),
+            (&M_ALWAYS_OFF[..], false),
+            (&M_FIRST_SCAN[..], first),
+            (&M_NOT_FIRST_SCAN[..], !first),
+        ] {
+            for &n in relays {
+                self.m[n as usize] = on as u8;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::memory::Memory;
+
+    #[test]
+    fn first_scan_relays() {
+        let mut mem = Memory::new_boxed();
+        mem.begin_scan(10);
+        assert_eq!(
+            (mem.m[8002], mem.m[8003], mem.sm[2], mem.sm[3]),
+            (1, 0, 1, 0)
+        );
+        assert_eq!(
+            (mem.m[8000], mem.m[8001], mem.m[8150], mem.m[8151]),
+            (1, 0, 1, 1)
+        );
+        mem.end_scan();
+        mem.begin_scan(10);
+        assert_eq!(
+            (mem.m[8002], mem.m[8003], mem.m[8150], mem.sm[2]),
+            (0, 1, 0, 0)
+        );
+    }
+
+    #[test]
+    fn inputs_and_outputs_pass_through_images() {
+        let mut mem = Memory::new_boxed();
+        mem.input_image[3] = 1;
+        mem.scan_with(10, |m| m.y[5] = m.x[3]);
+        assert_eq!(mem.output_image[5], 1);
+    }
+
+    #[test]
+    fn pending_state_turns_off_at_next_scan_start() {
+        let mut mem = Memory::new_boxed();
+        mem.s[4] = 1;
+        mem.schedule_state_off(4);
+        assert_eq!(mem.s[4], 1, "stays ON until the next scan");
+        mem.begin_scan(10);
+        assert_eq!(mem.s[4], 0);
+        assert_eq!(mem.stl_pending_any, 0);
+    }
+}

@@ -1,0 +1,1 @@
+//! Scenario files live in `scenarios/`; the tests in `tests/` run them.
