@@ -1,1 +1,16 @@
-//! ladderc
+//! ladderc: a compiler for Mitsubishi-FX/Wecon-style PLC instruction lists.
+//!
+//! The pipeline, one module per stage:
+//! `source` → `syntax` (tokens, statements with spans) → `check`
+//! (`CheckedProgram`) → `interp` (reference interpreter).
+
+pub mod check;
+pub mod cli;
+pub mod diagnostics;
+pub mod host_device;
+pub mod interp;
+pub mod isa;
+pub mod program;
+pub mod scenario;
+pub mod source;
+pub mod syntax;

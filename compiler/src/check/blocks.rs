@@ -1,0 +1,297 @@
+//! Program structure beyond single rungs: STL blocks, master-control
+//! regions, labels and jumps.
+
+use crate::diagnostics::{Code, Diagnostic, Diagnostics};
+use crate::source::Span;
+use std::collections::HashMap;
+
+/// Where an instruction sits: its STL block and its open MC regions.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Context {
+    pub stl_block: Option<usize>,
+    /// Open MC regions, outermost first: (level, region id).
+    pub mc_regions: Vec<(u8, usize)>,
+}
+
+impl Context {
+    /// The MC levels open here, as a bit mask.
+    pub fn mc_mask(&self) -> u8 {
+        self.mc_regions
+            .iter()
+            .fold(0, |mask, &(level, _)| mask | (1 << level))
+    }
+
+    /// May a jump from `self` land in `target`? Leaving a block or region is
+    /// fine; entering one is not.
+    fn may_jump_to(&self, target: &Context) -> bool {
+        let block_ok = target.stl_block.is_none() || target.stl_block == self.stl_block;
+        let regions_ok = self.mc_regions.starts_with(&target.mc_regions);
+        block_ok && regions_ok
+    }
+}
+
+struct OpenBlock {
+    id: usize,
+    state: u32,
+    span: Span,
+}
+
+struct Label {
+    /// Statement order position, to tell forward from backward jumps.
+    position: usize,
+    /// Index into the executable instruction list.
+    target: usize,
+    context: Context,
+    span: Span,
+}
+
+/// A jump waiting for its label to be known.
+pub struct PendingJump {
+    pub label: u32,
+    pub position: usize,
+    /// Index of the Jump instruction to patch.
+    pub instruction: usize,
+    pub context: Context,
+    pub span: Span,
+}
+
+#[derive(Default)]
+pub struct BlockTracker {
+    open_block: Option<OpenBlock>,
+    blocks_started: usize,
+    state_blocks: HashMap<u32, Span>,
+    mc_open: Vec<(u8, usize, Span)>,
+    regions_started: usize,
+    labels: HashMap<u32, Label>,
+    jumps: Vec<PendingJump>,
+}
+
+impl BlockTracker {
+    pub fn context(&self) -> Context {
+        Context {
+            stl_block: self.open_block.as_ref().map(|b| b.id),
+            mc_regions: self
+                .mc_open
+                .iter()
+                .map(|&(level, id, _)| (level, id))
+                .collect(),
+        }
+    }
+
+    /// The state of the open STL block.
+    pub fn current_state(&self) -> Option<u32> {
+        self.open_block.as_ref().map(|b| b.state)
+    }
+
+    /// `STL Sn`: returns the new block's id. `state` is None when the operand
+    /// was already reported as invalid.
+    pub fn stl(&mut self, state: Option<u32>, span: Span, diagnostics: &mut Diagnostics) -> usize {
+        if let Some(open) = &self.open_block {
+            diagnostics.push(
+                Diagnostic::new(Code::NestedStl, span, "STL inside an STL block")
+                    .with_label("state blocks do not nest")
+                    .with_related(
+                        open.span,
+                        format!("the block of S{} is still open", open.state),
+                    )
+                    .with_note("close the open block with STLE first"),
+            );
+        }
+        if !self.mc_open.is_empty() {
+            let &(level, _, mc_span) = self.mc_open.last().expect("not empty");
+            diagnostics.push(
+                Diagnostic::new(Code::NotInStl, span, "STL inside a master-control region")
+                    .with_label("a state block may not start inside MC/MCR")
+                    .with_related(mc_span, format!("MC N{level} opened here")),
+            );
+        }
+        if let Some(state) = state {
+            if let Some(&first) = self.state_blocks.get(&state) {
+                diagnostics.push(
+                    Diagnostic::new(
+                        Code::DuplicateState,
+                        span,
+                        format!("S{state} already has a block"),
+                    )
+                    .with_label("second block of this state")
+                    .with_related(first, "first block here"),
+                );
+            } else {
+                self.state_blocks.insert(state, span);
+            }
+        }
+        let id = self.blocks_started;
+        self.blocks_started += 1;
+        self.open_block = Some(OpenBlock {
+            id,
+            state: state.unwrap_or(u32::MAX),
+            span,
+        });
+        id
+    }
+
+    /// STLE: returns the id of the block it closes.
+    pub fn stle(&mut self, span: Span, diagnostics: &mut Diagnostics) -> Option<usize> {
+        let closed = self.open_block.take().map(|b| b.id);
+        if closed.is_none() {
+            diagnostics.push(
+                Diagnostic::new(Code::StrayStle, span, "STLE without STL")
+                    .with_label("no open state block"),
+            );
+        }
+        closed
+    }
+
+    /// `MC Nk`: returns false when the MC is misplaced (already reported).
+    pub fn mc(&mut self, level: u8, span: Span, diagnostics: &mut Diagnostics) -> bool {
+        if let Some(open) = &self.open_block {
+            diagnostics.push(
+                Diagnostic::new(Code::NotInStl, span, "MC inside an STL block")
+                    .with_label("not allowed between STL and STLE")
+                    .with_related(open.span, "the block starts here"),
+            );
+            return false;
+        }
+        if let Some(&(top, _, top_span)) = self.mc_open.last() {
+            if level <= top {
+                diagnostics.push(
+                    Diagnostic::new(
+                        Code::McPairing,
+                        span,
+                        format!("MC N{level} inside MC N{top}"),
+                    )
+                    .with_label(format!("nested levels must be higher than N{top}"))
+                    .with_related(top_span, format!("MC N{top} opened here")),
+                );
+                return false;
+            }
+        }
+        self.mc_open.push((level, self.regions_started, span));
+        self.regions_started += 1;
+        true
+    }
+
+    /// `MCR Nk`: closes level k and every deeper one.
+    pub fn mcr(&mut self, level: u8, span: Span, diagnostics: &mut Diagnostics) {
+        if let Some(open) = &self.open_block {
+            diagnostics.push(
+                Diagnostic::new(Code::NotInStl, span, "MCR inside an STL block")
+                    .with_label("not allowed between STL and STLE")
+                    .with_related(open.span, "the block starts here"),
+            );
+            return;
+        }
+        match self.mc_open.iter().position(|&(open, _, _)| open == level) {
+            Some(index) => self.mc_open.truncate(index),
+            None => diagnostics.push(
+                Diagnostic::new(
+                    Code::McPairing,
+                    span,
+                    format!("MCR N{level} without MC N{level}"),
+                )
+                .with_label("no open master-control region of this level"),
+            ),
+        }
+    }
+
+    pub fn label(
+        &mut self,
+        number: u32,
+        position: usize,
+        target: usize,
+        span: Span,
+        diagnostics: &mut Diagnostics,
+    ) {
+        if let Some(first) = self.labels.get(&number) {
+            diagnostics.push(
+                Diagnostic::new(
+                    Code::DuplicateLabel,
+                    span,
+                    format!("label P{number} defined twice"),
+                )
+                .with_label("second definition")
+                .with_related(first.span, "first definition"),
+            );
+            return;
+        }
+        self.labels.insert(
+            number,
+            Label {
+                position,
+                target,
+                context: self.context(),
+                span,
+            },
+        );
+    }
+
+    pub fn jump(&mut self, jump: PendingJump) {
+        self.jumps.push(jump);
+    }
+
+    /// END or the end of the source: open blocks and regions are errors.
+    pub fn close(&mut self, diagnostics: &mut Diagnostics) {
+        if let Some(open) = self.open_block.take() {
+            diagnostics.push(
+                Diagnostic::new(
+                    Code::UnclosedStl,
+                    open.span,
+                    format!("STL S{} without STLE", open.state),
+                )
+                .with_label("this block is never closed"),
+            );
+        }
+        for (level, _, span) in self.mc_open.drain(..) {
+            diagnostics.push(
+                Diagnostic::new(
+                    Code::McPairing,
+                    span,
+                    format!("MC N{level} without MCR N{level}"),
+                )
+                .with_label("this region is never closed"),
+            );
+        }
+    }
+
+    /// Resolves every jump: (instruction index, target index) pairs.
+    pub fn resolve_jumps(&mut self, diagnostics: &mut Diagnostics) -> Vec<(usize, usize)> {
+        let mut resolved = Vec::new();
+        for jump in self.jumps.drain(..) {
+            let Some(label) = self.labels.get(&jump.label) else {
+                diagnostics.push(
+                    Diagnostic::new(
+                        Code::MissingLabel,
+                        jump.span,
+                        format!("label P{} does not exist", jump.label),
+                    )
+                    .with_label("jump target missing"),
+                );
+                continue;
+            };
+            if label.position < jump.position {
+                diagnostics.push(
+                    Diagnostic::new(
+                        Code::BackwardJump,
+                        jump.span,
+                        format!("backward jump to P{}", jump.label),
+                    )
+                    .with_label("only forward jumps are accepted")
+                    .with_related(label.span, "the label is before the jump"),
+                );
+            } else if !jump.context.may_jump_to(&label.context) {
+                diagnostics.push(
+                    Diagnostic::new(
+                        Code::JumpIntoBlock,
+                        jump.span,
+                        format!("jump into a block: P{}", jump.label),
+                    )
+                    .with_label("this jump would enter an STL block or MC region")
+                    .with_related(label.span, "the label is inside it"),
+                );
+            } else {
+                resolved.push((jump.instruction, label.target));
+            }
+        }
+        resolved
+    }
+}

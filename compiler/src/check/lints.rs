@@ -1,0 +1,88 @@
+//! Warnings: double coils outside STL blocks, and writes to special relays
+//! that the runtime rewrites every scan.
+
+use crate::diagnostics::{Code, Diagnostic, Diagnostics};
+use crate::program::{BitRef, Op, ResetTarget};
+use crate::source::Span;
+use ladder_runtime::special::{is_system_m, is_system_sm};
+use ladder_runtime::BitArea;
+use std::collections::HashMap;
+
+/// What a coil drives, for spotting the same coil twice.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+enum CoilKey {
+    Bit(BitRef),
+    Timer(u32),
+    Counter(u32),
+}
+
+#[derive(Default)]
+pub struct Lints {
+    first_coil: HashMap<CoilKey, Span>,
+    findings: Vec<Diagnostic>,
+}
+
+impl Lints {
+    /// Looks at one emitted instruction.
+    pub fn observe(&mut self, op: &Op, span: Span, in_stl_block: bool) {
+        let coil = match op {
+            Op::Out(bit) if is_fixed(bit) => Some(CoilKey::Bit(*bit)),
+            Op::OutTimer { timer, .. } => Some(CoilKey::Timer(*timer)),
+            Op::OutCounter { counter, .. } => Some(CoilKey::Counter(*counter)),
+            _ => None,
+        };
+        if let (Some(key), false) = (coil, in_stl_block) {
+            match self.first_coil.get(&key) {
+                Some(&first) => self.findings.push(
+                    Diagnostic::new(Code::DoubleCoil, span, "double coil")
+                        .with_label("this coil is also driven elsewhere")
+                        .with_related(first, "first driven here"),
+                ),
+                None => {
+                    self.first_coil.insert(key, span);
+                }
+            }
+        }
+        let written = match op {
+            Op::Out(bit) | Op::Set { target: bit, .. } | Op::Pulse { target: bit, .. } => Some(bit),
+            Op::Reset {
+                target: ResetTarget::Bit(bit),
+                ..
+            } => Some(bit),
+            Op::MasterControl { relay, .. } => Some(relay),
+            _ => None,
+        };
+        if let Some(BitRef::Device(area, address)) = written {
+            let system = match area {
+                BitArea::M => is_system_m(address.index),
+                BitArea::Sm => is_system_sm(address.index),
+                _ => false,
+            };
+            if system && address.offset.is_none() {
+                self.findings.push(
+                    Diagnostic::new(
+                        Code::SystemRelayWrite,
+                        span,
+                        format!(
+                            "{} is rewritten by the runtime every scan",
+                            area.device_name(address.index)
+                        ),
+                    )
+                    .with_label("this write lasts only until the next scan starts"),
+                );
+            }
+        }
+    }
+
+    pub fn finish(&mut self, diagnostics: &mut Diagnostics) {
+        for finding in self.findings.drain(..) {
+            diagnostics.push(finding);
+        }
+    }
+}
+
+fn is_fixed(bit: &BitRef) -> bool {
+    match bit {
+        BitRef::Device(_, address) | BitRef::WordBit(_, address, _) => address.offset.is_none(),
+    }
+}

@@ -1,0 +1,714 @@
+//! Front end, second stage: `ParsedProgram` to `CheckedProgram`.
+//!
+//! Rejects what a vendor programming tool rejects and reports every
+//! independent error in one run. An instruction whose operands are bad still
+//! takes part in the rung structure, so one typo gives one error.
+
+mod blocks;
+mod lints;
+pub mod operands;
+mod rung;
+
+use crate::diagnostics::{Code, Diagnostic, Diagnostics};
+use crate::isa::{self, Class, InstrSpec, OperandKind, Role, Sense};
+use crate::program::*;
+use crate::source::{SourceFile, Span};
+use crate::syntax::{self, InstructionSyntax, ParsedProgram, Statement, StatementKind};
+use blocks::{BlockTracker, PendingJump};
+use ladder_runtime::device::EDGE_SLOT_COUNT;
+use ladder_runtime::BitArea;
+use operands::{Coil, Resolved};
+use rung::RungTracker;
+use std::collections::HashMap;
+
+/// Parses and checks a source file. The program is returned only when there
+/// are no errors; the diagnostics may hold warnings either way.
+pub fn compile_source(file: &SourceFile) -> (Option<CheckedProgram>, Vec<Diagnostic>) {
+    let (parsed, mut diagnostics) = syntax::parse(file);
+    let (program, check_diagnostics) = check(&parsed, &file.name, file.text.len());
+    diagnostics.extend(check_diagnostics);
+    let program = if diagnostics.has_errors() {
+        None
+    } else {
+        Some(program)
+    };
+    (program, diagnostics.into_sorted())
+}
+
+/// Checks a parsed program. The program is complete only when the
+/// diagnostics hold no errors.
+pub fn check(
+    parsed: &ParsedProgram,
+    name: &str,
+    source_len: usize,
+) -> (CheckedProgram, Diagnostics) {
+    let mut checker = Checker::default();
+    for (position, statement) in parsed.statements.iter().enumerate() {
+        checker.statement(position, statement);
+    }
+    let eof = Span::new(source_len, source_len);
+    checker.rung.close(eof, &mut checker.diagnostics);
+    checker.blocks.close(&mut checker.diagnostics);
+    for (jump, target) in checker.blocks.resolve_jumps(&mut checker.diagnostics) {
+        checker.instructions[jump].op = Op::Jump { target };
+    }
+    checker.lints.finish(&mut checker.diagnostics);
+    let program = CheckedProgram {
+        name: name.to_string(),
+        instructions: checker.instructions,
+        stl_blocks: checker.stl_blocks,
+        edge_slots: checker.next_slot,
+    };
+    (program, checker.diagnostics)
+}
+
+#[derive(Default)]
+struct Checker {
+    diagnostics: Diagnostics,
+    rung: RungTracker,
+    blocks: BlockTracker,
+    lints: lints::Lints,
+    instructions: Vec<Instruction>,
+    stl_blocks: Vec<StlBlock>,
+    /// Block id (from the tracker) to index in `stl_blocks`.
+    emitted_blocks: HashMap<usize, usize>,
+    next_slot: u32,
+    /// END was seen: later statements are checked but not executed.
+    ended: bool,
+    warned_after_end: bool,
+}
+
+/// What the current statement is, for emission.
+struct Site {
+    line: u32,
+    span: Span,
+}
+
+impl Checker {
+    fn report(&mut self, diagnostic: Diagnostic) {
+        self.diagnostics.push(diagnostic);
+    }
+
+    /// Keeps the value of a resolution, reporting its error.
+    fn ok<T>(&mut self, resolved: Resolved<T>) -> Option<T> {
+        resolved.map_err(|d| self.report(d)).ok()
+    }
+
+    fn statement(&mut self, position: usize, statement: &Statement) {
+        if self.ended && !self.warned_after_end {
+            self.warned_after_end = true;
+            self.report(
+                Diagnostic::new(
+                    Code::CodeAfterEnd,
+                    statement.span,
+                    "code after END is never executed",
+                )
+                .with_label("from here on"),
+            );
+        }
+        let site = Site {
+            line: statement.line,
+            span: statement.span,
+        };
+        match &statement.kind {
+            StatementKind::Label { number } => self.label(*number, position, &site),
+            StatementKind::Instruction(syntax) => match isa::lookup(&syntax.mnemonic) {
+                Some(spec) => self.instruction(spec, syntax, position, &site),
+                None => {
+                    self.report(
+                        Diagnostic::new(
+                            Code::UnknownMnemonic,
+                            syntax.mnemonic_span,
+                            format!("unknown instruction `{}`", syntax.mnemonic),
+                        )
+                        .with_label("not an instruction of the dialect"),
+                    );
+                    self.rung.poison(syntax.mnemonic_span);
+                }
+            },
+        }
+    }
+
+    fn label(&mut self, number: u32, position: usize, site: &Site) {
+        self.rung.close(site.span, &mut self.diagnostics);
+        if number > operands::LAST_LABEL {
+            self.report(
+                Diagnostic::new(
+                    Code::DeviceRange,
+                    site.span,
+                    format!("label P{number} is out of range"),
+                )
+                .with_label("labels are P0..P4095"),
+            );
+            return;
+        }
+        let target = self.instructions.len();
+        self.blocks
+            .label(number, position, target, site.span, &mut self.diagnostics);
+        self.emit(Op::Label, site);
+    }
+
+    fn emit(&mut self, op: Op, site: &Site) -> Option<usize> {
+        if self.ended {
+            return None;
+        }
+        let index = self.instructions.len();
+        let in_block = self
+            .blocks
+            .context()
+            .stl_block
+            .and_then(|id| self.emitted_blocks.get(&id).copied());
+        if let Some(block) = in_block {
+            let block = &mut self.stl_blocks[block];
+            match &op {
+                Op::Out(_) | Op::OutTimer { .. } | Op::OutCounter { .. } => {
+                    block.reset_outputs.push(index)
+                }
+                Op::Pulse { slot, .. } => {
+                    block.reset_outputs.push(index);
+                    block.reset_slots.push(*slot);
+                }
+                Op::Data(DataInstruction {
+                    pulse_slot: Some(slot),
+                    ..
+                }) => block.reset_slots.push(*slot),
+                _ => {}
+            }
+        }
+        self.lints.observe(&op, site.span, in_block.is_some());
+        self.instructions.push(Instruction {
+            op,
+            line: site.line,
+            span: site.span,
+        });
+        Some(index)
+    }
+
+    /// A fresh previous-scan slot for an edge instruction.
+    fn slot(&mut self, span: Span) -> u32 {
+        let slot = self.next_slot;
+        if slot == EDGE_SLOT_COUNT {
+            self.report(
+                Diagnostic::new(Code::TooManyEdges, span, "too many edge instructions")
+                    .with_label("slot 16385 needed here"),
+            );
+        }
+        self.next_slot = self.next_slot.saturating_add(1);
+        slot.min(EDGE_SLOT_COUNT - 1)
+    }
+
+    fn instruction(
+        &mut self,
+        spec: &'static InstrSpec,
+        syntax: &InstructionSyntax,
+        position: usize,
+        site: &Site,
+    ) {
+        let count = syntax.operands.len();
+        let counts_ok = (spec.required..=spec.operands.len()).contains(&count);
+        if !counts_ok && !syntax.malformed {
+            let expected = if spec.required == spec.operands.len() {
+                format!("{}", spec.required)
+            } else {
+                format!("{} to {}", spec.required, spec.operands.len())
+            };
+            self.report(
+                Diagnostic::new(
+                    Code::OperandCount,
+                    site.span,
+                    format!(
+                        "{} takes {expected} operand{}, found {count}",
+                        syntax.mnemonic,
+                        if expected == "1" { "" } else { "s" }
+                    ),
+                )
+                .with_label("wrong number of operands"),
+            );
+        }
+        // With bad operands the instruction still shapes the rung.
+        let operands = if counts_ok && !syntax.malformed {
+            Some(syntax.operands.as_slice())
+        } else {
+            None
+        };
+        let span = site.span;
+        match spec.class {
+            Class::Contact(role, sense) => self.contact(role, sense, operands, site),
+            Class::AliasContact(sense) => {
+                let role = if self.rung.at_rung_start() {
+                    Role::Load
+                } else {
+                    Role::And
+                };
+                self.contact(role, sense, operands, site);
+            }
+            Class::AliasConstant(value) => {
+                let role = if self.rung.at_rung_start() {
+                    Role::Load
+                } else {
+                    Role::And
+                };
+                let new_rung = self.structure_contact(role, span);
+                if let Some(&[ref device]) = operands {
+                    self.ok(operands::bit_source(device));
+                }
+                self.emit_contact(role, new_rung, Contact::Constant(value), site);
+            }
+            Class::Compare(role, op) => {
+                let new_rung = self.structure_contact(role, span);
+                let wide = spec.wide;
+                if let Some([left, right]) = operands {
+                    let left = self.ok(operands::word_source(left, wide));
+                    let right = self.ok(operands::word_source(right, wide));
+                    if let (Some(left), Some(right)) = (left, right) {
+                        self.emit_contact(
+                            role,
+                            new_rung,
+                            Contact::Compare {
+                                op,
+                                wide,
+                                left,
+                                right,
+                            },
+                            site,
+                        );
+                    }
+                }
+            }
+            Class::BlockAnd | Class::BlockOr => {
+                self.rung.combine(span, &mut self.diagnostics);
+                self.emit(
+                    if spec.class == Class::BlockAnd {
+                        Op::AndBlock
+                    } else {
+                        Op::OrBlock
+                    },
+                    site,
+                );
+            }
+            Class::Push => {
+                self.rung.push(span, &mut self.diagnostics);
+                self.emit(Op::Push, site);
+            }
+            Class::Read | Class::Pop => {
+                let pop = spec.class == Class::Pop;
+                self.rung.read(span, pop, &mut self.diagnostics);
+                self.emit(if pop { Op::Pop } else { Op::Read }, site);
+            }
+            Class::Invert => {
+                self.rung.series(span, &mut self.diagnostics);
+                self.emit(Op::Invert, site);
+            }
+            Class::ResultEdge(sense) => {
+                self.rung.series(span, &mut self.diagnostics);
+                let slot = self.slot(span);
+                self.emit(
+                    Op::ResultEdge {
+                        falling: sense == Sense::Falling,
+                        slot,
+                    },
+                    site,
+                );
+            }
+            Class::Out => {
+                self.rung.output(span, &mut self.diagnostics);
+                if let Some(operands) = operands {
+                    self.out(operands, site);
+                }
+            }
+            Class::Set => {
+                self.rung.output(span, &mut self.diagnostics);
+                if let Some(operands) = operands {
+                    self.set(operands, site);
+                }
+            }
+            Class::Reset => {
+                self.rung.output(span, &mut self.diagnostics);
+                if let Some(operands) = operands {
+                    self.reset(operands, site);
+                }
+            }
+            Class::Pulse(sense) => {
+                self.rung.output(span, &mut self.diagnostics);
+                if let Some([target]) = operands {
+                    if let Some(target) = self.ok(operands::bit_target(target)) {
+                        let slot = self.slot(span);
+                        self.emit(
+                            Op::Pulse {
+                                target,
+                                sense,
+                                slot,
+                            },
+                            site,
+                        );
+                    }
+                }
+            }
+            Class::StateJump => {
+                self.rung.output(span, &mut self.diagnostics);
+                if let Some([state]) = operands {
+                    if let Some(state) = self.ok(operands::state(state)) {
+                        self.emit(Op::StateJump { state }, site);
+                    }
+                }
+            }
+            Class::MasterControl => {
+                self.rung.output(span, &mut self.diagnostics);
+                if let Some([level, relay]) = operands {
+                    let level = self.ok(operands::nest_level(level));
+                    let relay = self.ok(operands::bit_target(relay));
+                    if let (Some(level), Some(relay)) = (level, relay) {
+                        // The MC takes the rung result under the outer levels
+                        // before its own level opens.
+                        self.emit(Op::MasterControl { level, relay }, site);
+                        self.blocks.mc(level, span, &mut self.diagnostics);
+                    }
+                }
+            }
+            Class::MasterControlReset => {
+                self.rung.close(span, &mut self.diagnostics);
+                if let Some([level]) = operands {
+                    if let Some(level) = self.ok(operands::nest_level(level)) {
+                        self.blocks.mcr(level, span, &mut self.diagnostics);
+                    }
+                }
+            }
+            Class::Jump => {
+                self.rung.output(span, &mut self.diagnostics);
+                if let Some([label]) = operands {
+                    if let Some(label) = self.ok(operands::label(label)) {
+                        let context = self.blocks.context();
+                        if let Some(instruction) = self.emit(Op::Jump { target: usize::MAX }, site)
+                        {
+                            self.blocks.jump(PendingJump {
+                                label,
+                                position,
+                                instruction,
+                                context,
+                                span,
+                            });
+                        }
+                    }
+                }
+            }
+            Class::Stl => {
+                self.rung.close(span, &mut self.diagnostics);
+                let state = operands.and_then(|ops| self.ok(operands::state(&ops[0])));
+                let id = self.blocks.stl(state, span, &mut self.diagnostics);
+                let begin = self.instructions.len();
+                if self
+                    .emit(
+                        Op::StlBegin {
+                            block: self.stl_blocks.len(),
+                        },
+                        site,
+                    )
+                    .is_some()
+                {
+                    self.emitted_blocks.insert(id, self.stl_blocks.len());
+                    self.stl_blocks.push(StlBlock {
+                        state: state.unwrap_or(0),
+                        begin,
+                        end: begin,
+                        reset_outputs: Vec::new(),
+                        reset_slots: Vec::new(),
+                    });
+                }
+            }
+            Class::StlEnd => {
+                self.rung.close(span, &mut self.diagnostics);
+                let end = self.instructions.len();
+                let closed = self
+                    .blocks
+                    .context()
+                    .stl_block
+                    .and_then(|id| self.emitted_blocks.get(&id).copied());
+                if self.blocks.stle(span, &mut self.diagnostics).is_some()
+                    && self.emit(Op::StlEnd, site).is_some()
+                {
+                    if let Some(block) = closed {
+                        self.stl_blocks[block].end = end;
+                    }
+                }
+            }
+            Class::Network | Class::RungEnd => self.rung.close(span, &mut self.diagnostics),
+            Class::End => {
+                self.rung.close(span, &mut self.diagnostics);
+                self.blocks.close(&mut self.diagnostics);
+                self.ended = true;
+            }
+            Class::Data(op) => {
+                self.rung.output(span, &mut self.diagnostics);
+                if let Some(operands) = operands {
+                    self.data(spec, op, operands, site);
+                }
+            }
+        }
+    }
+
+    /// Feeds a contact to the rung tracker; returns true when it starts a rung.
+    fn structure_contact(&mut self, role: Role, span: Span) -> bool {
+        match role {
+            Role::Load => self.rung.load(span, &mut self.diagnostics),
+            Role::And | Role::Or => {
+                self.rung.series(span, &mut self.diagnostics);
+                false
+            }
+        }
+    }
+
+    fn contact(
+        &mut self,
+        role: Role,
+        sense: Sense,
+        operands: Option<&[syntax::Operand]>,
+        site: &Site,
+    ) {
+        let new_rung = self.structure_contact(role, site.span);
+        let Some([device]) = operands else {
+            return;
+        };
+        let Some(bit) = self.ok(operands::bit_source(device)) else {
+            return;
+        };
+        let contact = match sense {
+            Sense::Open | Sense::Closed => Contact::Level {
+                bit,
+                closed: sense == Sense::Closed,
+            },
+            Sense::Rising | Sense::Falling => Contact::Edge {
+                bit,
+                falling: sense == Sense::Falling,
+                slot: self.slot(site.span),
+            },
+        };
+        self.emit_contact(role, new_rung, contact, site);
+    }
+
+    fn emit_contact(&mut self, role: Role, new_rung: bool, contact: Contact, site: &Site) {
+        let op = match role {
+            Role::Load => Op::Load {
+                contact,
+                new_rung,
+                mc_levels: self.blocks.context().mc_mask(),
+            },
+            Role::And => Op::And(contact),
+            Role::Or => Op::Or(contact),
+        };
+        self.emit(op, site);
+    }
+
+    fn out(&mut self, operands: &[syntax::Operand], site: &Site) {
+        let Some(coil) = self.ok(operands::coil(&operands[0])) else {
+            return;
+        };
+        let preset = operands.get(1);
+        let op = match (coil, preset) {
+            (Coil::Bit(target), None) => Op::Out(target),
+            (Coil::Bit(_), Some(extra)) => {
+                self.report(
+                    Diagnostic::new(
+                        Code::OperandCount,
+                        extra.span,
+                        "only timer and counter coils take a preset",
+                    )
+                    .with_label("unexpected operand"),
+                );
+                return;
+            }
+            (Coil::Timer(_) | Coil::Counter(_), None) => {
+                self.report(
+                    Diagnostic::new(
+                        Code::MissingPreset,
+                        site.span,
+                        "timer or counter coil without a preset",
+                    )
+                    .with_label("add the preset, e.g. K10 or D100"),
+                );
+                return;
+            }
+            (Coil::Timer(timer), Some(preset)) => {
+                let Some(preset) = self.ok(operands::preset(preset, false)) else {
+                    return;
+                };
+                Op::OutTimer { timer, preset }
+            }
+            (Coil::Counter(counter), Some(preset)) => {
+                let wide = ladder_runtime::device::is_wide_counter(counter);
+                let Some(preset) = self.ok(operands::preset(preset, wide)) else {
+                    return;
+                };
+                Op::OutCounter { counter, preset }
+            }
+        };
+        self.emit(op, site);
+    }
+
+    fn count(&mut self, operands: &[syntax::Operand], first: u32, area_len: u32) -> Option<u32> {
+        match operands.get(1) {
+            None => Some(1),
+            Some(count) => self.ok(operands::device_count(count, first, area_len)),
+        }
+    }
+
+    fn set(&mut self, operands: &[syntax::Operand], site: &Site) {
+        let Some(target) = self.ok(operands::bit_target(&operands[0])) else {
+            return;
+        };
+        let Some(count) = self.counted_bits(target, operands) else {
+            return;
+        };
+        let transfer_from = match (self.blocks.current_state(), target) {
+            (Some(source), BitRef::Device(BitArea::S, address)) => {
+                let covers_source = address.offset.is_none()
+                    && (address.index..address.index + count).contains(&source);
+                (!covers_source).then_some(source)
+            }
+            _ => None,
+        };
+        self.emit(
+            Op::Set {
+                target,
+                count,
+                transfer_from,
+            },
+            site,
+        );
+    }
+
+    /// The count of a SET/RST on bits; word bits take no count.
+    fn counted_bits(&mut self, target: BitRef, operands: &[syntax::Operand]) -> Option<u32> {
+        match target {
+            BitRef::Device(area, address) => self.count(operands, address.index, area.len()),
+            BitRef::WordBit(..) => match operands.get(1) {
+                None => Some(1),
+                Some(extra) => {
+                    self.report(
+                        Diagnostic::new(
+                            Code::OperandKind,
+                            extra.span,
+                            "a bit of a word takes no device count",
+                        )
+                        .with_label("unexpected count"),
+                    );
+                    None
+                }
+            },
+        }
+    }
+
+    fn reset(&mut self, operands: &[syntax::Operand], site: &Site) {
+        use syntax::{OperandSyntax, Prefix};
+        let first = &operands[0];
+        let target = match &first.syntax {
+            OperandSyntax::Device(d) if d.digits.is_none() && d.bit.is_none() => match d.prefix {
+                Prefix::T | Prefix::Ts | Prefix::C | Prefix::Cs => {
+                    let timer = matches!(d.prefix, Prefix::T | Prefix::Ts);
+                    let Some(coil) = self.ok(operands::coil(first)) else {
+                        return;
+                    };
+                    let (number, area) = match coil {
+                        Coil::Timer(n) | Coil::Counter(n) => (
+                            n,
+                            if timer {
+                                BitArea::TimerContact
+                            } else {
+                                BitArea::CounterContact
+                            },
+                        ),
+                        Coil::Bit(_) => return,
+                    };
+                    let Some(count) = self.count(operands, number, area.len()) else {
+                        return;
+                    };
+                    let target = if timer {
+                        ResetTarget::Timer(number)
+                    } else {
+                        ResetTarget::Counter(number)
+                    };
+                    self.emit(Op::Reset { target, count }, site);
+                    return;
+                }
+                Prefix::D | Prefix::Sd | Prefix::R => {
+                    let Some(WordRef::Word(area, address)) =
+                        self.ok(operands::word_destination(first, false, 1))
+                    else {
+                        return;
+                    };
+                    let Some(count) = self.count(operands, address.index, area.len()) else {
+                        return;
+                    };
+                    self.emit(
+                        Op::Reset {
+                            target: ResetTarget::Word(area, address),
+                            count,
+                        },
+                        site,
+                    );
+                    return;
+                }
+                _ => self.ok(operands::bit_target(first)),
+            },
+            _ => self.ok(operands::bit_target(first)),
+        };
+        let Some(target) = target else { return };
+        let Some(count) = self.counted_bits(target, operands) else {
+            return;
+        };
+        self.emit(
+            Op::Reset {
+                target: ResetTarget::Bit(target),
+                count,
+            },
+            site,
+        );
+    }
+
+    fn data(
+        &mut self,
+        spec: &InstrSpec,
+        op: isa::DataOp,
+        operands: &[syntax::Operand],
+        site: &Site,
+    ) {
+        let wide = spec.wide;
+        let resolved: Vec<Option<DataOperand>> = spec
+            .operands
+            .iter()
+            .zip(operands)
+            .map(|(kind, operand)| {
+                let result = match kind {
+                    OperandKind::Source => {
+                        operands::word_source(operand, wide).map(DataOperand::Word)
+                    }
+                    OperandKind::Destination => {
+                        operands::word_destination(operand, wide, 1).map(DataOperand::Word)
+                    }
+                    OperandKind::WideDestination => {
+                        operands::word_destination(operand, wide, 2).map(DataOperand::Word)
+                    }
+                    OperandKind::BitTriple => operands::bit_triple(operand).map(DataOperand::Bits),
+                    OperandKind::WordCount => operands::word_count(operand).map(DataOperand::Word),
+                    other => unreachable!("data instructions do not take {other:?}"),
+                };
+                self.ok(result)
+            })
+            .collect();
+        let Some(operands) = resolved.into_iter().collect::<Option<Vec<_>>>() else {
+            return;
+        };
+        let pulse_slot = spec.pulse.then(|| self.slot(site.span));
+        self.emit(
+            Op::Data(DataInstruction {
+                op,
+                wide,
+                operands,
+                pulse_slot,
+            }),
+            site,
+        );
+    }
+}
+
+#[cfg(test)]
+mod tests;

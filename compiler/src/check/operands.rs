@@ -1,0 +1,754 @@
+//! Operand resolution: operand syntax, checked against what its position
+//! accepts, to the devices of the runtime's areas.
+
+use crate::diagnostics::{Code, Diagnostic};
+use crate::program::{Address, BitRef, WordRef};
+use crate::syntax::{Constant, DeviceSyntax, Operand, OperandSyntax, Prefix};
+use ladder_runtime::device::{FIRST_WIDE_COUNTER, TIMER_COUNT};
+use ladder_runtime::{BitArea, WordArea};
+
+pub type Resolved<T> = Result<T, Diagnostic>;
+
+/// Largest jump label number.
+pub const LAST_LABEL: u32 = 4095;
+/// Master-control levels N0..N7.
+pub const MC_LEVELS: u32 = 8;
+
+/// An OUT coil: a bit, or a timer/counter that needs a preset.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Coil {
+    Bit(BitRef),
+    Timer(u32),
+    Counter(u32),
+}
+
+fn kind_error(operand: &Operand, message: impl Into<String>, label: &str) -> Diagnostic {
+    Diagnostic::new(Code::OperandKind, operand.span, message).with_label(label)
+}
+
+fn range_error(
+    operand: &Operand,
+    message: impl Into<String>,
+    label: impl Into<String>,
+) -> Diagnostic {
+    Diagnostic::new(Code::DeviceRange, operand.span, message).with_label(label)
+}
+
+fn device(operand: &Operand) -> Option<&DeviceSyntax> {
+    match &operand.syntax {
+        OperandSyntax::Device(d) => Some(d),
+        OperandSyntax::Constant(_) => None,
+    }
+}
+
+fn text_of(d: &DeviceSyntax) -> String {
+    let number = if d.prefix.is_octal() {
+        format!("{:o}", d.number)
+    } else {
+        d.number.to_string()
+    };
+    format!("{}{}", d.prefix.as_str(), number)
+}
+
+fn bit_area(prefix: Prefix) -> Option<BitArea> {
+    Some(match prefix {
+        Prefix::X => BitArea::X,
+        Prefix::Y => BitArea::Y,
+        Prefix::M => BitArea::M,
+        Prefix::S => BitArea::S,
+        Prefix::Sm => BitArea::Sm,
+        Prefix::T | Prefix::Ts => BitArea::TimerContact,
+        Prefix::C | Prefix::Cs => BitArea::CounterContact,
+        _ => return None,
+    })
+}
+
+/// Checks that `count` units from `index` lie in an area of `len` units.
+fn check_extent(
+    operand: &Operand,
+    name: &str,
+    index: u32,
+    count: u32,
+    len: u32,
+    area_text: &str,
+) -> Resolved<()> {
+    if index >= len {
+        return Err(range_error(
+            operand,
+            format!("device `{name}` is out of range"),
+            format!("{area_text}"),
+        ));
+    }
+    if u64::from(index) + u64::from(count) > u64::from(len) {
+        return Err(range_error(
+            operand,
+            format!(
+                "`{name}` needs {count} consecutive devices, which run past the end of the area"
+            ),
+            area_text.to_string(),
+        ));
+    }
+    Ok(())
+}
+
+fn area_text_bits(area: BitArea) -> String {
+    format!(
+        "{} is {}..{}",
+        area.prefix(),
+        area.device_name(0),
+        area.device_name(area.len() - 1)
+    )
+}
+
+fn area_text_words(area: WordArea) -> String {
+    format!(
+        "{} is {}..{}",
+        area.prefix(),
+        area.device_name(0),
+        area.device_name(area.len() - 1)
+    )
+}
+
+/// The offset register must be a D in range.
+fn offset(d: &DeviceSyntax) -> Resolved<Option<u32>> {
+    match d.offset {
+        None => Ok(None),
+        Some(o) if o.register < WordArea::D.len() => Ok(Some(o.register)),
+        Some(o) => Err(Diagnostic::new(
+            Code::DeviceRange,
+            o.span,
+            format!("offset register D{} is out of range", o.register),
+        )
+        .with_label(area_text_words(WordArea::D))
+        .with_note(format!("in operand `{}`", text_of(d)))),
+    }
+}
+
+/// A bit a contact reads: X Y M S SM T C, or Dn.b.
+pub fn bit_source(operand: &Operand) -> Resolved<BitRef> {
+    let Some(d) = device(operand) else {
+        return Err(kind_error(
+            operand,
+            "this operand is a bit device, not a constant",
+            "constant here",
+        ));
+    };
+    if d.digits.is_some() {
+        return Err(kind_error(
+            operand,
+            "a digit group is a word; this operand is one bit",
+            "digit group here",
+        ));
+    }
+    let address = Address {
+        index: d.number,
+        offset: offset(d)?,
+    };
+    if let Some(bit) = d.bit {
+        check_extent(
+            operand,
+            &text_of(d),
+            d.number,
+            1,
+            WordArea::D.len(),
+            &area_text_words(WordArea::D),
+        )?;
+        return Ok(BitRef::WordBit(WordArea::D, address, bit));
+    }
+    match d.prefix {
+        Prefix::Tn | Prefix::Cn => Err(kind_error(
+            operand,
+            format!(
+                "`{}` is a current value; the contact is {}S{}",
+                text_of(d),
+                &d.prefix.as_str()[..1],
+                d.number
+            ),
+            "word, not bit",
+        )),
+        Prefix::D | Prefix::Sd | Prefix::R => Err(kind_error(
+            operand,
+            format!(
+                "`{}` is a word; this operand is one bit, such as {}.0",
+                text_of(d),
+                text_of(d)
+            ),
+            "word, not bit",
+        )),
+        Prefix::P | Prefix::N => Err(kind_error(
+            operand,
+            format!("`{}` is not a device", text_of(d)),
+            "not a bit device",
+        )),
+        prefix => {
+            let area = bit_area(prefix).expect("remaining prefixes are bit areas");
+            check_extent(
+                operand,
+                &text_of(d),
+                d.number,
+                1,
+                area.len(),
+                &area_text_bits(area),
+            )?;
+            Ok(BitRef::Device(area, address))
+        }
+    }
+}
+
+/// A bit SET, RST, PLS, PLF or MC writes: not X (an input), not T/C.
+pub fn bit_target(operand: &Operand) -> Resolved<BitRef> {
+    let bit = bit_source(operand)?;
+    match bit {
+        BitRef::Device(BitArea::X, _) => Err(kind_error(
+            operand,
+            "X is an input; the program cannot write it",
+            "input",
+        )),
+        BitRef::Device(BitArea::TimerContact | BitArea::CounterContact, _) => Err(kind_error(
+            operand,
+            "timer and counter contacts are driven by their coils (OUT Tn/Cn with a preset)",
+            "timer/counter contact",
+        )),
+        _ => Ok(bit),
+    }
+}
+
+/// The coil of OUT.
+pub fn coil(operand: &Operand) -> Resolved<Coil> {
+    if let Some(d) = device(operand) {
+        let counter_or_timer = matches!(d.prefix, Prefix::T | Prefix::Ts | Prefix::C | Prefix::Cs);
+        if counter_or_timer && d.digits.is_none() && d.bit.is_none() {
+            if d.offset.is_some() {
+                return Err(kind_error(
+                    operand,
+                    "a timer or counter coil cannot be offset",
+                    "offset coil",
+                ));
+            }
+            let is_timer = matches!(d.prefix, Prefix::T | Prefix::Ts);
+            let area = if is_timer {
+                BitArea::TimerContact
+            } else {
+                BitArea::CounterContact
+            };
+            check_extent(
+                operand,
+                &text_of(d),
+                d.number,
+                1,
+                area.len(),
+                &area_text_bits(area),
+            )?;
+            return Ok(if is_timer {
+                Coil::Timer(d.number)
+            } else {
+                Coil::Counter(d.number)
+            });
+        }
+    }
+    bit_target(operand).map(Coil::Bit)
+}
+
+/// The preset of `OUT Tn`/`OUT Cn`: a K constant or a D register (a pair for
+/// the 32-bit counters).
+pub fn preset(operand: &Operand, wide: bool) -> Resolved<WordRef> {
+    match &operand.syntax {
+        OperandSyntax::Constant(c) => {
+            let value = constant(operand, c, wide)?;
+            if !wide && value < 0 {
+                return Err(Diagnostic::new(
+                    Code::ConstantRange,
+                    operand.span,
+                    "a preset cannot be negative",
+                )
+                .with_label("presets are K0..K32767"));
+            }
+            Ok(WordRef::Constant(value))
+        }
+        OperandSyntax::Device(d)
+            if d.prefix == Prefix::D
+                && d.digits.is_none()
+                && d.bit.is_none()
+                && d.offset.is_none() =>
+        {
+            check_extent(
+                operand,
+                &text_of(d),
+                d.number,
+                if wide { 2 } else { 1 },
+                WordArea::D.len(),
+                &area_text_words(WordArea::D),
+            )?;
+            Ok(WordRef::Word(WordArea::D, Address::fixed(d.number)))
+        }
+        OperandSyntax::Device(_) => Err(kind_error(
+            operand,
+            "a preset is a K constant or a D register (without offset)",
+            "not K or D",
+        )),
+    }
+}
+
+/// A constant at the instruction's width: K must fit signed, H unsigned.
+pub fn constant(operand: &Operand, c: &Constant, wide: bool) -> Resolved<i32> {
+    let fits = match (wide, c.hex) {
+        (false, false) => (-32768..=32767).contains(&c.value),
+        (false, true) => (0..=0xFFFF).contains(&c.value),
+        (true, false) => (i64::from(i32::MIN)..=i64::from(i32::MAX)).contains(&c.value),
+        (true, true) => (0..=0xFFFF_FFFF).contains(&c.value),
+    };
+    if !fits {
+        let range = if wide {
+            "K-2147483648..K2147483647 or H0..HFFFFFFFF"
+        } else {
+            "K-32768..K32767 or H0..HFFFF"
+        };
+        return Err(Diagnostic::new(
+            Code::ConstantRange,
+            operand.span,
+            "constant out of range for this instruction",
+        )
+        .with_label(format!(
+            "{}-bit operands take {range}",
+            if wide { 32 } else { 16 }
+        )));
+    }
+    Ok(if wide {
+        c.value as u32 as i32
+    } else {
+        i32::from(c.value as u16 as i16)
+    })
+}
+
+/// `K1`.. — how many consecutive devices SET/RST act on, from `first`.
+pub fn device_count(operand: &Operand, first: u32, area_len: u32) -> Resolved<u32> {
+    let OperandSyntax::Constant(c) = &operand.syntax else {
+        return Err(kind_error(
+            operand,
+            "the device count is a K constant",
+            "not a constant",
+        ));
+    };
+    if c.value < 1 || c.value > i64::from(area_len) {
+        return Err(Diagnostic::new(
+            Code::ConstantRange,
+            operand.span,
+            "device count out of range",
+        )
+        .with_label(format!("count is K1..K{area_len}")));
+    }
+    let count = c.value as u32;
+    if u64::from(first) + u64::from(count) > u64::from(area_len) {
+        return Err(range_error(
+            operand,
+            format!("{count} devices from number {first} run past the end of the area"),
+            "count too large",
+        ));
+    }
+    Ok(count)
+}
+
+/// A state Sn (no offset).
+pub fn state(operand: &Operand) -> Resolved<u32> {
+    match device(operand) {
+        Some(d)
+            if d.prefix == Prefix::S
+                && d.digits.is_none()
+                && d.bit.is_none()
+                && d.offset.is_none() =>
+        {
+            check_extent(
+                operand,
+                &text_of(d),
+                d.number,
+                1,
+                BitArea::S.len(),
+                &area_text_bits(BitArea::S),
+            )?;
+            Ok(d.number)
+        }
+        _ => Err(kind_error(
+            operand,
+            "expected a state such as S10",
+            "not a state",
+        )),
+    }
+}
+
+/// `N0`..`N7`.
+pub fn nest_level(operand: &Operand) -> Resolved<u8> {
+    match device(operand) {
+        Some(d)
+            if d.prefix == Prefix::N
+                && d.digits.is_none()
+                && d.bit.is_none()
+                && d.offset.is_none() =>
+        {
+            if d.number >= MC_LEVELS {
+                return Err(range_error(
+                    operand,
+                    format!("nesting level N{} is out of range", d.number),
+                    "levels are N0..N7",
+                ));
+            }
+            Ok(d.number as u8)
+        }
+        _ => Err(kind_error(
+            operand,
+            "expected a nesting level N0..N7",
+            "not a nesting level",
+        )),
+    }
+}
+
+/// `P0`..`P4095`.
+pub fn label(operand: &Operand) -> Resolved<u32> {
+    match device(operand) {
+        Some(d)
+            if d.prefix == Prefix::P
+                && d.digits.is_none()
+                && d.bit.is_none()
+                && d.offset.is_none() =>
+        {
+            if d.number > LAST_LABEL {
+                return Err(range_error(
+                    operand,
+                    format!("label P{} is out of range", d.number),
+                    "labels are P0..P4095",
+                ));
+            }
+            Ok(d.number)
+        }
+        _ => Err(kind_error(
+            operand,
+            "expected a label such as P0",
+            "not a label",
+        )),
+    }
+}
+
+/// A word the instruction reads, `units` words wide at 16 bits (doubled at 32).
+pub fn word_source(operand: &Operand, wide: bool) -> Resolved<WordRef> {
+    match &operand.syntax {
+        OperandSyntax::Constant(c) => Ok(WordRef::Constant(constant(operand, c, wide)?)),
+        OperandSyntax::Device(_) => word_device(operand, wide, 1),
+    }
+}
+
+/// A word the instruction writes; `multiple` = 2 for MUL/DIV results.
+pub fn word_destination(operand: &Operand, wide: bool, multiple: u32) -> Resolved<WordRef> {
+    if let OperandSyntax::Constant(_) = operand.syntax {
+        return Err(kind_error(
+            operand,
+            "a constant cannot be a destination",
+            "constant as destination",
+        ));
+    }
+    let word = word_device(operand, wide, multiple)?;
+    if let WordRef::Digits(BitArea::X, ..) = word {
+        return Err(kind_error(
+            operand,
+            "X is an input; the program cannot write it",
+            "input",
+        ));
+    }
+    if multiple > 1
+        && !matches!(
+            word,
+            WordRef::Word(WordArea::D | WordArea::R | WordArea::Sd, _) | WordRef::Digits(..)
+        )
+    {
+        return Err(kind_error(
+            operand,
+            "this result is several words long; use D, R, SD or a digit group",
+            "not a register",
+        ));
+    }
+    Ok(word)
+}
+
+fn word_device(operand: &Operand, wide: bool, multiple: u32) -> Resolved<WordRef> {
+    let d = device(operand).expect("constants handled by callers");
+    let address = Address {
+        index: d.number,
+        offset: offset(d)?,
+    };
+    let name = text_of(d);
+    let words = if wide { 2 * multiple } else { multiple };
+    if let Some(n) = d.digits {
+        let limit = if wide { 8 } else { 4 };
+        if u32::from(n) > limit {
+            return Err(kind_error(
+                operand,
+                format!(
+                    "K{n}{name} has {} bits; this instruction takes {} bits",
+                    4 * u32::from(n),
+                    16 * words
+                ),
+                "too many digits",
+            ));
+        }
+        let area = bit_area(d.prefix).expect("digit groups are X/Y/M/S");
+        check_extent(
+            operand,
+            &format!("K{n}{name}"),
+            d.number,
+            4 * u32::from(n),
+            area.len(),
+            &area_text_bits(area),
+        )?;
+        return Ok(WordRef::Digits(area, address, n));
+    }
+    if d.bit.is_some() {
+        return Err(kind_error(
+            operand,
+            format!(
+                "`{name}.{:X}` is a bit; this operand is a word",
+                d.bit.unwrap_or(0)
+            ),
+            "bit, not word",
+        ));
+    }
+    let area = match d.prefix {
+        Prefix::D => WordArea::D,
+        Prefix::Sd => WordArea::Sd,
+        Prefix::R => WordArea::R,
+        Prefix::T | Prefix::Tn if wide => {
+            return Err(kind_error(
+                operand,
+                "timer values are 16-bit; 32-bit instructions cannot use them",
+                "16-bit device",
+            ));
+        }
+        Prefix::T | Prefix::Tn => {
+            check_extent(
+                operand,
+                &name,
+                d.number,
+                multiple,
+                TIMER_COUNT,
+                &area_text_words(WordArea::TimerValue),
+            )?;
+            return Ok(WordRef::Word(WordArea::TimerValue, address));
+        }
+        Prefix::C | Prefix::Cn => {
+            return counter_value(operand, &name, d.number, address, wide, multiple)
+        }
+        _ => {
+            return Err(kind_error(operand, format!("`{name}` is a bit device; this operand is a word (use a digit group such as K4{name})"), "bit, not word"));
+        }
+    };
+    check_extent(
+        operand,
+        &name,
+        d.number,
+        words,
+        area.len(),
+        &area_text_words(area),
+    )?;
+    Ok(WordRef::Word(area, address))
+}
+
+fn counter_value(
+    operand: &Operand,
+    name: &str,
+    number: u32,
+    address: Address,
+    wide: bool,
+    multiple: u32,
+) -> Resolved<WordRef> {
+    if multiple > 1 {
+        return Err(kind_error(
+            operand,
+            "this result is several words long; use D, R, SD or a digit group",
+            "counter",
+        ));
+    }
+    match (wide, number >= FIRST_WIDE_COUNTER) {
+        (false, false) => {
+            check_extent(
+                operand,
+                name,
+                number,
+                1,
+                FIRST_WIDE_COUNTER,
+                "16-bit counters are C0..C199",
+            )?;
+            Ok(WordRef::Word(WordArea::CounterValue, address))
+        }
+        (true, true) => {
+            check_extent(
+                operand,
+                name,
+                number,
+                1,
+                ladder_runtime::device::COUNTER_COUNT,
+                "32-bit counters are C200..C255",
+            )?;
+            Ok(WordRef::WideCounter(address))
+        }
+        (false, true) => Err(kind_error(
+            operand,
+            format!("`{name}` is a 32-bit counter; use the D (32-bit) form of the instruction"),
+            "32-bit counter",
+        )),
+        (true, false) => Err(kind_error(
+            operand,
+            format!("`{name}` is a 16-bit counter; 32-bit instructions take C200..C255"),
+            "16-bit counter",
+        )),
+    }
+}
+
+/// The first of three result bits (CMP, ZCP): Y, M or S.
+pub fn bit_triple(operand: &Operand) -> Resolved<BitRef> {
+    let bit = bit_target(operand)?;
+    match bit {
+        BitRef::Device(area @ (BitArea::Y | BitArea::M | BitArea::S), address) => {
+            let d = device(operand).expect("bit_target accepted a device");
+            check_extent(
+                operand,
+                &text_of(d),
+                address.index,
+                3,
+                area.len(),
+                &area_text_bits(area),
+            )?;
+            Ok(bit)
+        }
+        _ => Err(kind_error(
+            operand,
+            "the result is three consecutive bits of Y, M or S",
+            "not Y, M or S",
+        )),
+    }
+}
+
+/// A count of words (BMOV/FMOV n): K1.. or a 16-bit source.
+pub fn word_count(operand: &Operand) -> Resolved<WordRef> {
+    let count = word_source(operand, false)?;
+    if let WordRef::Constant(n) = count {
+        if n < 1 {
+            return Err(Diagnostic::new(
+                Code::ConstantRange,
+                operand.span,
+                "the word count must be at least 1",
+            )
+            .with_label("count is K1..K32767"));
+        }
+    }
+    Ok(count)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::syntax::operand::parse_operand;
+
+    fn op(text: &str) -> Operand {
+        parse_operand(text, 0).unwrap()
+    }
+
+    #[test]
+    fn contacts_take_bits() {
+        assert_eq!(
+            bit_source(&op("X10")),
+            Ok(BitRef::Device(BitArea::X, Address::fixed(8)))
+        );
+        assert_eq!(
+            bit_source(&op("TS3")),
+            Ok(BitRef::Device(BitArea::TimerContact, Address::fixed(3)))
+        );
+        assert_eq!(
+            bit_source(&op("D0.F")),
+            Ok(BitRef::WordBit(WordArea::D, Address::fixed(0), 15))
+        );
+        assert_eq!(bit_source(&op("D0")).unwrap_err().code, Code::OperandKind);
+        assert_eq!(bit_source(&op("TN3")).unwrap_err().code, Code::OperandKind);
+        assert_eq!(bit_source(&op("K1")).unwrap_err().code, Code::OperandKind);
+        assert_eq!(
+            bit_source(&op("M8512")).unwrap_err().code,
+            Code::DeviceRange
+        );
+        assert_eq!(
+            bit_source(&op("M0[D8512]")).unwrap_err().code,
+            Code::DeviceRange
+        );
+    }
+
+    #[test]
+    fn outputs_refuse_inputs_and_words() {
+        assert_eq!(bit_target(&op("X0")).unwrap_err().code, Code::OperandKind);
+        assert_eq!(bit_target(&op("D0")).unwrap_err().code, Code::OperandKind);
+        assert_eq!(coil(&op("T5")), Ok(Coil::Timer(5)));
+        assert_eq!(coil(&op("C200")), Ok(Coil::Counter(200)));
+        assert_eq!(coil(&op("T512")).unwrap_err().code, Code::DeviceRange);
+    }
+
+    #[test]
+    fn word_widths() {
+        assert_eq!(word_source(&op("K-1"), false), Ok(WordRef::Constant(-1)));
+        assert_eq!(word_source(&op("HFFFF"), false), Ok(WordRef::Constant(-1)));
+        assert_eq!(
+            word_source(&op("K40000"), false).unwrap_err().code,
+            Code::ConstantRange
+        );
+        assert_eq!(
+            word_source(&op("K40000"), true),
+            Ok(WordRef::Constant(40000))
+        );
+        assert_eq!(
+            word_source(&op("HFFFFFFFF"), true),
+            Ok(WordRef::Constant(-1))
+        );
+        assert_eq!(
+            word_source(&op("D8511"), true).unwrap_err().code,
+            Code::DeviceRange
+        );
+        assert_eq!(
+            word_source(&op("K8M0"), false).unwrap_err().code,
+            Code::OperandKind
+        );
+        assert_eq!(
+            word_source(&op("C200"), false).unwrap_err().code,
+            Code::OperandKind
+        );
+        assert_eq!(
+            word_source(&op("C200"), true),
+            Ok(WordRef::WideCounter(Address::fixed(200)))
+        );
+        assert_eq!(
+            word_source(&op("T0"), true).unwrap_err().code,
+            Code::OperandKind
+        );
+        assert_eq!(
+            word_destination(&op("K1"), false, 1).unwrap_err().code,
+            Code::OperandKind
+        );
+        assert_eq!(
+            word_destination(&op("K4X0"), false, 1).unwrap_err().code,
+            Code::OperandKind
+        );
+        assert_eq!(
+            word_destination(&op("D8510"), true, 2).unwrap_err().code,
+            Code::DeviceRange
+        );
+    }
+
+    #[test]
+    fn counts_labels_levels() {
+        assert_eq!(device_count(&op("K3"), 0, 10), Ok(3));
+        assert_eq!(
+            device_count(&op("K0"), 0, 10).unwrap_err().code,
+            Code::ConstantRange
+        );
+        assert_eq!(
+            device_count(&op("K3"), 8, 10).unwrap_err().code,
+            Code::DeviceRange
+        );
+        assert_eq!(label(&op("P4095")), Ok(4095));
+        assert_eq!(label(&op("P4096")).unwrap_err().code, Code::DeviceRange);
+        assert_eq!(nest_level(&op("N8")).unwrap_err().code, Code::DeviceRange);
+        assert_eq!(state(&op("M0")).unwrap_err().code, Code::OperandKind);
+    }
+}

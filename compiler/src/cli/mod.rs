@@ -1,0 +1,104 @@
+//! The `ladderc` command line. Every command returns its exit status; nothing
+//! here exits the process.
+
+mod check;
+mod explain;
+mod run;
+mod test;
+
+use crate::scenario::EngineKind;
+use clap::{Parser, Subcommand, ValueEnum};
+use std::path::PathBuf;
+
+/// Exit statuses shared by the commands.
+pub mod status {
+    pub const OK: u8 = 0;
+    /// The program has errors, or a test failed.
+    pub const FAILED: u8 = 1;
+    /// A file could not be read or parsed, or the arguments are wrong.
+    pub const UNUSABLE: u8 = 2;
+}
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "ladderc",
+    version,
+    about = "Compiler for Mitsubishi-FX/Wecon-style PLC instruction lists"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Check a program and print its diagnostics.
+    Check {
+        /// The instruction-list program.
+        program: PathBuf,
+    },
+    /// Run a program for some scans and print watched devices after each.
+    Run(run::RunArgs),
+    /// Run scenario files (folders are searched for *.scn).
+    Test {
+        #[arg(required = true)]
+        paths: Vec<PathBuf>,
+        /// Engines to run each scenario on.
+        #[arg(long, value_enum, default_value_t = EngineChoice::All)]
+        engine: EngineChoice,
+    },
+    /// Explain a diagnostic code such as E0010.
+    Explain { code: String },
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum EngineChoice {
+    Interp,
+    Jit,
+    Aot,
+    All,
+}
+
+impl EngineChoice {
+    pub fn kinds(self) -> Vec<EngineKind> {
+        match self {
+            EngineChoice::Interp => vec![EngineKind::Interp],
+            EngineChoice::Jit => vec![EngineKind::Jit],
+            EngineChoice::Aot => vec![EngineKind::Aot],
+            EngineChoice::All => EngineKind::ALL.to_vec(),
+        }
+    }
+}
+
+/// Runs the command line `args` (including the program name).
+pub fn main_with_args(args: impl IntoIterator<Item = std::ffi::OsString>) -> u8 {
+    let cli = match Cli::try_parse_from(args) {
+        Ok(cli) => cli,
+        Err(error) => {
+            let _ = error.print();
+            return if error.use_stderr() {
+                status::UNUSABLE
+            } else {
+                status::OK
+            };
+        }
+    };
+    match cli.command {
+        Command::Check { program } => check::run(&program),
+        Command::Run(args) => run::run(&args),
+        Command::Test { paths, engine } => test::run(&paths, &engine.kinds()),
+        Command::Explain { code } => explain::run(&code),
+    }
+}
+
+/// Reads and compiles a program file, printing diagnostics to stderr.
+/// `Err` holds the exit status to return.
+fn compile_file(path: &std::path::Path) -> Result<crate::program::CheckedProgram, u8> {
+    let source = crate::source::SourceFile::read(path).map_err(|e| {
+        eprintln!("error: cannot read {}: {e}", path.display());
+        status::UNUSABLE
+    })?;
+    let (program, diagnostics) = crate::check::compile_source(&source);
+    eprint!("{}", crate::diagnostics::render_all(&source, &diagnostics));
+    program.ok_or(status::FAILED)
+}

@@ -1,0 +1,98 @@
+//! `ladderc test`: scenario files, as SCENARIO.md describes.
+
+use super::status;
+use crate::scenario::{collect_files, parse_scenario, run_scenario, EngineKind};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+pub fn run(paths: &[PathBuf], engines: &[EngineKind]) -> u8 {
+    let mut unusable = false;
+    let mut files = Vec::new();
+    for path in paths {
+        match collect_files(path) {
+            Ok(found) => files.extend(found),
+            Err(error) => {
+                eprintln!("error: cannot read {}: {error}", path.display());
+                unusable = true;
+            }
+        }
+    }
+    let (mut passed, mut failed) = (0usize, 0usize);
+    let mut ran: BTreeMap<EngineKind, usize> = BTreeMap::new();
+    let mut skipped: BTreeMap<EngineKind, String> = BTreeMap::new();
+    for file in &files {
+        let Some((scenario, source)) = load(file) else {
+            unusable = true;
+            continue;
+        };
+        let outcome = run_scenario(&scenario, &source, engines);
+        for failure in &outcome.failures {
+            println!("{failure}");
+        }
+        if !outcome.details.is_empty() {
+            print!("{}", outcome.details);
+        }
+        for kind in &outcome.ran {
+            *ran.entry(*kind).or_default() += 1;
+        }
+        for (kind, reason) in outcome.skipped {
+            skipped.entry(kind).or_insert(reason);
+        }
+        if outcome.failures.is_empty() {
+            passed += 1;
+        } else {
+            failed += 1;
+        }
+    }
+    let ran_names: Vec<&str> = ran.keys().map(|k| k.name()).collect();
+    println!(
+        "engines: {}",
+        if ran_names.is_empty() {
+            "none".to_string()
+        } else {
+            ran_names.join(", ")
+        }
+    );
+    for (kind, reason) in &skipped {
+        println!("skipped {}: {reason}", kind.name());
+    }
+    println!("{passed} passed, {failed} failed");
+    if unusable {
+        status::UNUSABLE
+    } else if failed > 0 {
+        status::FAILED
+    } else {
+        status::OK
+    }
+}
+
+/// Reads and parses a scenario and its program; reports and returns None
+/// when either cannot be read or parsed.
+fn load(file: &Path) -> Option<(crate::scenario::Scenario, crate::source::SourceFile)> {
+    let text = match std::fs::read_to_string(file) {
+        Ok(text) => text,
+        Err(error) => {
+            eprintln!("error: cannot read {}: {error}", file.display());
+            return None;
+        }
+    };
+    let scenario = match parse_scenario(file, &text) {
+        Ok(scenario) => scenario,
+        Err(error) => {
+            eprintln!(
+                "{}:{}: error: {}",
+                file.display(),
+                error.line,
+                error.message
+            );
+            return None;
+        }
+    };
+    match crate::scenario::load_program(&scenario) {
+        Ok(source) => Some((scenario, source)),
+        Err(message) => {
+            eprintln!("{}: error: {message}", file.display());
+            None
+        }
+    }
+}

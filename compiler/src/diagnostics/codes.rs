@@ -1,0 +1,224 @@
+//! Stable diagnostic codes. A code, once published, keeps its meaning; new
+//! kinds get new codes. `ladderc explain CODE` prints the explanation.
+
+use super::Severity;
+
+macro_rules! codes {
+    ($( $variant:ident = $code:literal, $severity:ident, $title:literal, $explanation:literal; )*) => {
+        /// Every kind of diagnostic the front end reports.
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        pub enum Code { $( $variant, )* }
+
+        impl Code {
+            pub const ALL: &'static [Code] = &[ $( Code::$variant, )* ];
+
+            /// The stable code, e.g. `E0001`.
+            pub fn as_str(self) -> &'static str {
+                match self { $( Code::$variant => $code, )* }
+            }
+
+            pub fn severity(self) -> Severity {
+                match self { $( Code::$variant => Severity::$severity, )* }
+            }
+
+            /// One line saying what the code is about.
+            pub fn title(self) -> &'static str {
+                match self { $( Code::$variant => $title, )* }
+            }
+
+            /// A short explanation with an example and the fix.
+            pub fn explanation(self) -> &'static str {
+                match self { $( Code::$variant => $explanation, )* }
+            }
+        }
+    };
+}
+
+codes! {
+    UnknownMnemonic = "E0001", Error, "unknown instruction",
+"The first word of the line is not an instruction of the dialect.
+
+    LDD X0      // error: LDD is not an instruction (did you mean LD?)
+
+Mnemonics are case-insensitive. Application instructions take a `P` suffix
+for the pulse form (MOVP) and a `D` prefix for the 32-bit form (DMOV) only
+where the instruction has one.";
+
+    OperandCount = "E0002", Error, "wrong number of operands",
+"The instruction takes a fixed number of operands (some have an optional
+last operand, such as the count of SET/RST).
+
+    ADD D0 D1   // error: ADD takes (S1) (S2) (D)";
+
+    OperandKind = "E0003", Error, "operand of the wrong kind",
+"The operand is valid in general but not in this position: a word device
+where a bit is needed (SET D0), a constant as a destination (MOV D0 K1),
+an input as an output (OUT X0), a 32-bit counter in a 16-bit instruction,
+or a timer without a preset.";
+
+    DeviceRange = "E0004", Error, "device number out of range",
+"The device number is outside its area: X/Y 0-377 (octal), M0-M8511,
+S0-S4095, SM0-SM1023, T0-T511, C0-C255, D0-D8511, SD0-SD1023, R0-R32767.
+A 32-bit operand also needs its high word (n+1) in range, and a digit
+group KnM0 needs all 4n bits.";
+
+    MalformedOperand = "E0005", Error, "malformed operand",
+"The operand cannot be read as a device or a constant: an 8 or 9 in an
+octal X/Y number (X8), a non-hex digit in an H constant, a bit number that
+is not one hex digit (D0.G), an unclosed offset (D0[D1), or a digit count
+outside 1-8 (K9M0).";
+
+    ConstantRange = "E0006", Error, "constant out of range",
+"The constant does not fit where it is used: 16-bit operands take
+K-32768..K32767 or H0..HFFFF, 32-bit operands K-2147483648..K2147483647 or
+H0..HFFFFFFFF; counts and presets have their own ranges.";
+
+    MissingPreset = "E0007", Error, "timer or counter coil without a preset",
+"`OUT Tn` and `OUT Cn` need the preset as a second operand, a constant or a
+data register:
+
+    OUT T0 K10  // 1 s on a 100 ms timer
+    OUT C3 D100";
+
+    MalformedLine = "E0008", Error, "malformed line",
+"The line is not `[step] MNEMONIC operands...` or a label alone on its
+line (`P12` or `P12:`). A stray comma or a step number without an
+instruction also gives this error.";
+
+    BlockUnderflow = "E0010", Error, "ANB/ORB without two blocks",
+"ANB and ORB combine the current block with the one before it; a block
+starts at each LD-type instruction. There must be a block pending:
+
+    LD X0
+    LD X1       // second block
+    ORB         // X0 OR X1";
+
+    StackUnderflow = "E0011", Error, "MRD/MPP without MPS",
+"MRD reads and MPP pops the branch point pushed by MPS. Each MPP needs an
+MPS before it in the same rung.";
+
+    StackOverflow = "E0012", Error, "MPS nested deeper than 11",
+"The branch stack holds 11 entries. Restructure the rung or split it.";
+
+    PendingBlocks = "E0013", Error, "blocks not combined",
+"A block started with LD/LDI was never combined with ANB or ORB before the
+rung's output, a POP, or the end of the rung. Add the missing ANB/ORB.";
+
+    OpenBranch = "E0014", Error, "MPS without MPP",
+"The rung ends while a branch point pushed by MPS is still open. Close the
+last branch with MPP.";
+
+    NoRung = "E0015", Error, "contact without a rung start",
+"A series or parallel contact (AND, OR, ...), ANB/ORB, MPS or INV needs a
+rung that was started by an LD-type instruction.";
+
+    NoCondition = "E0016", Error, "output without a condition",
+"Every output and application instruction takes the result of its rung;
+start the rung with a contact (use LD SM0 or LD M8000 for 'always').";
+
+    NoOutput = "E0017", Error, "rung without an output",
+"The rung's contacts are never used: the rung ends (POP, NETWORK, a new
+rung, STLE, END) before any output or application instruction.";
+
+    NestedStl = "E0020", Error, "STL inside an STL block",
+"State blocks do not nest: close the current block with STLE before the
+next STL.";
+
+    DuplicateState = "E0021", Error, "state used by two STL blocks",
+"One state number has one block. Use another state, or put the rungs in
+the existing block.";
+
+    UnclosedStl = "E0022", Error, "STL without STLE",
+"Every `STL Sn` block ends with STLE. The error points at the STL whose
+block is never closed.";
+
+    StrayStle = "E0023", Error, "STLE without STL",
+"STLE closes a state block; there is no open block here.";
+
+    NotInStl = "E0024", Error, "instruction not allowed in an STL block",
+"MC and MCR are not allowed between STL and STLE: a state block already
+gates its rungs, and a master-control region must not straddle a block.";
+
+    McPairing = "E0025", Error, "MC/MCR do not pair",
+"`MC Nk dev` opens master-control level k and `MCR Nk` closes it (and every
+deeper level). Levels nest in increasing order N0 < N1 < ... < N7, every
+MCR needs an open MC of its level, and every MC needs an MCR.";
+
+    MissingLabel = "E0026", Error, "jump to a missing label",
+"`CJ Pn` needs the label Pn somewhere after it, alone on a line.";
+
+    DuplicateLabel = "E0027", Error, "label defined twice",
+"Each label Pn marks one place in the program.";
+
+    BackwardJump = "E0028", Error, "backward jump",
+"ladderc accepts forward jumps only: a backward CJ can loop forever inside
+one scan, which a PLC catches with its watchdog and a compiled program on a
+PC would hang on. Use a loop over scans instead.";
+
+    JumpIntoBlock = "E0029", Error, "jump into an STL block or MC region",
+"A CJ may leave an STL block or master-control region but not enter one,
+because the block's state gating or the region's MC would be skipped.";
+
+    TooManyEdges = "E0030", Error, "too many edge instructions",
+"Each edge instruction (LDP, PLS, MOVP, ...) owns one previous-scan slot,
+and a program has 16384 of them.";
+
+    CodeAfterEnd = "W0001", Warning, "code after END",
+"Instructions after END are never executed.";
+
+    DoubleCoil = "W0002", Warning, "double coil",
+"The device is driven by OUT in more than one place outside STL blocks.
+Each OUT takes effect when it executes, so the last one executed wins at
+the output refresh; this is usually a mistake. Inside STL blocks, the same
+coil in several states is normal and not reported.";
+
+    SystemRelayWrite = "W0003", Warning, "write to a special relay the runtime rewrites",
+"SM0-SM3, M8000-M8003, M8150, M8151 and M8160 are set by the runtime at
+the start of every scan; writing them lasts only until then.";
+}
+
+impl std::fmt::Display for Code {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl std::str::FromStr for Code {
+    type Err = ();
+
+    /// Parses `E0001`, `e0001` or `1`-style shorthand is not accepted: codes
+    /// are spelled in full.
+    fn from_str(text: &str) -> Result<Code, ()> {
+        let wanted = text.trim().to_ascii_uppercase();
+        Code::ALL
+            .iter()
+            .copied()
+            .find(|code| code.as_str() == wanted)
+            .ok_or(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::HashSet;
+
+    #[test]
+    fn codes_are_unique_and_parse_back() {
+        let mut seen = HashSet::new();
+        for &code in Code::ALL {
+            assert!(seen.insert(code.as_str()), "{code} twice");
+            assert_eq!(code.as_str().parse::<Code>(), Ok(code));
+            assert!(!code.explanation().is_empty());
+            let prefix = if code.severity() == Severity::Error {
+                'E'
+            } else {
+                'W'
+            };
+            assert!(
+                code.as_str().starts_with(prefix),
+                "{code} has the wrong letter"
+            );
+        }
+    }
+}

@@ -1,0 +1,214 @@
+//! Reading and writing operands, with the offset rules of DIALECT.md:
+//! contacts and coils clamp an out-of-range `DEV[Dk]` to the nearest valid
+//! device and record an operation error; application instructions refuse it
+//! (4085H reading, 4086H writing) and do not execute.
+
+use crate::program::{Address, BitRef, WordRef};
+use ladder_runtime::device::FIRST_WIDE_COUNTER;
+use ladder_runtime::{BitArea, Memory, OperationError, WordArea};
+
+/// The device number an address names now: base plus the offset register's
+/// current (signed) value.
+pub fn effective_index(mem: &Memory, address: Address) -> i64 {
+    let offset = address.offset.map_or(0, |k| i64::from(mem.d[k as usize]));
+    i64::from(address.index) + offset
+}
+
+/// Clamps `index` into `0..len`; reports whether it had to.
+fn clamp(index: i64, len: u32) -> (u32, bool) {
+    let clamped = index.clamp(0, i64::from(len) - 1);
+    (clamped as u32, clamped != index)
+}
+
+/// A bit after applying its offset, clamped for contacts and coils.
+#[derive(Clone, Copy, Debug)]
+pub enum BitPlace {
+    Device(BitArea, u32),
+    WordBit(WordArea, u32, u8),
+}
+
+/// Resolves a bit for a contact or coil: an out-of-range offset is clamped
+/// and recorded with `error`.
+pub fn clamp_bit(mem: &mut Memory, bit: BitRef, error: OperationError, line: u32) -> BitPlace {
+    let (place, clamped) = match bit {
+        BitRef::Device(area, address) => {
+            let (index, clamped) = clamp(effective_index(mem, address), area.len());
+            (BitPlace::Device(area, index), clamped)
+        }
+        BitRef::WordBit(area, address, b) => {
+            let (index, clamped) = clamp(effective_index(mem, address), area.len());
+            (BitPlace::WordBit(area, index, b), clamped)
+        }
+    };
+    if clamped {
+        mem.record_error(error, line);
+    }
+    place
+}
+
+pub fn read_place(mem: &Memory, place: BitPlace) -> bool {
+    match place {
+        BitPlace::Device(area, index) => mem.bits(area)[index as usize] != 0,
+        BitPlace::WordBit(area, index, b) => (mem.words(area)[index as usize] >> b) & 1 != 0,
+    }
+}
+
+pub fn write_place(mem: &mut Memory, place: BitPlace, on: bool) {
+    match place {
+        BitPlace::Device(area, index) => mem.bits_mut(area)[index as usize] = on as u8,
+        BitPlace::WordBit(area, index, b) => {
+            let word = &mut mem.words_mut(area)[index as usize];
+            let mask = 1i16 << b;
+            *word = if on { *word | mask } else { *word & !mask };
+        }
+    }
+}
+
+/// Reads a contact's bit (clamping, 4085H).
+pub fn read_bit(mem: &mut Memory, bit: BitRef, line: u32) -> bool {
+    let place = clamp_bit(mem, bit, OperationError::ReadOutOfRange, line);
+    read_place(mem, place)
+}
+
+/// Writes a coil's bit (clamping, 4086H).
+pub fn write_bit(mem: &mut Memory, bit: BitRef, on: bool, line: u32) {
+    let place = clamp_bit(mem, bit, OperationError::WriteOutOfRange, line);
+    write_place(mem, place, on);
+}
+
+/// A word operand after applying its offset, known to be in range for
+/// `units` consecutive values of the instruction's width.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WordPlace {
+    Constant(i32),
+    Word(WordArea, u32),
+    WideCounter(u32),
+    Digits(BitArea, u32, u8),
+}
+
+/// Resolves a word operand of an application instruction covering `units`
+/// values of `wide` width (a MUL result is 2 units, BMOV n is n units).
+/// `None` when any of it is outside its area.
+pub fn resolve_word(mem: &Memory, word: WordRef, wide: bool, units: u32) -> Option<WordPlace> {
+    let in_range = |index: i64, needed: u32, len: u32| {
+        index >= 0 && index + i64::from(needed) <= i64::from(len)
+    };
+    match word {
+        WordRef::Constant(value) => Some(WordPlace::Constant(value)),
+        WordRef::Word(area, address) => {
+            let index = effective_index(mem, address);
+            let words = if wide { 2 * units } else { units };
+            in_range(index, words, area.len()).then_some(WordPlace::Word(area, index as u32))
+        }
+        WordRef::WideCounter(address) => {
+            let index = effective_index(mem, address);
+            let first = i64::from(FIRST_WIDE_COUNTER);
+            let slot = index - first;
+            (slot >= 0 && in_range(slot, units, ladder_runtime::device::WIDE_COUNTER_COUNT))
+                .then_some(WordPlace::WideCounter(index as u32))
+        }
+        WordRef::Digits(area, address, digits) => {
+            let index = effective_index(mem, address);
+            in_range(index, 4 * u32::from(digits) * units, area.len()).then_some(WordPlace::Digits(
+                area,
+                index as u32,
+                digits,
+            ))
+        }
+    }
+}
+
+impl WordPlace {
+    /// The `unit`-th value from this place (BMOV/FMOV walk their operands).
+    pub fn nth(self, unit: u32, wide: bool) -> WordPlace {
+        match self {
+            WordPlace::Constant(_) => self,
+            WordPlace::Word(area, index) => {
+                WordPlace::Word(area, index + unit * if wide { 2 } else { 1 })
+            }
+            WordPlace::WideCounter(index) => WordPlace::WideCounter(index + unit),
+            WordPlace::Digits(area, start, digits) => {
+                WordPlace::Digits(area, start + unit * 4 * u32::from(digits), digits)
+            }
+        }
+    }
+
+    /// The value at the instruction's width: 16-bit values sign-extended,
+    /// digit groups of fewer bits zero-extended.
+    pub fn read(self, mem: &Memory, wide: bool) -> i32 {
+        match self {
+            WordPlace::Constant(value) => value,
+            WordPlace::Word(area, index) if wide => mem.word_pair(area, index).unwrap_or(0),
+            WordPlace::Word(area, index) => mem.word(area, index).map_or(0, i32::from),
+            WordPlace::WideCounter(index) => mem.wide_counter(index).unwrap_or(0),
+            WordPlace::Digits(area, start, digits) => {
+                let bits = mem.digits(area, start, u32::from(digits)).unwrap_or(0);
+                if wide {
+                    bits
+                } else {
+                    i32::from(bits as i16)
+                }
+            }
+        }
+    }
+
+    /// Writes the low bits of `value` that the place holds.
+    pub fn write(self, mem: &mut Memory, wide: bool, value: i64) {
+        match self {
+            WordPlace::Constant(_) => {}
+            WordPlace::Word(area, index) if wide => {
+                mem.set_word_pair(area, index, value as i32);
+            }
+            WordPlace::Word(area, index) => {
+                mem.set_word(area, index, value as i16);
+            }
+            WordPlace::WideCounter(index) => {
+                mem.set_wide_counter(index, value as i32);
+            }
+            WordPlace::Digits(area, start, digits) => {
+                mem.set_digits(area, start, u32::from(digits), value as i32);
+            }
+        }
+    }
+
+    /// Writes a value twice the instruction's width (MUL results): the low
+    /// half at this place, the high half at the next unit. A digit group
+    /// holds only its own low bits.
+    pub fn write_double(self, mem: &mut Memory, wide: bool, value: i64) {
+        match self {
+            WordPlace::Digits(..) => self.write(mem, wide, value),
+            _ => {
+                let half = if wide { 32 } else { 16 };
+                self.write(mem, wide, value);
+                self.nth(1, wide).write(mem, wide, value >> half);
+            }
+        }
+    }
+}
+
+/// A comparison contact's word operand clamped into its area (the contact
+/// rule), for when `resolve_word` refused it.
+pub fn clamp_word(mem: &Memory, word: WordRef, wide: bool) -> WordPlace {
+    let clamp_start = |address: Address, first: u32, span: u32, len: u32| {
+        let last = i64::from(len) - i64::from(span);
+        effective_index(mem, address).clamp(i64::from(first), last) as u32
+    };
+    match word {
+        WordRef::Constant(value) => WordPlace::Constant(value),
+        WordRef::Word(area, address) => WordPlace::Word(
+            area,
+            clamp_start(address, 0, if wide { 2 } else { 1 }, area.len()),
+        ),
+        WordRef::WideCounter(address) => WordPlace::WideCounter(clamp_start(
+            address,
+            FIRST_WIDE_COUNTER,
+            1,
+            ladder_runtime::device::COUNTER_COUNT,
+        )),
+        WordRef::Digits(area, address, digits) => WordPlace::Digits(
+            area,
+            clamp_start(address, 0, 4 * u32::from(digits), area.len()),
+            digits,
+        ),
+    }
+}

@@ -1,0 +1,294 @@
+//! The reference interpreter: the executable specification of DIALECT.md.
+//!
+//! It runs the checked instruction list directly, one instruction at a time,
+//! with an explicit logic stack. It is written for clarity, not speed; the
+//! native engines are tested against it.
+
+mod access;
+mod data;
+
+use crate::isa::Sense;
+use crate::program::{CheckedProgram, Contact, Instruction, Op, ResetTarget, StlBlock, WordRef};
+use access::{read_bit, resolve_word, write_bit};
+use ladder_runtime::{Memory, OperationError};
+
+/// Runs a checked program against device memory.
+pub struct Interpreter<'p> {
+    program: &'p CheckedProgram,
+}
+
+impl<'p> Interpreter<'p> {
+    pub fn new(program: &'p CheckedProgram) -> Interpreter<'p> {
+        Interpreter { program }
+    }
+
+    /// One whole scan: the runtime's steps 1-2, the program, steps 4.
+    pub fn scan(&self, mem: &mut Memory, elapsed_ms: u32) {
+        mem.scan_with(elapsed_ms, |mem| self.run_program(mem));
+    }
+
+    /// Step 3 of the scan: the program from top to END.
+    pub fn run_program(&self, mem: &mut Memory) {
+        let mut run = Run {
+            mem,
+            program: self.program,
+            result: false,
+            blocks: Vec::new(),
+            branches: Vec::new(),
+            mc_power: [true; 8],
+        };
+        let instructions = &self.program.instructions;
+        let mut pc = 0;
+        while let Some(instruction) = instructions.get(pc) {
+            pc = run.step(pc, instruction);
+        }
+    }
+}
+
+/// The state of one pass through the program.
+struct Run<'a> {
+    mem: &'a mut Memory,
+    program: &'a CheckedProgram,
+    /// The result of the current block (the rung's power flow so far).
+    result: bool,
+    /// Results of earlier blocks waiting for ANB/ORB.
+    blocks: Vec<bool>,
+    /// Branch points pushed by MPS.
+    branches: Vec<bool>,
+    /// The condition each master-control level was last opened with.
+    mc_power: [bool; 8],
+}
+
+impl Run<'_> {
+    /// Executes one instruction; returns the index of the next one.
+    fn step(&mut self, pc: usize, instruction: &Instruction) -> usize {
+        let line = instruction.line;
+        match &instruction.op {
+            Op::Load {
+                contact,
+                new_rung,
+                mc_levels,
+            } => {
+                if *new_rung {
+                    self.blocks.clear();
+                    self.branches.clear();
+                } else {
+                    self.blocks.push(self.result);
+                }
+                let rail = (0..8)
+                    .filter(|level| mc_levels & (1 << level) != 0)
+                    .all(|level| self.mc_power[level]);
+                // The contact is evaluated even without power, so edge slots
+                // follow their device.
+                let passes = self.contact(contact, line);
+                self.result = rail && passes;
+            }
+            Op::And(contact) => {
+                let passes = self.contact(contact, line);
+                self.result = self.result && passes;
+            }
+            Op::Or(contact) => {
+                let passes = self.contact(contact, line);
+                self.result = self.result || passes;
+            }
+            Op::AndBlock => {
+                let earlier = self.blocks.pop().unwrap_or(false);
+                self.result = earlier && self.result;
+            }
+            Op::OrBlock => {
+                let earlier = self.blocks.pop().unwrap_or(false);
+                self.result = earlier || self.result;
+            }
+            Op::Push => self.branches.push(self.result),
+            Op::Read => self.result = self.branches.last().copied().unwrap_or(false),
+            Op::Pop => self.result = self.branches.pop().unwrap_or(false),
+            Op::Invert => self.result = !self.result,
+            Op::ResultEdge { falling, slot } => {
+                self.result = self.edge(*slot, self.result, *falling)
+            }
+            Op::Jump { target } => {
+                if self.result {
+                    return *target;
+                }
+            }
+            Op::StlBegin { block } => {
+                return self.enter_block(&self.program.stl_blocks[*block], pc)
+            }
+            Op::Label | Op::StlEnd => {}
+            _ => self.output(&instruction.op, self.result, line),
+        }
+        pc + 1
+    }
+
+    /// An output instruction with the rung result `power`. The STL one-time
+    /// reset runs the same code with the power OFF.
+    fn output(&mut self, op: &Op, power: bool, line: u32) {
+        match op {
+            Op::Out(bit) => write_bit(self.mem, *bit, power, line),
+            Op::OutTimer { timer, preset } => {
+                let preset = self.preset(*preset, false);
+                self.mem.timer_coil(*timer, power, preset);
+            }
+            Op::OutCounter { counter, preset } => {
+                let wide = ladder_runtime::device::is_wide_counter(*counter);
+                let preset = self.preset(*preset, wide);
+                self.mem.counter_coil(*counter, power, preset);
+            }
+            Op::Set {
+                target,
+                count,
+                transfer_from,
+            } => {
+                if power {
+                    self.write_bits(*target, *count, true, line);
+                    if let Some(source) = transfer_from {
+                        self.mem.schedule_state_off(*source);
+                    }
+                }
+            }
+            Op::Reset { target, count } => {
+                if power {
+                    self.reset(*target, *count, line);
+                }
+            }
+            Op::Pulse {
+                target,
+                sense,
+                slot,
+            } => {
+                let pulse = self.edge(*slot, power, *sense == Sense::Falling);
+                write_bit(self.mem, *target, pulse, line);
+            }
+            Op::StateJump { state } => {
+                if power {
+                    self.mem.s[*state as usize] = 1;
+                }
+            }
+            Op::MasterControl { level, relay } => {
+                self.mc_power[*level as usize] = power;
+                write_bit(self.mem, *relay, power, line);
+            }
+            Op::Data(data) => {
+                let run = match data.pulse_slot {
+                    Some(slot) => self.edge(slot, power, false),
+                    None => power,
+                };
+                if run {
+                    data::execute(self.mem, data, line);
+                }
+            }
+            _ => unreachable!("not an output: {op:?}"),
+        }
+    }
+
+    /// `STL Sn`: run the block while Sn is ON; reset it once when Sn is found
+    /// OFF after the block last ran ON; skip it otherwise.
+    fn enter_block(&mut self, block: &StlBlock, pc: usize) -> usize {
+        let state = block.state as usize;
+        if self.mem.s[state] != 0 {
+            self.mem.stl_block_active[state] = 1;
+            return pc + 1;
+        }
+        if self.mem.stl_block_active[state] != 0 {
+            self.mem.stl_block_active[state] = 0;
+            for &index in &block.reset_outputs {
+                let instruction = &self.program.instructions[index];
+                self.output(&instruction.op, false, instruction.line);
+            }
+            for &slot in &block.reset_slots {
+                self.mem.edge_slot[slot as usize] = 0;
+            }
+        }
+        block.end + 1
+    }
+
+    fn contact(&mut self, contact: &Contact, line: u32) -> bool {
+        match *contact {
+            Contact::Level { bit, closed } => read_bit(self.mem, bit, line) != closed,
+            Contact::Edge { bit, falling, slot } => {
+                let now = read_bit(self.mem, bit, line);
+                self.edge(slot, now, falling)
+            }
+            Contact::Constant(value) => value,
+            Contact::Compare {
+                op,
+                wide,
+                left,
+                right,
+            } => {
+                let left = self.compare_operand(left, wide, line);
+                let right = self.compare_operand(right, wide, line);
+                op.holds(left, right)
+            }
+        }
+    }
+
+    /// Compares `now` with what this edge instance saw last time, and
+    /// remembers `now`.
+    fn edge(&mut self, slot: u32, now: bool, falling: bool) -> bool {
+        let cell = &mut self.mem.edge_slot[slot as usize];
+        let before = *cell != 0;
+        *cell = now as u8;
+        if falling {
+            before && !now
+        } else {
+            now && !before
+        }
+    }
+
+    /// A comparison contact's operand: out of range, it reads the nearest
+    /// valid device and records 4085H, like any contact.
+    fn compare_operand(&mut self, word: WordRef, wide: bool, line: u32) -> i32 {
+        match resolve_word(self.mem, word, wide, 1) {
+            Some(place) => place.read(self.mem, wide),
+            None => {
+                self.mem.record_error(OperationError::ReadOutOfRange, line);
+                let clamped = access::clamp_word(self.mem, word, wide);
+                clamped.read(self.mem, wide)
+            }
+        }
+    }
+
+    fn preset(&self, preset: WordRef, wide: bool) -> i32 {
+        resolve_word(self.mem, preset, wide, 1).map_or(0, |place| place.read(self.mem, wide))
+    }
+
+    /// SET/RST of `count` bits from `target`; an offset start is clamped so
+    /// the whole run fits.
+    fn write_bits(&mut self, target: crate::program::BitRef, count: u32, on: bool, line: u32) {
+        match target {
+            crate::program::BitRef::Device(area, address) => {
+                let start = access::effective_index(self.mem, address);
+                let last_start = i64::from(area.len() - count);
+                let clamped = start.clamp(0, last_start);
+                if clamped != start {
+                    self.mem.record_error(OperationError::WriteOutOfRange, line);
+                }
+                let start = clamped as usize;
+                self.mem.bits_mut(area)[start..start + count as usize].fill(on as u8);
+            }
+            word_bit => write_bit(self.mem, word_bit, on, line),
+        }
+    }
+
+    fn reset(&mut self, target: ResetTarget, count: u32, line: u32) {
+        match target {
+            ResetTarget::Bit(bit) => self.write_bits(bit, count, false, line),
+            ResetTarget::Timer(first) => {
+                (first..first + count).for_each(|t| self.mem.reset_timer(t))
+            }
+            ResetTarget::Counter(first) => {
+                (first..first + count).for_each(|c| self.mem.reset_counter(c))
+            }
+            ResetTarget::Word(area, address) => {
+                let start = access::effective_index(self.mem, address);
+                let clamped = start.clamp(0, i64::from(area.len() - count));
+                if clamped != start {
+                    self.mem.record_error(OperationError::WriteOutOfRange, line);
+                }
+                let start = clamped as usize;
+                self.mem.words_mut(area)[start..start + count as usize].fill(0);
+            }
+        }
+    }
+}

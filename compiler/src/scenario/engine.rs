@@ -1,0 +1,113 @@
+//! Engines a scenario runs on. The in-process ones (interpreter, JIT) work on
+//! a `Memory` directly; the AOT one talks to a host process.
+
+use crate::host_device::HostDevice;
+use crate::interp::Interpreter;
+use crate::program::CheckedProgram;
+use ladder_runtime::{BitArea, Memory};
+
+/// The engines `ladderc test` and `ladderc run` know.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum EngineKind {
+    Interp,
+    Jit,
+    Aot,
+}
+
+impl EngineKind {
+    pub const ALL: [EngineKind; 3] = [EngineKind::Interp, EngineKind::Jit, EngineKind::Aot];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            EngineKind::Interp => "interp",
+            EngineKind::Jit => "jit",
+            EngineKind::Aot => "aot",
+        }
+    }
+}
+
+/// Why an engine could not run here (reported as skipped, never as passed).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Unavailable(pub String);
+
+/// What a scenario needs from an engine.
+pub trait Engine {
+    fn read(&mut self, device: HostDevice) -> Result<i32, String>;
+    fn write(&mut self, device: HostDevice, value: i32) -> Result<(), String>;
+    fn force(&mut self, area: BitArea, index: u32, on: bool) -> Result<(), String>;
+    fn unforce(&mut self, area: BitArea, index: u32) -> Result<(), String>;
+    /// One whole scan reporting `elapsed_ms`.
+    fn scan(&mut self, elapsed_ms: u32) -> Result<(), String>;
+}
+
+/// Something that runs step 3 of the scan on a memory image.
+pub trait ProgramRunner {
+    fn run_program(&self, mem: &mut Memory);
+}
+
+impl ProgramRunner for Interpreter<'_> {
+    fn run_program(&self, mem: &mut Memory) {
+        Interpreter::run_program(self, mem);
+    }
+}
+
+/// An engine that runs in this process on its own memory image.
+pub struct InProcess<R> {
+    pub memory: Box<Memory>,
+    pub runner: R,
+}
+
+impl<R: ProgramRunner> InProcess<R> {
+    pub fn new(runner: R) -> InProcess<R> {
+        InProcess {
+            memory: Memory::new_boxed(),
+            runner,
+        }
+    }
+}
+
+impl<R: ProgramRunner> Engine for InProcess<R> {
+    fn read(&mut self, device: HostDevice) -> Result<i32, String> {
+        self.memory
+            .read_device(device.device, device.width)
+            .ok_or_else(|| format!("cannot read {:?}", device.device))
+    }
+
+    fn write(&mut self, device: HostDevice, value: i32) -> Result<(), String> {
+        self.memory
+            .write_device(device.device, device.width, value)
+            .then_some(())
+            .ok_or_else(|| format!("cannot write {:?}", device.device))
+    }
+
+    fn force(&mut self, area: BitArea, index: u32, on: bool) -> Result<(), String> {
+        self.memory
+            .force(area, index, on)
+            .map_err(|e| e.to_string())
+    }
+
+    fn unforce(&mut self, area: BitArea, index: u32) -> Result<(), String> {
+        self.memory.unforce(area, index).map_err(|e| e.to_string())
+    }
+
+    fn scan(&mut self, elapsed_ms: u32) -> Result<(), String> {
+        let runner = &self.runner;
+        self.memory
+            .scan_with(elapsed_ms, |mem| runner.run_program(mem));
+        Ok(())
+    }
+}
+
+/// Builds an engine for a checked program.
+pub fn instantiate<'p>(
+    kind: EngineKind,
+    program: &'p CheckedProgram,
+) -> Result<Box<dyn Engine + 'p>, Unavailable> {
+    match kind {
+        EngineKind::Interp => Ok(Box::new(InProcess::new(Interpreter::new(program)))),
+        EngineKind::Jit | EngineKind::Aot => Err(Unavailable(format!(
+            "the {} engine is not part of this build",
+            kind.name()
+        ))),
+    }
+}

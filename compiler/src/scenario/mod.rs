@@ -1,0 +1,9 @@
+//! `ladderc test`: scenario files run against every engine (SCENARIO.md).
+
+mod engine;
+mod parse;
+mod run;
+
+pub use engine::{instantiate, Engine, EngineKind, InProcess, ProgramRunner, Unavailable};
+pub use parse::{parse_scenario, Directive, ParseError, ProgramSource, Scenario, Step};
+pub use run::{collect_files, load_program, run_scenario, Failure, ScenarioOutcome};

@@ -1,0 +1,306 @@
+//! Scenario files (SCENARIO.md): one directive per line, `#` comments
+//! outside the program block.
+
+use crate::host_device::{parse_device, parse_number, parse_value, HostDevice};
+use ladder_runtime::BitArea;
+use std::path::{Path, PathBuf};
+
+/// Where the scenario's program comes from.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum ProgramSource {
+    /// `program FILE`, resolved against the scenario's folder.
+    File(PathBuf),
+    /// `program <<` ... `>>`: program line 1 is scenario line `first_line`.
+    Inline { text: String, first_line: u32 },
+}
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Directive {
+    ScanMs(u32),
+    Set {
+        device: HostDevice,
+        value: i32,
+    },
+    Force {
+        area: BitArea,
+        index: u32,
+        on: bool,
+    },
+    Unforce {
+        area: BitArea,
+        index: u32,
+    },
+    Scan(u32),
+    Expect {
+        device: HostDevice,
+        name: String,
+        value: i32,
+    },
+    /// `expect error CODE` (Some) or `expect error none` (None).
+    ExpectError(Option<u16>),
+    /// `expect reject LINE`: the program's first error is on that line.
+    ExpectReject(u32),
+}
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Step {
+    pub directive: Directive,
+    /// Line in the scenario file.
+    pub line: u32,
+}
+
+#[derive(Clone, Debug)]
+pub struct Scenario {
+    pub path: PathBuf,
+    pub program: ProgramSource,
+    pub steps: Vec<Step>,
+}
+
+impl Scenario {
+    /// The `expect reject` line, if the scenario expects a rejection.
+    pub fn expected_reject(&self) -> Option<(u32, u32)> {
+        self.steps.iter().find_map(|step| match step.directive {
+            Directive::ExpectReject(line) => Some((line, step.line)),
+            _ => None,
+        })
+    }
+}
+
+/// A scenario that cannot be parsed: the file and line, and why.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ParseError {
+    pub line: u32,
+    pub message: String,
+}
+
+pub fn parse_scenario(path: &Path, text: &str) -> Result<Scenario, ParseError> {
+    let mut program = None;
+    let mut steps = Vec::new();
+    let mut lines = text.lines().enumerate().map(|(i, l)| (i as u32 + 1, l));
+    let mut rejecting = false;
+    while let Some((line, raw)) = lines.next() {
+        let error = |message: String| ParseError { line, message };
+        let content = raw.split('#').next().unwrap_or("").trim();
+        let words: Vec<&str> = content.split_whitespace().collect();
+        let Some((&keyword, args)) = words.split_first() else {
+            continue;
+        };
+        let keyword = keyword.to_ascii_lowercase();
+        let directive = match (keyword.as_str(), args) {
+            ("program", _) if program.is_some() => {
+                return Err(error("a scenario has one program".into()))
+            }
+            ("program", ["<<"]) => {
+                let first_line = line + 1;
+                let mut body = String::new();
+                loop {
+                    let Some((_, program_line)) = lines.next() else {
+                        return Err(error("`program <<` without a closing `>>` line".into()));
+                    };
+                    if program_line.trim_end_matches('\r') == ">>" {
+                        break;
+                    }
+                    body.push_str(program_line);
+                    body.push('\n');
+                }
+                program = Some(ProgramSource::Inline {
+                    text: body,
+                    first_line,
+                });
+                continue;
+            }
+            ("program", [file]) => {
+                let base = path.parent().unwrap_or(Path::new("."));
+                program = Some(ProgramSource::File(base.join(file)));
+                continue;
+            }
+            ("scan-ms", [ms]) => {
+                Directive::ScanMs(number(ms, 0, u32::MAX.into()).map_err(error)? as u32)
+            }
+            ("scan", []) => Directive::Scan(1),
+            ("scan", [n]) => Directive::Scan(number(n, 0, u32::MAX.into()).map_err(error)? as u32),
+            ("set" | "set32", [device, value]) => {
+                let device = parse_device(device, keyword == "set32").map_err(error)?;
+                let value = parse_value(value, device).map_err(error)?;
+                Directive::Set { device, value }
+            }
+            ("force", [device, value]) => {
+                let (area, index) = forceable(device).map_err(error)?;
+                let on = match value.to_ascii_lowercase().as_str() {
+                    "1" | "on" => true,
+                    "0" | "off" => false,
+                    _ => {
+                        return Err(error(format!(
+                            "`{value}` is not a bit value (0, 1, on, off)"
+                        )))
+                    }
+                };
+                Directive::Force { area, index, on }
+            }
+            ("unforce", [device]) => {
+                let (area, index) = forceable(device).map_err(error)?;
+                Directive::Unforce { area, index }
+            }
+            ("expect", ["error", code]) => {
+                Directive::ExpectError(if code.eq_ignore_ascii_case("none") {
+                    None
+                } else {
+                    Some(error_code(code).map_err(error)?)
+                })
+            }
+            ("expect", ["reject", program_line]) => {
+                rejecting = true;
+                Directive::ExpectReject(
+                    number(program_line, 1, u32::MAX.into()).map_err(error)? as u32
+                )
+            }
+            ("expect" | "expect32", [device, value]) => {
+                let parsed = parse_device(device, keyword == "expect32").map_err(error)?;
+                let value = parse_value(value, parsed).map_err(error)?;
+                Directive::Expect {
+                    device: parsed,
+                    name: device.to_string(),
+                    value,
+                }
+            }
+            (
+                known @ ("scan-ms" | "scan" | "set" | "set32" | "force" | "unforce" | "expect"
+                | "expect32"),
+                _,
+            ) => {
+                return Err(error(format!("wrong arguments for `{known}`")));
+            }
+            _ => return Err(error(format!("unknown directive `{keyword}`"))),
+        };
+        let runs_program = matches!(
+            directive,
+            Directive::Scan(_) | Directive::Expect { .. } | Directive::ExpectError(_)
+        );
+        if rejecting && runs_program {
+            return Err(error("nothing may run after `expect reject`".into()));
+        }
+        steps.push(Step { directive, line });
+    }
+    let program = program.ok_or(ParseError {
+        line: 1,
+        message: "no `program` directive".into(),
+    })?;
+    Ok(Scenario {
+        path: path.to_path_buf(),
+        program,
+        steps,
+    })
+}
+
+fn number(text: &str, min: i64, max: i64) -> Result<i64, String> {
+    let value = parse_number(text)?;
+    if !(min..=max).contains(&value) {
+        return Err(format!("`{text}` is out of range"));
+    }
+    Ok(value)
+}
+
+/// Error codes are hex by convention: `4085`, `4085H` and `H4085` all mean
+/// 4085H; `K16517` is the same code in decimal.
+fn error_code(text: &str) -> Result<u16, String> {
+    let value = if text.starts_with(['K', 'k']) {
+        parse_number(text)?
+    } else {
+        let hex = text
+            .trim_start_matches(['H', 'h'])
+            .trim_end_matches(['H', 'h']);
+        i64::from_str_radix(hex, 16)
+            .map_err(|_| format!("`{text}` is not an error code such as 4085H"))?
+    };
+    u16::try_from(value).map_err(|_| format!("`{text}` is not an error code"))
+}
+
+fn forceable(text: &str) -> Result<(BitArea, u32), String> {
+    match parse_device(text, false)?.device {
+        ladder_runtime::Device::Bit(
+            area @ (BitArea::X
+            | BitArea::Y
+            | BitArea::M
+            | BitArea::TimerContact
+            | BitArea::CounterContact),
+            index,
+        ) => Ok((area, index)),
+        _ => Err(format!("`{text}` cannot be forced (X, Y, M, T and C can)")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(text: &str) -> Result<Scenario, ParseError> {
+        parse_scenario(Path::new("dir/t.scn"), text)
+    }
+
+    #[test]
+    fn the_example_of_the_spec() {
+        let scenario = parse(
+            "program <<\nLD X0\nOR Y0\nANI X1\nOUT Y0\n>>\nset X0 1\nscan\nexpect Y0 1\nset X0 0\nscan 3\nexpect Y0 1      # sealed in\n",
+        )
+        .unwrap();
+        assert_eq!(
+            scenario.program,
+            ProgramSource::Inline {
+                text: "LD X0\nOR Y0\nANI X1\nOUT Y0\n".into(),
+                first_line: 2
+            }
+        );
+        assert_eq!(scenario.steps.len(), 6);
+        assert_eq!(scenario.steps[4].directive, Directive::Scan(3));
+        assert_eq!(scenario.steps[5].line, 12);
+    }
+
+    #[test]
+    fn program_files_are_relative_to_the_scenario() {
+        let scenario = parse("program ../x.il\n").unwrap();
+        assert_eq!(
+            scenario.program,
+            ProgramSource::File(PathBuf::from("dir/../x.il"))
+        );
+    }
+
+    #[test]
+    fn errors_and_rejects() {
+        let scenario =
+            parse("program p.il\nexpect error 4085H\nexpect error none\nexpect error K16517")
+                .unwrap();
+        let codes: Vec<_> = scenario.steps.iter().map(|s| s.directive.clone()).collect();
+        assert_eq!(
+            codes,
+            [
+                Directive::ExpectError(Some(0x4085)),
+                Directive::ExpectError(None),
+                Directive::ExpectError(Some(0x4085))
+            ]
+        );
+        assert_eq!(
+            parse("program p.il\nexpect reject 3\n")
+                .unwrap()
+                .expected_reject(),
+            Some((3, 2))
+        );
+        assert_eq!(
+            parse("program p.il\nexpect reject 3\nscan\n")
+                .unwrap_err()
+                .line,
+            3
+        );
+    }
+
+    #[test]
+    fn bad_scenarios_say_where() {
+        assert_eq!(
+            parse("set X0 1\n").unwrap_err().message,
+            "no `program` directive"
+        );
+        assert_eq!(parse("program p.il\nfrobnicate\n").unwrap_err().line, 2);
+        assert_eq!(parse("program p.il\nforce D0 1\n").unwrap_err().line, 2);
+        assert_eq!(parse("program <<\nLD X0\n").unwrap_err().line, 1);
+        assert!(parse("program p.il\nset D0 70000\n").is_err());
+    }
+}

@@ -1,0 +1,481 @@
+//! Operand syntax: one operand word (`X17`, `K4M0[D2]`, `D0.F`, `H1F`, `K-5`)
+//! to its parts, with spans. Ranges and kinds are the checker's business.
+
+use crate::diagnostics::{Code, Diagnostic};
+use crate::source::Span;
+
+/// Device-name prefixes as written in source.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Prefix {
+    X,
+    Y,
+    M,
+    S,
+    Sm,
+    /// `T`: timer contact or current value, by position.
+    T,
+    /// `TS`: timer contact.
+    Ts,
+    /// `TN`: timer current value.
+    Tn,
+    C,
+    Cs,
+    Cn,
+    D,
+    Sd,
+    R,
+    /// `P`: jump label.
+    P,
+    /// `N`: master-control nesting level.
+    N,
+}
+
+impl Prefix {
+    /// Longest spellings first so `SM0` is not read as `S` + `M0`.
+    const SPELLINGS: [(&'static str, Prefix); 16] = [
+        ("SM", Prefix::Sm),
+        ("SD", Prefix::Sd),
+        ("TS", Prefix::Ts),
+        ("TN", Prefix::Tn),
+        ("CS", Prefix::Cs),
+        ("CN", Prefix::Cn),
+        ("X", Prefix::X),
+        ("Y", Prefix::Y),
+        ("M", Prefix::M),
+        ("S", Prefix::S),
+        ("T", Prefix::T),
+        ("C", Prefix::C),
+        ("D", Prefix::D),
+        ("R", Prefix::R),
+        ("P", Prefix::P),
+        ("N", Prefix::N),
+    ];
+
+    pub fn as_str(self) -> &'static str {
+        Prefix::SPELLINGS
+            .iter()
+            .find(|(_, p)| *p == self)
+            .map_or("?", |(s, _)| s)
+    }
+
+    /// Device numbers of X and Y are octal.
+    pub fn is_octal(self) -> bool {
+        matches!(self, Prefix::X | Prefix::Y)
+    }
+}
+
+/// A K or H constant.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Constant {
+    /// K: the signed value; H: the unsigned bit pattern (0..=FFFFFFFF).
+    pub value: i64,
+    pub hex: bool,
+}
+
+/// `[Dk]` after a device: the device number is offset by the value of Dk.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct OffsetSyntax {
+    pub register: u32,
+    pub span: Span,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DeviceSyntax {
+    pub prefix: Prefix,
+    /// The device number, octal already converted for X/Y. Numbers too large
+    /// to represent are `u32::MAX` (the checker reports them as out of range).
+    pub number: u32,
+    /// `Kn` in front: a group of n·4 bits.
+    pub digits: Option<u8>,
+    /// `.b` behind a data register: one bit of the word.
+    pub bit: Option<u8>,
+    pub offset: Option<OffsetSyntax>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OperandSyntax {
+    Constant(Constant),
+    Device(DeviceSyntax),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Operand {
+    pub syntax: OperandSyntax,
+    pub span: Span,
+}
+
+/// Parses one operand word that starts at byte `base` of the source.
+pub fn parse_operand(text: &str, base: usize) -> Result<Operand, Diagnostic> {
+    let span = Span::new(base, base + text.len());
+    let mut cursor = Cursor { text, pos: 0, base };
+    let syntax = cursor.operand()?;
+    if cursor.pos < text.len() {
+        return Err(cursor.error_here(
+            format!("unexpected `{}` in operand `{text}`", &text[cursor.pos..]),
+            "not part of a device or constant",
+        ));
+    }
+    Ok(Operand { syntax, span })
+}
+
+struct Cursor<'a> {
+    text: &'a str,
+    pos: usize,
+    base: usize,
+}
+
+impl Cursor<'_> {
+    fn rest(&self) -> &str {
+        &self.text[self.pos..]
+    }
+
+    fn peek(&self) -> Option<char> {
+        self.rest().chars().next()
+    }
+
+    fn eat(&mut self, c: char) -> bool {
+        let matched = self.peek().is_some_and(|p| p.eq_ignore_ascii_case(&c));
+        if matched {
+            self.pos += c.len_utf8();
+        }
+        matched
+    }
+
+    fn span_from(&self, start: usize) -> Span {
+        Span::new(
+            self.base + start,
+            self.base + self.pos.max(start + 1).min(self.text.len()),
+        )
+    }
+
+    fn error(&self, start: usize, message: String, label: &str) -> Diagnostic {
+        Diagnostic::new(Code::MalformedOperand, self.span_from(start), message).with_label(label)
+    }
+
+    fn error_here(&self, message: String, label: &str) -> Diagnostic {
+        let span = Span::new(self.base + self.pos, self.base + self.text.len());
+        Diagnostic::new(Code::MalformedOperand, span, message).with_label(label)
+    }
+
+    fn operand(&mut self) -> Result<OperandSyntax, Diagnostic> {
+        let first = self.peek().map(|c| c.to_ascii_uppercase());
+        match first {
+            Some('K') => {
+                self.pos += 1;
+                let digits_start = self.pos;
+                let negative = self.eat('-');
+                if !negative {
+                    self.eat('+');
+                }
+                let (magnitude, count) = self.decimal_digits();
+                if count == 0 {
+                    return Err(self.error(
+                        0,
+                        format!("`{}` is not a constant", self.text),
+                        "expected K followed by a number",
+                    ));
+                }
+                if self.peek().is_some_and(|c| c.is_ascii_alphabetic()) && !negative {
+                    return self.digit_group(digits_start, magnitude);
+                }
+                let value = if negative {
+                    -(magnitude as i64)
+                } else {
+                    magnitude as i64
+                };
+                if !(i64::from(i32::MIN)..=i64::from(i32::MAX)).contains(&value) {
+                    return Err(Diagnostic::new(
+                        Code::ConstantRange,
+                        self.span_from(0),
+                        format!("constant `{}` is out of range", self.text),
+                    )
+                    .with_label("K constants are K-2147483648..K2147483647"));
+                }
+                Ok(OperandSyntax::Constant(Constant { value, hex: false }))
+            }
+            Some('H') => {
+                self.pos += 1;
+                let start = self.pos;
+                while self.peek().is_some_and(|c| c.is_ascii_hexdigit()) {
+                    self.pos += 1;
+                }
+                let digits = &self.text[start..self.pos];
+                if digits.is_empty() {
+                    return Err(self.error(
+                        0,
+                        format!("`{}` is not a hex constant", self.text),
+                        "expected H followed by hex digits",
+                    ));
+                }
+                let trimmed = digits.trim_start_matches('0');
+                if trimmed.len() > 8 {
+                    return Err(Diagnostic::new(
+                        Code::ConstantRange,
+                        self.span_from(0),
+                        format!("constant `{}` is out of range", self.text),
+                    )
+                    .with_label("H constants are H0..HFFFFFFFF"));
+                }
+                let value = i64::from_str_radix(if trimmed.is_empty() { "0" } else { trimmed }, 16)
+                    .unwrap_or(0);
+                Ok(OperandSyntax::Constant(Constant { value, hex: true }))
+            }
+            _ => self.device(None).map(OperandSyntax::Device),
+        }
+    }
+
+    /// `Kn` followed by a bit device: a digit group.
+    fn digit_group(&mut self, start: usize, n: u64) -> Result<OperandSyntax, Diagnostic> {
+        if !(1..=8).contains(&n) {
+            return Err(self.error(
+                start,
+                format!("`K{n}` is not a digit count"),
+                "digit groups are K1..K8",
+            ));
+        }
+        let device = self.device(Some(n as u8))?;
+        if !matches!(device.prefix, Prefix::X | Prefix::Y | Prefix::M | Prefix::S) {
+            return Err(self.error(
+                0,
+                format!("`{}`: digit groups are made of X, Y, M or S", self.text),
+                "not a bit device",
+            ));
+        }
+        Ok(OperandSyntax::Device(device))
+    }
+
+    fn device(&mut self, digits: Option<u8>) -> Result<DeviceSyntax, Diagnostic> {
+        let start = self.pos;
+        let prefix = Prefix::SPELLINGS
+            .iter()
+            .find(|(spelling, _)| {
+                self.rest()
+                    .get(..spelling.len())
+                    .is_some_and(|head| head.eq_ignore_ascii_case(spelling))
+                    && self.rest()[spelling.len()..].starts_with(|c: char| c.is_ascii_digit())
+            })
+            .map(|&(spelling, prefix)| (spelling.len(), prefix));
+        let Some((prefix_len, prefix)) = prefix else {
+            return Err(self.error(
+                start,
+                format!("`{}` is not a device or constant", self.text),
+                "expected a device such as X0, M10, D100 or a constant such as K5",
+            ));
+        };
+        self.pos += prefix_len;
+        let number = self.device_number(prefix)?;
+        let bit = if self.eat('.') {
+            let bit_start = self.pos - 1;
+            let digit = self.peek().and_then(|c| c.to_digit(16));
+            match (digit, prefix) {
+                (Some(b), Prefix::D) => {
+                    self.pos += 1;
+                    Some(b as u8)
+                }
+                (Some(_), _) => {
+                    return Err(self.error(
+                        bit_start,
+                        format!(
+                            "`{}`: bit numbers apply to data registers (D) only",
+                            self.text
+                        ),
+                        "bit of a non-D device",
+                    ))
+                }
+                (None, _) => {
+                    return Err(self.error(
+                        bit_start,
+                        format!("`{}`: a bit number is one hex digit 0-F", self.text),
+                        "expected 0-F",
+                    ))
+                }
+            }
+        } else {
+            None
+        };
+        let offset = if self.peek() == Some('[') {
+            Some(self.offset()?)
+        } else {
+            None
+        };
+        Ok(DeviceSyntax {
+            prefix,
+            number,
+            digits,
+            bit,
+            offset,
+        })
+    }
+
+    fn device_number(&mut self, prefix: Prefix) -> Result<u32, Diagnostic> {
+        let start = self.pos;
+        let (value, count) = self.decimal_digits();
+        debug_assert!(count > 0, "prefix match requires a digit");
+        let digits = &self.text[start..self.pos];
+        if prefix.is_octal() {
+            if digits.contains(['8', '9']) {
+                return Err(self.error(
+                    start,
+                    format!(
+                        "`{}`: {} numbers are octal (0-7)",
+                        self.text,
+                        prefix.as_str()
+                    ),
+                    "8 and 9 are not octal digits",
+                ));
+            }
+            return Ok(
+                u32::from_str_radix(digits.trim_start_matches('0'), 8).unwrap_or(
+                    if digits.trim_start_matches('0').is_empty() {
+                        0
+                    } else {
+                        u32::MAX
+                    },
+                ),
+            );
+        }
+        Ok(u32::try_from(value).unwrap_or(u32::MAX))
+    }
+
+    fn offset(&mut self) -> Result<OffsetSyntax, Diagnostic> {
+        let open = self.pos;
+        self.pos += 1; // '['
+        let register_start = self.pos;
+        let is_d = self
+            .rest()
+            .get(..1)
+            .is_some_and(|p| p.eq_ignore_ascii_case("D"))
+            && self.rest()[1..].starts_with(|c: char| c.is_ascii_digit());
+        if !is_d {
+            return Err(self.error(
+                open,
+                format!(
+                    "`{}`: an offset is a data register, as in D10[D0]",
+                    self.text
+                ),
+                "expected [Dk]",
+            ));
+        }
+        self.pos += 1;
+        let (register, _) = self.decimal_digits();
+        let register_span = Span::new(self.base + register_start, self.base + self.pos);
+        if !self.eat(']') {
+            return Err(self.error(
+                open,
+                format!("`{}`: unclosed offset", self.text),
+                "expected `]`",
+            ));
+        }
+        Ok(OffsetSyntax {
+            register: u32::try_from(register).unwrap_or(u32::MAX),
+            span: register_span,
+        })
+    }
+
+    /// Decimal digits at the cursor: (value saturated at u64::MAX, digit count).
+    fn decimal_digits(&mut self) -> (u64, usize) {
+        let mut value: u64 = 0;
+        let mut count = 0;
+        while let Some(d) = self.peek().and_then(|c| c.to_digit(10)) {
+            value = value.saturating_mul(10).saturating_add(u64::from(d));
+            self.pos += 1;
+            count += 1;
+        }
+        (value, count)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn device(text: &str) -> DeviceSyntax {
+        match parse_operand(text, 0).unwrap().syntax {
+            OperandSyntax::Device(d) => d,
+            other => panic!("{text}: {other:?}"),
+        }
+    }
+
+    fn constant(text: &str) -> Constant {
+        match parse_operand(text, 0).unwrap().syntax {
+            OperandSyntax::Constant(c) => c,
+            other => panic!("{text}: {other:?}"),
+        }
+    }
+
+    fn error_code(text: &str) -> Code {
+        parse_operand(text, 0).unwrap_err().code
+    }
+
+    #[test]
+    fn octal_io_numbers() {
+        assert_eq!(device("X000").number, 0);
+        assert_eq!(device("X17").number, 15);
+        assert_eq!(device("y377").number, 255);
+        assert_eq!(error_code("X8"), Code::MalformedOperand);
+        assert_eq!(device("M19").number, 19, "M is decimal");
+    }
+
+    #[test]
+    fn longest_prefix_wins() {
+        assert_eq!(device("SM0").prefix, Prefix::Sm);
+        assert_eq!(device("S10").prefix, Prefix::S);
+        assert_eq!(device("SD5").prefix, Prefix::Sd);
+        assert_eq!(device("TN3").prefix, Prefix::Tn);
+        assert_eq!(device("cs4").prefix, Prefix::Cs);
+    }
+
+    #[test]
+    fn constants() {
+        assert_eq!(
+            constant("K10"),
+            Constant {
+                value: 10,
+                hex: false
+            }
+        );
+        assert_eq!(constant("k-5").value, -5);
+        assert_eq!(
+            constant("HFFFF"),
+            Constant {
+                value: 0xFFFF,
+                hex: true
+            }
+        );
+        assert_eq!(constant("H0000FFFFFFFF").value, 0xFFFF_FFFF);
+        assert_eq!(error_code("K2147483648"), Code::ConstantRange);
+        assert_eq!(constant("K-2147483648").value, i64::from(i32::MIN));
+        assert_eq!(error_code("H100000000"), Code::ConstantRange);
+        assert_eq!(error_code("H1G"), Code::MalformedOperand);
+    }
+
+    #[test]
+    fn digit_groups_bits_and_offsets() {
+        let group = device("K4M0");
+        assert_eq!(
+            (group.prefix, group.digits, group.number),
+            (Prefix::M, Some(4), 0)
+        );
+        assert_eq!(device("K2X10").number, 8);
+        assert_eq!(error_code("K9M0"), Code::MalformedOperand);
+        assert_eq!(error_code("K4D0"), Code::MalformedOperand);
+        assert_eq!(device("D0.F").bit, Some(15));
+        assert_eq!(error_code("D0.G"), Code::MalformedOperand);
+        assert_eq!(error_code("M0.1"), Code::MalformedOperand);
+        let offset = device("D10[D2]").offset.unwrap();
+        assert_eq!((offset.register, offset.span), (2, Span::new(4, 6)));
+        assert_eq!(device("K4M0[D2]").offset.unwrap().register, 2);
+        assert_eq!(error_code("D10[D2"), Code::MalformedOperand);
+        assert_eq!(error_code("D10[M2]"), Code::MalformedOperand);
+    }
+
+    #[test]
+    fn garbage_is_an_error_not_a_panic() {
+        for text in [
+            "", "Q1", "X", "K", "H", "D0..1", "[", "M1x", "é", "K4", "K-4M0",
+        ] {
+            assert!(parse_operand(text, 0).is_err(), "{text:?}");
+        }
+        assert_eq!(device("M99999999999999999999").number, u32::MAX);
+    }
+}

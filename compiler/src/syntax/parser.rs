@@ -1,0 +1,199 @@
+//! Parser: tokens of each line to a statement.
+
+use super::lexer::{tokenize, Token, TokenKind};
+use super::operand::parse_operand;
+use super::{InstructionSyntax, ParsedProgram, Statement, StatementKind};
+use crate::diagnostics::{Code, Diagnostic, Diagnostics};
+use crate::source::{SourceFile, Span};
+
+/// Parses a whole source file. Problems are reported, never fatal: the
+/// result holds every statement that could be recognised.
+pub fn parse(file: &SourceFile) -> (ParsedProgram, Diagnostics) {
+    let mut diagnostics = Diagnostics::default();
+    let tokens = tokenize(&file.text);
+    let statements = tokens
+        .split(|t| t.kind == TokenKind::Newline)
+        .filter(|line| !line.is_empty())
+        .filter_map(|line| parse_line(file, line, &mut diagnostics))
+        .collect();
+    (ParsedProgram { statements }, diagnostics)
+}
+
+fn parse_line(
+    file: &SourceFile,
+    line: &[Token],
+    diagnostics: &mut Diagnostics,
+) -> Option<Statement> {
+    let text = |t: &Token| file.slice(t.span);
+    let line_number = file.line_of(line[0].span.start);
+    let mut rest = line;
+
+    // An optional step number, as vendor listings export it.
+    if rest[0].kind == TokenKind::Word && text(&rest[0]).bytes().all(|b| b.is_ascii_digit()) {
+        if rest.len() == 1 {
+            diagnostics.push(
+                Diagnostic::new(
+                    Code::MalformedLine,
+                    rest[0].span,
+                    "step number without an instruction",
+                )
+                .with_label("expected an instruction after the step number"),
+            );
+            return None;
+        }
+        rest = &rest[1..];
+    }
+    let head = rest[0];
+    if head.kind == TokenKind::Comma {
+        diagnostics.push(stray_comma(head.span));
+        return None;
+    }
+    let head_text = text(&head);
+    if let Some(number) = label_number(head_text) {
+        if rest.len() > 1 {
+            let span = rest[1].span.to(rest[rest.len() - 1].span);
+            diagnostics.push(
+                Diagnostic::new(
+                    Code::MalformedLine,
+                    span,
+                    format!("label `{head_text}` must be alone on its line"),
+                )
+                .with_label("nothing may follow a label"),
+            );
+        }
+        return Some(Statement {
+            kind: StatementKind::Label { number },
+            span: head.span,
+            line: line_number,
+        });
+    }
+
+    let mnemonic = head_text.to_ascii_uppercase();
+    let mut operands = Vec::new();
+    let mut malformed = false;
+    let mut expect_operand = true;
+    for (i, token) in rest.iter().enumerate().skip(1) {
+        match token.kind {
+            TokenKind::Comma if expect_operand || i == rest.len() - 1 || i == 1 => {
+                diagnostics.push(stray_comma(token.span));
+                malformed = true;
+            }
+            TokenKind::Comma => expect_operand = true,
+            TokenKind::Word if mnemonic == "NETWORK" => {
+                // NETWORK takes a bare number, not an operand.
+                if !text(token).bytes().all(|b| b.is_ascii_digit()) || i > 1 {
+                    diagnostics.push(
+                        Diagnostic::new(
+                            Code::MalformedLine,
+                            token.span,
+                            format!("`{}` after NETWORK", text(token)),
+                        )
+                        .with_label("NETWORK takes an optional network number"),
+                    );
+                }
+            }
+            TokenKind::Word => {
+                match parse_operand(text(token), token.span.start as usize) {
+                    Ok(operand) => operands.push(operand),
+                    Err(diagnostic) => {
+                        diagnostics.push(diagnostic);
+                        malformed = true;
+                    }
+                }
+                expect_operand = false;
+            }
+            TokenKind::Newline => {}
+        }
+    }
+    let span = head.span.to(rest[rest.len() - 1].span);
+    Some(Statement {
+        kind: StatementKind::Instruction(InstructionSyntax {
+            mnemonic,
+            mnemonic_span: head.span,
+            operands,
+            malformed,
+        }),
+        span,
+        line: line_number,
+    })
+}
+
+/// `P12` or `P12:` (case-insensitive) is a label; returns its number.
+fn label_number(word: &str) -> Option<u32> {
+    let body = word.strip_suffix(':').unwrap_or(word);
+    let digits = body.strip_prefix(['P', 'p'])?;
+    if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    Some(digits.parse().unwrap_or(u32::MAX))
+}
+
+fn stray_comma(span: Span) -> Diagnostic {
+    Diagnostic::new(Code::MalformedLine, span, "unexpected `,`")
+        .with_label("commas only separate operands")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse_text(text: &str) -> (ParsedProgram, Vec<Code>) {
+        let (program, diagnostics) = parse(&SourceFile::new("t.il", text));
+        (program, diagnostics.iter().map(|d| d.code).collect())
+    }
+
+    fn mnemonics(program: &ParsedProgram) -> Vec<&str> {
+        program
+            .statements
+            .iter()
+            .map(|s| match &s.kind {
+                StatementKind::Instruction(i) => i.mnemonic.as_str(),
+                StatementKind::Label { .. } => "<label>",
+            })
+            .collect()
+    }
+
+    #[test]
+    fn step_numbers_comments_and_labels() {
+        let (program, errors) = parse_text("0 LD X000 // go\n\n1 out y0\nP3:\nP4\nNETWORK 001\n");
+        assert!(errors.is_empty(), "{errors:?}");
+        assert_eq!(
+            mnemonics(&program),
+            ["LD", "OUT", "<label>", "<label>", "NETWORK"]
+        );
+        assert_eq!(program.statements[1].line, 3);
+        assert_eq!(
+            program.statements[3].kind,
+            StatementKind::Label { number: 4 }
+        );
+    }
+
+    #[test]
+    fn commas_between_operands() {
+        let (program, errors) = parse_text("MOV K1, D0\nMOV ,K1 D0\nMOV K1 D0,\nMOV K1,,D0");
+        assert_eq!(errors, [Code::MalformedLine; 3]);
+        let StatementKind::Instruction(first) = &program.statements[0].kind else {
+            panic!()
+        };
+        assert_eq!(first.operands.len(), 2);
+        assert!(!first.malformed);
+    }
+
+    #[test]
+    fn bad_lines_are_reported_and_parsing_goes_on() {
+        let (program, errors) = parse_text("12\nP1 LD X0\nLD X9\nOUT Y0");
+        assert_eq!(
+            errors,
+            [
+                Code::MalformedLine,
+                Code::MalformedLine,
+                Code::MalformedOperand
+            ]
+        );
+        assert_eq!(mnemonics(&program), ["<label>", "LD", "OUT"]);
+        let StatementKind::Instruction(ld) = &program.statements[1].kind else {
+            panic!()
+        };
+        assert!(ld.malformed);
+    }
+}
