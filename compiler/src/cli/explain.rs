@@ -6,11 +6,11 @@ use crate::diagnostics::Code;
 pub fn run(code: &str) -> u8 {
     match code.parse::<Code>() {
         Ok(code) => {
-            println!("{code}: {}\n\n{}", code.title(), code.explanation());
+            say!("{code}: {}\n\n{}", code.title(), code.explanation());
             status::OK
         }
         Err(()) => {
-            eprintln!("error: unknown diagnostic code `{code}` (codes look like E0010 or W0002)");
+            say_err!("error: unknown diagnostic code `{code}` (codes look like E0010 or W0002)");
             status::UNUSABLE
         }
     }

@@ -1,6 +1,33 @@
 //! The `ladderc` command line. Every command returns its exit status; nothing
 //! here exits the process.
 
+/// `println!` that never panics: a closed stdout (`ladderc test | head`) is
+/// not an error of ours.
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout().lock(), $($arg)*);
+    }};
+}
+
+/// `eprintln!` that never panics.
+macro_rules! say_err {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr().lock(), $($arg)*);
+    }};
+}
+
+/// Writes text as is (already ending in a newline) without panicking.
+fn write_raw(to_stderr: bool, text: &str) {
+    use std::io::Write as _;
+    let _ = if to_stderr {
+        std::io::stderr().lock().write_all(text.as_bytes())
+    } else {
+        std::io::stdout().lock().write_all(text.as_bytes())
+    };
+}
+
 mod check;
 mod explain;
 mod run;
@@ -75,7 +102,7 @@ pub fn main_with_args(args: impl IntoIterator<Item = std::ffi::OsString>) -> u8 
     let cli = match Cli::try_parse_from(args) {
         Ok(cli) => cli,
         Err(error) => {
-            let _ = error.print();
+            write_raw(error.use_stderr(), &error.render().to_string());
             return if error.use_stderr() {
                 status::UNUSABLE
             } else {
@@ -95,10 +122,10 @@ pub fn main_with_args(args: impl IntoIterator<Item = std::ffi::OsString>) -> u8 
 /// `Err` holds the exit status to return.
 fn compile_file(path: &std::path::Path) -> Result<crate::program::CheckedProgram, u8> {
     let source = crate::source::SourceFile::read(path).map_err(|e| {
-        eprintln!("error: cannot read {}: {e}", path.display());
+        say_err!("error: cannot read {}: {e}", path.display());
         status::UNUSABLE
     })?;
     let (program, diagnostics) = crate::check::compile_source(&source);
-    eprint!("{}", crate::diagnostics::render_all(&source, &diagnostics));
+    write_raw(true, &crate::diagnostics::render_all(&source, &diagnostics));
     program.ok_or(status::FAILED)
 }

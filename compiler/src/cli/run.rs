@@ -52,7 +52,7 @@ pub fn run(args: &RunArgs) -> u8 {
     let watched = match watch_list(args, &program) {
         Ok(watched) => watched,
         Err(message) => {
-            eprintln!("error: {message}");
+            say_err!("error: {message}");
             return status::UNUSABLE;
         }
     };
@@ -63,20 +63,20 @@ pub fn run(args: &RunArgs) -> u8 {
     let mut engine = match instantiate(kind, &program) {
         Ok(engine) => engine,
         Err(unavailable) => {
-            eprintln!("error: {}", unavailable.0);
+            say_err!("error: {}", unavailable.0);
             return status::UNUSABLE;
         }
     };
     for set in &args.sets {
         if let Err(message) = apply_set(engine.as_mut(), set) {
-            eprintln!("error: --set {set}: {message}");
+            say_err!("error: --set {set}: {message}");
             return status::UNUSABLE;
         }
     }
     match print_scans(engine.as_mut(), args, &watched) {
         Ok(()) => status::OK,
         Err(message) => {
-            eprintln!("error: {message}");
+            say_err!("error: {message}");
             status::FAILED
         }
     }
@@ -162,14 +162,14 @@ fn print_scans(
             .collect::<Vec<_>>()
             .join("  "),
     };
-    println!("{}", line(headers.iter().map(|h| h.to_string()).collect()));
+    say!("{}", line(headers.iter().map(|h| h.to_string()).collect()));
     for scan in 1..=args.scans {
         engine.scan(args.scan_ms)?;
         let mut cells = vec![scan.to_string()];
         for (_, device) in watched {
             cells.push(engine.read(*device)?.to_string());
         }
-        println!("{}", line(cells));
+        say!("{}", line(cells));
     }
     Ok(())
 }

@@ -12,7 +12,7 @@ pub fn run(paths: &[PathBuf], engines: &[EngineKind]) -> u8 {
         match collect_files(path) {
             Ok(found) => files.extend(found),
             Err(error) => {
-                eprintln!("error: cannot read {}: {error}", path.display());
+                say_err!("error: cannot read {}: {error}", path.display());
                 unusable = true;
             }
         }
@@ -27,10 +27,10 @@ pub fn run(paths: &[PathBuf], engines: &[EngineKind]) -> u8 {
         };
         let outcome = run_scenario(&scenario, &source, engines);
         for failure in &outcome.failures {
-            println!("{failure}");
+            say!("{failure}");
         }
         if !outcome.details.is_empty() {
-            print!("{}", outcome.details);
+            super::write_raw(false, &outcome.details);
         }
         for kind in &outcome.ran {
             *ran.entry(*kind).or_default() += 1;
@@ -45,7 +45,7 @@ pub fn run(paths: &[PathBuf], engines: &[EngineKind]) -> u8 {
         }
     }
     let ran_names: Vec<&str> = ran.keys().map(|k| k.name()).collect();
-    println!(
+    say!(
         "engines: {}",
         if ran_names.is_empty() {
             "none".to_string()
@@ -54,9 +54,9 @@ pub fn run(paths: &[PathBuf], engines: &[EngineKind]) -> u8 {
         }
     );
     for (kind, reason) in &skipped {
-        println!("skipped {}: {reason}", kind.name());
+        say!("skipped {}: {reason}", kind.name());
     }
-    println!("{passed} passed, {failed} failed");
+    say!("{passed} passed, {failed} failed");
     if unusable {
         status::UNUSABLE
     } else if failed > 0 {
@@ -72,14 +72,14 @@ fn load(file: &Path) -> Option<(crate::scenario::Scenario, crate::source::Source
     let text = match std::fs::read_to_string(file) {
         Ok(text) => text,
         Err(error) => {
-            eprintln!("error: cannot read {}: {error}", file.display());
+            say_err!("error: cannot read {}: {error}", file.display());
             return None;
         }
     };
     let scenario = match parse_scenario(file, &text) {
         Ok(scenario) => scenario,
         Err(error) => {
-            eprintln!(
+            say_err!(
                 "{}:{}: error: {}",
                 file.display(),
                 error.line,
@@ -91,7 +91,7 @@ fn load(file: &Path) -> Option<(crate::scenario::Scenario, crate::source::Source
     match crate::scenario::load_program(&scenario) {
         Ok(source) => Some((scenario, source)),
         Err(message) => {
-            eprintln!("{}: error: {message}", file.display());
+            say_err!("{}: error: {message}", file.display());
             None
         }
     }
