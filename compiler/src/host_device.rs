@@ -135,7 +135,8 @@ pub fn parse_number(text: &str) -> Result<i64, String> {
         Some(rest) if radix == 10 => (true, rest),
         _ => (false, digits),
     };
-    if magnitude.is_empty() || magnitude.len() > 20 {
+    if magnitude.is_empty() || magnitude.len() > 20 || !magnitude.chars().all(|c| c.is_digit(radix))
+    {
         return Err(invalid());
     }
     let value = i64::from_str_radix(magnitude, radix).map_err(|_| invalid())?;

@@ -31,7 +31,7 @@ fn write_raw(to_stderr: bool, text: &str) {
 mod check;
 mod explain;
 mod run;
-mod test;
+pub mod test;
 
 use crate::scenario::EngineKind;
 use clap::{Parser, Subcommand, ValueEnum};

@@ -3,9 +3,16 @@
 use super::status;
 use crate::scenario::{collect_files, parse_scenario, run_scenario, EngineKind};
 use std::collections::BTreeMap;
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
 pub fn run(paths: &[PathBuf], engines: &[EngineKind]) -> u8 {
+    run_to(&mut std::io::stdout().lock(), paths, engines)
+}
+
+/// `ladderc test` writing its report to `out` (failures, details, engine
+/// lines, and the summary line last). Errors reading files go to stderr.
+pub fn run_to(out: &mut dyn Write, paths: &[PathBuf], engines: &[EngineKind]) -> u8 {
     let mut unusable = false;
     let mut files = Vec::new();
     for path in paths {
@@ -27,11 +34,9 @@ pub fn run(paths: &[PathBuf], engines: &[EngineKind]) -> u8 {
         };
         let outcome = run_scenario(&scenario, &source, engines);
         for failure in &outcome.failures {
-            say!("{failure}");
+            let _ = writeln!(out, "{failure}");
         }
-        if !outcome.details.is_empty() {
-            super::write_raw(false, &outcome.details);
-        }
+        let _ = out.write_all(outcome.details.as_bytes());
         for kind in &outcome.ran {
             *ran.entry(*kind).or_default() += 1;
         }
@@ -45,18 +50,16 @@ pub fn run(paths: &[PathBuf], engines: &[EngineKind]) -> u8 {
         }
     }
     let ran_names: Vec<&str> = ran.keys().map(|k| k.name()).collect();
-    say!(
-        "engines: {}",
-        if ran_names.is_empty() {
-            "none".to_string()
-        } else {
-            ran_names.join(", ")
-        }
-    );
+    let engines_line = if ran_names.is_empty() {
+        "none".to_string()
+    } else {
+        ran_names.join(", ")
+    };
+    let _ = writeln!(out, "engines: {engines_line}");
     for (kind, reason) in &skipped {
-        say!("skipped {}: {reason}", kind.name());
+        let _ = writeln!(out, "skipped {}: {reason}", kind.name());
     }
-    say!("{passed} passed, {failed} failed");
+    let _ = writeln!(out, "{passed} passed, {failed} failed");
     if unusable {
         status::UNUSABLE
     } else if failed > 0 {

@@ -5,7 +5,7 @@
 
 mod table;
 
-pub use table::lookup;
+pub use table::{lookup, mnemonics};
 
 /// How a contact looks at its device.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -472,7 +472,7 @@ mod tests {
     #[test]
     fn garbage_is_an_error_not_a_panic() {
         for text in [
-            "", "Q1", "X", "K", "H", "D0..1", "[", "M1x", "é", "K4", "K-4M0",
+            "", "Q1", "X", "K", "H", "D0..1", "[", "M1x", "é", "K-4M0", "K4M", "D0[D1]x",
         ] {
             assert!(parse_operand(text, 0).is_err(), "{text:?}");
         }

@@ -1,0 +1,186 @@
+//! Random, structurally valid ladder programs for property tests: rungs are
+//! series/parallel trees of contacts emitted as LD/AND/OR/ANB/ORB, with
+//! branch points (MPS/MRD/MPP), outputs, data instructions, jumps, MC regions
+//! and STL blocks drawn from a small device vocabulary so that instructions
+//! interact.
+
+#![allow(dead_code)]
+
+use proptest::prelude::*;
+
+/// A rung's condition: a contact, or blocks in series or in parallel.
+#[derive(Clone, Debug)]
+pub enum Condition {
+    Contact(String, String),
+    Series(Vec<Condition>),
+    Parallel(Vec<Condition>),
+}
+
+fn contact() -> impl Strategy<Value = Condition> {
+    let device = prop_oneof![
+        "X[0-7]",
+        "M[0-9]",
+        "Y[0-7]",
+        "S[0-3]",
+        "T[0-3]",
+        "C[0-2]",
+        "M8002",
+        "D0\\.[0-3]",
+        "M[0-9]\\[D1\\]",
+    ];
+    let kind = prop_oneof![
+        4 => Just(""), 2 => Just("I"), 1 => Just("P"), 1 => Just("F"),
+    ];
+    prop_oneof![
+        8 => (kind, device).prop_map(|(k, d)| Condition::Contact(k.to_string(), d)),
+        1 => (prop_oneof![Just("="), Just("<>"), Just(">"), Just("<"), Just(">="), Just("<=")],
+              prop_oneof![Just("D0"), Just("D2"), Just("TN0"), Just("K4M0")],
+              prop_oneof![Just("K3"), Just("D3"), Just("K-1"), Just("CN1")])
+            .prop_map(|(op, a, b)| Condition::Contact(format!("{op}"), format!("{a} {b}"))),
+        1 => (prop_oneof![Just("="), Just(">"), Just("<")], prop_oneof![Just("D10"), Just("CN200")])
+            .prop_map(|(op, a)| Condition::Contact(format!("D{op}"), format!("{a} K2"))),
+    ]
+}
+
+pub fn condition() -> impl Strategy<Value = Condition> {
+    contact().prop_recursive(3, 12, 3, |inner| {
+        prop_oneof![
+            proptest::collection::vec(inner.clone(), 2..4).prop_map(Condition::Series),
+            proptest::collection::vec(inner, 2..4).prop_map(Condition::Parallel),
+        ]
+    })
+}
+
+/// Emits `condition` as a block: starting with an LD-type instruction.
+fn emit_block(condition: &Condition, out: &mut Vec<String>) {
+    match condition {
+        Condition::Contact(kind, device) => out.push(contact_line("LD", kind, device)),
+        Condition::Series(parts) | Condition::Parallel(parts) => {
+            let series = matches!(condition, Condition::Series(_));
+            emit_block(&parts[0], out);
+            for part in &parts[1..] {
+                match part {
+                    Condition::Contact(kind, device) => out.push(contact_line(
+                        if series { "AND" } else { "OR" },
+                        kind,
+                        device,
+                    )),
+                    _ => {
+                        emit_block(part, out);
+                        out.push(if series { "ANB" } else { "ORB" }.to_string());
+                    }
+                }
+            }
+        }
+    }
+}
+
+fn contact_line(role: &str, kind: &str, device: &str) -> String {
+    let comparison = kind.contains(['=', '<', '>']);
+    match (role, kind) {
+        (_, _) if comparison => format!("{role}{kind} {device}"),
+        ("AND", "I") => format!("ANI {device}"),
+        (role, kind) => format!("{role}{kind} {device}"),
+    }
+}
+
+pub fn output() -> impl Strategy<Value = String> {
+    prop_oneof![
+        6 => prop_oneof![
+            "OUT (Y[0-7]|M[0-9])", "SET (Y[0-7]|M[0-9])", "RST (Y[0-7]|M[0-9])", "PLS M[0-9]", "PLF Y[0-7]",
+            "OUT T[0-3] K[0-5]", "OUT T25[0-1] K3", "OUT C[0-2] K[0-3]", "OUT C20[0-1] K[0-2]",
+            "RST (T|C)[0-3]", "OUT M[0-9]\\[D1\\]", "SET S[1-3]", "OUT D0\\.[0-3]", "OUT M820[0-1]",
+        ],
+        3 => prop_oneof![
+            "MOV (K[0-9]|D[0-3]|K1X0) (D[0-3]|K1Y0|D0\\[D1\\])", "ADD D[0-3] K[1-3] D[0-3]", "SUB D[0-3] D[0-3] D[0-3]",
+            "INCP D[0-3]", "DEC D[0-3]", "MUL D[0-3] K3 D20", "DIV D[0-3] D[0-3] D22", "CMP D[0-3] K2 M20",
+            "DMOV K[0-9]{1,6} D10", "DADD D10 K100000 D10", "ZCP K1 K3 D[0-3] M24", "MOVP K4M0 D3",
+            "BMOV D0 D30\\[D1\\] K3", "FMOV K7 D40 D2", "DINC CN200", "MOV K[0-9] D1",
+        ],
+    ]
+}
+
+/// A whole rung: its condition, then outputs, possibly on MPS branches.
+#[derive(Clone, Debug)]
+pub struct Rung {
+    pub condition: Condition,
+    pub outputs: Vec<(Option<Condition>, String)>,
+}
+
+pub fn rung() -> impl Strategy<Value = Rung> {
+    (
+        condition(),
+        proptest::collection::vec((proptest::option::of(contact()), output()), 1..4),
+    )
+        .prop_map(|(condition, outputs)| Rung { condition, outputs })
+}
+
+fn emit_rung(rung: &Rung, out: &mut Vec<String>) {
+    emit_block(&rung.condition, out);
+    let branches = rung.outputs.iter().any(|(c, _)| c.is_some()) && rung.outputs.len() > 1;
+    for (i, (branch, output)) in rung.outputs.iter().enumerate() {
+        if branches {
+            let last = i + 1 == rung.outputs.len();
+            out.push(
+                match (i, last) {
+                    (0, _) => "MPS",
+                    (_, true) => "MPP",
+                    _ => "MRD",
+                }
+                .to_string(),
+            );
+        }
+        if let Some(Condition::Contact(kind, device)) = branch.as_ref().filter(|_| branches) {
+            out.push(contact_line("AND", kind, device));
+        }
+        out.push(output.clone());
+    }
+}
+
+/// A program: plain rungs, some in an MC region, some behind a jump, and a
+/// small STL sequence whose transitions depend on inputs.
+pub fn program() -> impl Strategy<Value = String> {
+    (
+        proptest::collection::vec(rung(), 1..8),
+        proptest::collection::vec(rung(), 0..3),
+        proptest::collection::vec(rung(), 0..3),
+        proptest::collection::vec(rung(), 0..3),
+    )
+        .prop_map(|(plain, in_mc, jumped, in_stl)| {
+            let mut out = vec![
+                "LD M8002".to_string(),
+                "SET S1".to_string(),
+                "MOV K1 D1".to_string(),
+            ];
+            for rung in &plain {
+                emit_rung(rung, &mut out);
+            }
+            out.extend(["LD X6", "MC N0 M50"].map(str::to_string));
+            for rung in &in_mc {
+                emit_rung(rung, &mut out);
+            }
+            out.extend(["MCR N0", "LD X7", "CJ P1"].map(str::to_string));
+            for rung in &jumped {
+                emit_rung(rung, &mut out);
+            }
+            out.push("P1".to_string());
+            out.extend(["STL S1", "LD X5", "SET S2", "LD T2", "OUT Y6"].map(str::to_string));
+            for rung in &in_stl {
+                emit_rung(rung, &mut out);
+            }
+            out.extend(
+                [
+                    "STLE",
+                    "STL S2",
+                    "LD SM0",
+                    "OUT T2 K2",
+                    "LDP X4",
+                    "SET S1",
+                    "PLS M30",
+                    "STLE",
+                ]
+                .map(str::to_string),
+            );
+            out.join("\n") + "\n"
+        })
+}
