@@ -41,12 +41,12 @@ pub fn parse_device(text: &str, double: bool) -> Result<HostDevice, String> {
     let n = d.number;
     let width = if double { Width::Double } else { Width::Single };
     let bit_area = |area: BitArea| -> Result<Device, String> {
-        if n >= area.len() {
+        if n >= area.count() {
             return Err(format!("`{text}` is out of range"));
         }
         Ok(match d.digits {
             Some(digits) => {
-                if u64::from(n) + 4 * u64::from(digits) > u64::from(area.len()) {
+                if u64::from(n) + 4 * u64::from(digits) > u64::from(area.count()) {
                     return Err(format!("`{text}` runs past the end of {}", area.prefix()));
                 }
                 if !double && digits > 4 {
@@ -62,7 +62,7 @@ pub fn parse_device(text: &str, double: bool) -> Result<HostDevice, String> {
     };
     let word = |area: WordArea| -> Result<Device, String> {
         let words = if double { 2 } else { 1 };
-        if u64::from(n) + words > u64::from(area.len()) {
+        if u64::from(n) + words > u64::from(area.count()) {
             return Err(format!("`{text}` is out of range"));
         }
         Ok(match d.bit {

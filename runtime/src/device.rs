@@ -63,7 +63,7 @@ impl BitArea {
     ];
 
     /// Number of devices in the area.
-    pub const fn len(self) -> u32 {
+    pub const fn count(self) -> u32 {
         match self {
             BitArea::X | BitArea::Y => 256,
             BitArea::M => 8512,
@@ -112,7 +112,7 @@ impl WordArea {
     ];
 
     /// Number of words in the area.
-    pub const fn len(self) -> u32 {
+    pub const fn count(self) -> u32 {
         match self {
             WordArea::D => 8512,
             WordArea::Sd => 1024,

@@ -11,7 +11,7 @@ use crate::device::{
 use crate::special::{OperationError, D_ERROR_CODE, D_ERROR_LINE, M_OPERATION_ERROR};
 use bytemuck::{Pod, Zeroable};
 
-const IO_POINTS: usize = BitArea::X.len() as usize;
+const IO_POINTS: usize = BitArea::X.count() as usize;
 const STATES: usize = STATE_COUNT as usize;
 const TIMERS: usize = TIMER_COUNT as usize;
 const COUNTERS: usize = COUNTER_COUNT as usize;
@@ -23,18 +23,18 @@ pub struct Memory {
     // ---- bit devices ----
     pub x: [u8; IO_POINTS],
     pub y: [u8; IO_POINTS],
-    pub m: [u8; BitArea::M.len() as usize],
+    pub m: [u8; BitArea::M.count() as usize],
     pub s: [u8; STATES],
-    pub sm: [u8; BitArea::Sm.len() as usize],
+    pub sm: [u8; BitArea::Sm.count() as usize],
     pub timer_contact: [u8; TIMERS],
     pub counter_contact: [u8; COUNTERS],
 
     // ---- word devices ----
-    pub d: [i16; WordArea::D.len() as usize],
-    pub sd: [i16; WordArea::Sd.len() as usize],
-    pub r: [i16; WordArea::R.len() as usize],
+    pub d: [i16; WordArea::D.count() as usize],
+    pub sd: [i16; WordArea::Sd.count() as usize],
+    pub r: [i16; WordArea::R.count() as usize],
     pub timer_value: [i16; TIMERS],
-    pub counter_value: [i16; WordArea::CounterValue.len() as usize],
+    pub counter_value: [i16; WordArea::CounterValue.count() as usize],
     /// Current values of the 32-bit counters C200–C255.
     pub wide_counter_value: [i32; WIDE_COUNTER_COUNT as usize],
 
@@ -58,7 +58,7 @@ pub struct Memory {
     /// Force tables: `FORCE_NONE`, `FORCE_OFF` or `FORCE_ON` per device.
     pub force_x: [u8; IO_POINTS],
     pub force_y: [u8; IO_POINTS],
-    pub force_m: [u8; BitArea::M.len() as usize],
+    pub force_m: [u8; BitArea::M.count() as usize],
     pub force_timer: [u8; TIMERS],
     pub force_counter: [u8; COUNTERS],
     /// Number of devices currently forced (lets the scan skip the tables).
@@ -174,7 +174,7 @@ impl Memory {
         let Some(high_index) = index.checked_add(1) else {
             return false;
         };
-        if high_index >= area.len() {
+        if high_index >= area.count() {
             return false;
         }
         let (low, high) = split_words(value);

@@ -249,7 +249,7 @@ impl Checker {
                     Role::And
                 };
                 let new_rung = self.structure_contact(role, span);
-                if let Some(&[ref device]) = operands {
+                if let Some([device]) = operands {
                     self.ok(operands::bit_source(device));
                 }
                 self.emit_contact(role, new_rung, Contact::Constant(value), site);
@@ -579,7 +579,7 @@ impl Checker {
     /// The count of a SET/RST on bits; word bits take no count.
     fn counted_bits(&mut self, target: BitRef, operands: &[syntax::Operand]) -> Option<u32> {
         match target {
-            BitRef::Device(area, address) => self.count(operands, address.index, area.len()),
+            BitRef::Device(area, address) => self.count(operands, address.index, area.count()),
             BitRef::WordBit(..) => match operands.get(1) {
                 None => Some(1),
                 Some(extra) => {
@@ -618,7 +618,7 @@ impl Checker {
                         ),
                         Coil::Bit(_) => return,
                     };
-                    let Some(count) = self.count(operands, number, area.len()) else {
+                    let Some(count) = self.count(operands, number, area.count()) else {
                         return;
                     };
                     let target = if timer {
@@ -635,7 +635,7 @@ impl Checker {
                     else {
                         return;
                     };
-                    let Some(count) = self.count(operands, address.index, area.len()) else {
+                    let Some(count) = self.count(operands, address.index, area.count()) else {
                         return;
                     };
                     self.emit(

@@ -76,7 +76,7 @@ fn check_extent(
         return Err(range_error(
             operand,
             format!("device `{name}` is out of range"),
-            format!("{area_text}"),
+            area_text.to_string(),
         ));
     }
     if u64::from(index) + u64::from(count) > u64::from(len) {
@@ -96,7 +96,7 @@ fn area_text_bits(area: BitArea) -> String {
         "{} is {}..{}",
         area.prefix(),
         area.device_name(0),
-        area.device_name(area.len() - 1)
+        area.device_name(area.count() - 1)
     )
 }
 
@@ -105,7 +105,7 @@ fn area_text_words(area: WordArea) -> String {
         "{} is {}..{}",
         area.prefix(),
         area.device_name(0),
-        area.device_name(area.len() - 1)
+        area.device_name(area.count() - 1)
     )
 }
 
@@ -113,7 +113,7 @@ fn area_text_words(area: WordArea) -> String {
 fn offset(d: &DeviceSyntax) -> Resolved<Option<u32>> {
     match d.offset {
         None => Ok(None),
-        Some(o) if o.register < WordArea::D.len() => Ok(Some(o.register)),
+        Some(o) if o.register < WordArea::D.count() => Ok(Some(o.register)),
         Some(o) => Err(Diagnostic::new(
             Code::DeviceRange,
             o.span,
@@ -150,7 +150,7 @@ pub fn bit_source(operand: &Operand) -> Resolved<BitRef> {
             &text_of(d),
             d.number,
             1,
-            WordArea::D.len(),
+            WordArea::D.count(),
             &area_text_words(WordArea::D),
         )?;
         return Ok(BitRef::WordBit(WordArea::D, address, bit));
@@ -187,7 +187,7 @@ pub fn bit_source(operand: &Operand) -> Resolved<BitRef> {
                 &text_of(d),
                 d.number,
                 1,
-                area.len(),
+                area.count(),
                 &area_text_bits(area),
             )?;
             Ok(BitRef::Device(area, address))
@@ -236,7 +236,7 @@ pub fn coil(operand: &Operand) -> Resolved<Coil> {
                 &text_of(d),
                 d.number,
                 1,
-                area.len(),
+                area.count(),
                 &area_text_bits(area),
             )?;
             return Ok(if is_timer {
@@ -276,7 +276,7 @@ pub fn preset(operand: &Operand, wide: bool) -> Resolved<WordRef> {
                 &text_of(d),
                 d.number,
                 if wide { 2 } else { 1 },
-                WordArea::D.len(),
+                WordArea::D.count(),
                 &area_text_words(WordArea::D),
             )?;
             Ok(WordRef::Word(WordArea::D, Address::fixed(d.number)))
@@ -362,7 +362,7 @@ pub fn state(operand: &Operand) -> Resolved<u32> {
                 &text_of(d),
                 d.number,
                 1,
-                BitArea::S.len(),
+                BitArea::S.count(),
                 &area_text_bits(BitArea::S),
             )?;
             Ok(d.number)
@@ -494,7 +494,7 @@ fn word_device(operand: &Operand, wide: bool, multiple: u32) -> Resolved<WordRef
             &format!("K{n}{name}"),
             d.number,
             4 * u32::from(n),
-            area.len(),
+            area.count(),
             &area_text_bits(area),
         )?;
         return Ok(WordRef::Digits(area, address, n));
@@ -543,7 +543,7 @@ fn word_device(operand: &Operand, wide: bool, multiple: u32) -> Resolved<WordRef
         &name,
         d.number,
         words,
-        area.len(),
+        area.count(),
         &area_text_words(area),
     )?;
     Ok(WordRef::Word(area, address))
@@ -611,7 +611,7 @@ pub fn bit_triple(operand: &Operand) -> Resolved<BitRef> {
                 &text_of(d),
                 address.index,
                 3,
-                area.len(),
+                area.count(),
                 &area_text_bits(area),
             )?;
             Ok(bit)

@@ -32,11 +32,11 @@ pub enum BitPlace {
 pub fn clamp_bit(mem: &mut Memory, bit: BitRef, error: OperationError, line: u32) -> BitPlace {
     let (place, clamped) = match bit {
         BitRef::Device(area, address) => {
-            let (index, clamped) = clamp(effective_index(mem, address), area.len());
+            let (index, clamped) = clamp(effective_index(mem, address), area.count());
             (BitPlace::Device(area, index), clamped)
         }
         BitRef::WordBit(area, address, b) => {
-            let (index, clamped) = clamp(effective_index(mem, address), area.len());
+            let (index, clamped) = clamp(effective_index(mem, address), area.count());
             (BitPlace::WordBit(area, index, b), clamped)
         }
     };
@@ -98,7 +98,7 @@ pub fn resolve_word(mem: &Memory, word: WordRef, wide: bool, units: u32) -> Opti
         WordRef::Word(area, address) => {
             let index = effective_index(mem, address);
             let words = if wide { 2 * units } else { units };
-            in_range(index, words, area.len()).then_some(WordPlace::Word(area, index as u32))
+            in_range(index, words, area.count()).then_some(WordPlace::Word(area, index as u32))
         }
         WordRef::WideCounter(address) => {
             let index = effective_index(mem, address);
@@ -109,11 +109,8 @@ pub fn resolve_word(mem: &Memory, word: WordRef, wide: bool, units: u32) -> Opti
         }
         WordRef::Digits(area, address, digits) => {
             let index = effective_index(mem, address);
-            in_range(index, 4 * u32::from(digits) * units, area.len()).then_some(WordPlace::Digits(
-                area,
-                index as u32,
-                digits,
-            ))
+            in_range(index, 4 * u32::from(digits) * units, area.count())
+                .then_some(WordPlace::Digits(area, index as u32, digits))
         }
     }
 }
@@ -197,7 +194,7 @@ pub fn clamp_word(mem: &Memory, word: WordRef, wide: bool) -> WordPlace {
         WordRef::Constant(value) => WordPlace::Constant(value),
         WordRef::Word(area, address) => WordPlace::Word(
             area,
-            clamp_start(address, 0, if wide { 2 } else { 1 }, area.len()),
+            clamp_start(address, 0, if wide { 2 } else { 1 }, area.count()),
         ),
         WordRef::WideCounter(address) => WordPlace::WideCounter(clamp_start(
             address,
@@ -207,7 +204,7 @@ pub fn clamp_word(mem: &Memory, word: WordRef, wide: bool) -> WordPlace {
         )),
         WordRef::Digits(area, address, digits) => WordPlace::Digits(
             area,
-            clamp_start(address, 0, 4 * u32::from(digits), area.len()),
+            clamp_start(address, 0, 4 * u32::from(digits), area.count()),
             digits,
         ),
     }

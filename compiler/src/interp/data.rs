@@ -74,7 +74,7 @@ fn bit_triple(mem: &mut Memory, operand: &DataOperand) -> Result<[BitPlace; 3], 
         unreachable!("checker gives Y/M/S devices here")
     };
     let start = super::access::effective_index(mem, address);
-    if start < 0 || start + 3 > i64::from(area.len()) {
+    if start < 0 || start + 3 > i64::from(area.count()) {
         return Err(OperationError::WriteOutOfRange);
     }
     let start = start as u32;

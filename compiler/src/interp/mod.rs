@@ -259,7 +259,7 @@ impl Run<'_> {
         match target {
             crate::program::BitRef::Device(area, address) => {
                 let start = access::effective_index(self.mem, address);
-                let last_start = i64::from(area.len() - count);
+                let last_start = i64::from(area.count() - count);
                 let clamped = start.clamp(0, last_start);
                 if clamped != start {
                     self.mem.record_error(OperationError::WriteOutOfRange, line);
@@ -282,7 +282,7 @@ impl Run<'_> {
             }
             ResetTarget::Word(area, address) => {
                 let start = access::effective_index(self.mem, address);
-                let clamped = start.clamp(0, i64::from(area.len() - count));
+                let clamped = start.clamp(0, i64::from(area.count() - count));
                 if clamped != start {
                     self.mem.record_error(OperationError::WriteOutOfRange, line);
                 }

@@ -36,7 +36,7 @@ fn contact() -> impl Strategy<Value = Condition> {
         1 => (prop_oneof![Just("="), Just("<>"), Just(">"), Just("<"), Just(">="), Just("<=")],
               prop_oneof![Just("D0"), Just("D2"), Just("TN0"), Just("K4M0")],
               prop_oneof![Just("K3"), Just("D3"), Just("K-1"), Just("CN1")])
-            .prop_map(|(op, a, b)| Condition::Contact(format!("{op}"), format!("{a} {b}"))),
+            .prop_map(|(op, a, b)| Condition::Contact(op.to_string(), format!("{a} {b}"))),
         1 => (prop_oneof![Just("="), Just(">"), Just("<")], prop_oneof![Just("D10"), Just("CN200")])
             .prop_map(|(op, a)| Condition::Contact(format!("D{op}"), format!("{a} K2"))),
     ]
