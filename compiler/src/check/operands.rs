@@ -348,83 +348,47 @@ pub fn device_count(operand: &Operand, first: u32, area_len: u32) -> Resolved<u3
     Ok(count)
 }
 
-/// A state Sn (no offset).
-pub fn state(operand: &Operand) -> Resolved<u32> {
+/// A plain numbered operand of one prefix (no offset, digits or bit), at
+/// most `last`: states, nesting levels, labels.
+fn numbered(operand: &Operand, prefix: Prefix, last: u32, what: &str) -> Resolved<u32> {
+    let name = prefix.as_str();
     match device(operand) {
         Some(d)
-            if d.prefix == Prefix::S
+            if d.prefix == prefix
                 && d.digits.is_none()
                 && d.bit.is_none()
                 && d.offset.is_none() =>
         {
-            check_extent(
-                operand,
-                &text_of(d),
-                d.number,
-                1,
-                BitArea::S.count(),
-                &area_text_bits(BitArea::S),
-            )?;
+            if d.number > last {
+                return Err(range_error(
+                    operand,
+                    format!("{what} {name}{} is out of range", d.number),
+                    format!("{what}s are {name}0..{name}{last}"),
+                ));
+            }
             Ok(d.number)
         }
         _ => Err(kind_error(
             operand,
-            "expected a state such as S10",
-            "not a state",
+            format!("expected a {what} such as {name}1"),
+            &format!("not a {what}"),
         )),
     }
+}
+
+/// A state Sn.
+pub fn state(operand: &Operand) -> Resolved<u32> {
+    numbered(operand, Prefix::S, BitArea::S.count() - 1, "state")
 }
 
 /// `N0`..`N7`.
 pub fn nest_level(operand: &Operand) -> Resolved<u8> {
-    match device(operand) {
-        Some(d)
-            if d.prefix == Prefix::N
-                && d.digits.is_none()
-                && d.bit.is_none()
-                && d.offset.is_none() =>
-        {
-            if d.number >= MC_LEVELS {
-                return Err(range_error(
-                    operand,
-                    format!("nesting level N{} is out of range", d.number),
-                    "levels are N0..N7",
-                ));
-            }
-            Ok(d.number as u8)
-        }
-        _ => Err(kind_error(
-            operand,
-            "expected a nesting level N0..N7",
-            "not a nesting level",
-        )),
-    }
+    numbered(operand, Prefix::N, MC_LEVELS - 1, "nesting level").map(|n| n as u8)
 }
 
 /// `P0`..`P4095`.
 pub fn label(operand: &Operand) -> Resolved<u32> {
-    match device(operand) {
-        Some(d)
-            if d.prefix == Prefix::P
-                && d.digits.is_none()
-                && d.bit.is_none()
-                && d.offset.is_none() =>
-        {
-            if d.number > LAST_LABEL {
-                return Err(range_error(
-                    operand,
-                    format!("label P{} is out of range", d.number),
-                    "labels are P0..P4095",
-                ));
-            }
-            Ok(d.number)
-        }
-        _ => Err(kind_error(
-            operand,
-            "expected a label such as P0",
-            "not a label",
-        )),
-    }
+    numbered(operand, Prefix::P, LAST_LABEL, "label")
 }
 
 /// A word the instruction reads, `units` words wide at 16 bits (doubled at 32).
