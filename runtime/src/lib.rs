@@ -2,11 +2,15 @@
 //! program, forced I/O, and the timer/counter bookkeeping that the reference
 //! interpreter and compiled code share.
 
+pub mod capi;
 pub mod counter;
 pub mod device;
 pub mod force;
+pub mod helpers;
 pub mod host;
+pub mod layout;
 pub mod memory;
+pub mod place;
 pub mod scan;
 pub mod special;
 pub mod timer;
@@ -15,4 +19,5 @@ pub use device::{BitArea, TimerClass, WordArea};
 pub use force::ForceError;
 pub use host::{Device, Width};
 pub use memory::Memory;
+pub use place::Place;
 pub use special::OperationError;

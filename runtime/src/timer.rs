@@ -49,15 +49,6 @@ impl Memory {
         }
     }
 
-    /// An STL block's one-time reset of its non-retentive timer: as if the
-    /// coil had turned OFF.
-    pub fn deactivate_timer(&mut self, timer: u32) {
-        if timer < TIMER_COUNT && !TimerClass::of(timer).retentive {
-            self.timer_coil_was_on[timer as usize] = 0;
-            self.clear_timer(timer as usize);
-        }
-    }
-
     fn clear_timer(&mut self, n: usize) {
         self.timer_value[n] = 0;
         self.timer_remainder_ms[n] = 0;

@@ -5,7 +5,7 @@
 
 use crate::program::{Address, BitRef, WordRef};
 use ladder_runtime::device::FIRST_WIDE_COUNTER;
-use ladder_runtime::{BitArea, Memory, OperationError, WordArea};
+use ladder_runtime::{BitArea, Memory, OperationError, Place, WordArea};
 
 /// The device number an address names now: base plus the offset register's
 /// current (signed) value.
@@ -76,133 +76,58 @@ pub fn write_bit(mem: &mut Memory, bit: BitRef, on: bool, line: u32) {
     write_place(mem, place, on);
 }
 
-/// A word operand after applying its offset, known to be in range for
-/// `units` consecutive values of the instruction's width.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum WordPlace {
-    Constant(i32),
-    Word(WordArea, u32),
-    WideCounter(u32),
-    Digits(BitArea, u32, u8),
-}
-
 /// Resolves a word operand of an application instruction covering `units`
 /// values of `wide` width (a MUL result is 2 units, BMOV n is n units).
 /// `None` when any of it is outside its area.
-pub fn resolve_word(mem: &Memory, word: WordRef, wide: bool, units: u32) -> Option<WordPlace> {
+pub fn resolve_word(mem: &Memory, word: WordRef, wide: bool, units: u32) -> Option<Place> {
     let in_range = |index: i64, needed: u32, len: u32| {
         index >= 0 && index + i64::from(needed) <= i64::from(len)
     };
     match word {
-        WordRef::Constant(value) => Some(WordPlace::Constant(value)),
+        WordRef::Constant(value) => Some(Place::Constant(value)),
         WordRef::Word(area, address) => {
             let index = effective_index(mem, address);
             let words = if wide { 2 * units } else { units };
-            in_range(index, words, area.count()).then_some(WordPlace::Word(area, index as u32))
+            in_range(index, words, area.count()).then_some(Place::Word(area, index as u32))
         }
         WordRef::WideCounter(address) => {
             let index = effective_index(mem, address);
             let first = i64::from(FIRST_WIDE_COUNTER);
             let slot = index - first;
             (slot >= 0 && in_range(slot, units, ladder_runtime::device::WIDE_COUNTER_COUNT))
-                .then_some(WordPlace::WideCounter(index as u32))
+                .then_some(Place::WideCounter(index as u32))
         }
         WordRef::Digits(area, address, digits) => {
             let index = effective_index(mem, address);
-            in_range(index, 4 * u32::from(digits) * units, area.count())
-                .then_some(WordPlace::Digits(area, index as u32, digits))
-        }
-    }
-}
-
-impl WordPlace {
-    /// The `unit`-th value from this place (BMOV/FMOV walk their operands).
-    pub fn nth(self, unit: u32, wide: bool) -> WordPlace {
-        match self {
-            WordPlace::Constant(_) => self,
-            WordPlace::Word(area, index) => {
-                WordPlace::Word(area, index + unit * if wide { 2 } else { 1 })
-            }
-            WordPlace::WideCounter(index) => WordPlace::WideCounter(index + unit),
-            WordPlace::Digits(area, start, digits) => {
-                WordPlace::Digits(area, start + unit * 4 * u32::from(digits), digits)
-            }
-        }
-    }
-
-    /// The value at the instruction's width: 16-bit values sign-extended,
-    /// digit groups of fewer bits zero-extended.
-    pub fn read(self, mem: &Memory, wide: bool) -> i32 {
-        match self {
-            WordPlace::Constant(value) => value,
-            WordPlace::Word(area, index) if wide => mem.word_pair(area, index).unwrap_or(0),
-            WordPlace::Word(area, index) => mem.word(area, index).map_or(0, i32::from),
-            WordPlace::WideCounter(index) => mem.wide_counter(index).unwrap_or(0),
-            WordPlace::Digits(area, start, digits) => {
-                let bits = mem.digits(area, start, u32::from(digits)).unwrap_or(0);
-                if wide {
-                    bits
-                } else {
-                    i32::from(bits as i16)
-                }
-            }
-        }
-    }
-
-    /// Writes the low bits of `value` that the place holds.
-    pub fn write(self, mem: &mut Memory, wide: bool, value: i64) {
-        match self {
-            WordPlace::Constant(_) => {}
-            WordPlace::Word(area, index) if wide => {
-                mem.set_word_pair(area, index, value as i32);
-            }
-            WordPlace::Word(area, index) => {
-                mem.set_word(area, index, value as i16);
-            }
-            WordPlace::WideCounter(index) => {
-                mem.set_wide_counter(index, value as i32);
-            }
-            WordPlace::Digits(area, start, digits) => {
-                mem.set_digits(area, start, u32::from(digits), value as i32);
-            }
-        }
-    }
-
-    /// Writes a value twice the instruction's width (MUL results): the low
-    /// half at this place, the high half at the next unit. A digit group
-    /// holds only its own low bits.
-    pub fn write_double(self, mem: &mut Memory, wide: bool, value: i64) {
-        match self {
-            WordPlace::Digits(..) => self.write(mem, wide, value),
-            _ => {
-                let half = if wide { 32 } else { 16 };
-                self.write(mem, wide, value);
-                self.nth(1, wide).write(mem, wide, value >> half);
-            }
+            in_range(index, 4 * u32::from(digits) * units, area.count()).then_some(Place::Digits(
+                area,
+                index as u32,
+                digits,
+            ))
         }
     }
 }
 
 /// A comparison contact's word operand clamped into its area (the contact
 /// rule), for when `resolve_word` refused it.
-pub fn clamp_word(mem: &Memory, word: WordRef, wide: bool) -> WordPlace {
+pub fn clamp_word(mem: &Memory, word: WordRef, wide: bool) -> Place {
     let clamp_start = |address: Address, first: u32, span: u32, len: u32| {
         let last = i64::from(len) - i64::from(span);
         effective_index(mem, address).clamp(i64::from(first), last) as u32
     };
     match word {
-        WordRef::Constant(value) => WordPlace::Constant(value),
-        WordRef::Word(area, address) => WordPlace::Word(
+        WordRef::Constant(value) => Place::Constant(value),
+        WordRef::Word(area, address) => Place::Word(
             area,
             clamp_start(address, 0, if wide { 2 } else { 1 }, area.count()),
         ),
-        WordRef::WideCounter(address) => WordPlace::WideCounter(clamp_start(
+        WordRef::WideCounter(address) => Place::WideCounter(clamp_start(
             address,
             FIRST_WIDE_COUNTER,
             1,
             ladder_runtime::device::COUNTER_COUNT,
         )),
-        WordRef::Digits(area, address, digits) => WordPlace::Digits(
+        WordRef::Digits(area, address, digits) => Place::Digits(
             area,
             clamp_start(address, 0, 4 * u32::from(digits), area.count()),
             digits,

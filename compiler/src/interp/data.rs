@@ -2,14 +2,12 @@
 //! is written: an out-of-range operand records 4085H (read) or 4086H (write)
 //! and the instruction does nothing else.
 
-use super::access::{resolve_word, write_place, BitPlace, WordPlace};
+use super::access::{resolve_word, write_place, BitPlace};
 use crate::isa::DataOp;
 use crate::program::{BitRef, DataInstruction, DataOperand, WordRef};
+use ladder_runtime::place::MAX_BLOCK_UNITS;
 use ladder_runtime::special::{M_BORROW, M_CARRY, M_ZERO};
-use ladder_runtime::{Memory, OperationError};
-
-/// Largest word count of BMOV/FMOV.
-pub const MAX_BLOCK_WORDS: i32 = 512;
+use ladder_runtime::{Memory, OperationError, Place};
 
 /// Executes one data instruction whose condition is ON.
 pub fn execute(mem: &mut Memory, data: &DataInstruction, line: u32) {
@@ -38,7 +36,7 @@ fn source(
     operand: &DataOperand,
     wide: bool,
     units: u32,
-) -> Result<WordPlace, OperationError> {
+) -> Result<Place, OperationError> {
     resolve_word(mem, word(operand), wide, units).ok_or(OperationError::ReadOutOfRange)
 }
 
@@ -48,7 +46,7 @@ fn destination(
     operand: &DataOperand,
     wide: bool,
     units: u32,
-) -> Result<WordPlace, OperationError> {
+) -> Result<Place, OperationError> {
     resolve_word(mem, word(operand), wide, units).ok_or(OperationError::WriteOutOfRange)
 }
 
@@ -58,7 +56,7 @@ fn double_destination(
     mem: &Memory,
     operand: &DataOperand,
     wide: bool,
-) -> Result<WordPlace, OperationError> {
+) -> Result<Place, OperationError> {
     let units = if matches!(word(operand), WordRef::Digits(..)) {
         1
     } else {
@@ -94,7 +92,7 @@ fn try_execute(mem: &mut Memory, data: &DataInstruction) -> Result<(), Operation
         DataOp::BlockMov | DataOp::FillMov => {
             let n_place = source(mem, &ops[2], false, 1)?;
             let n = n_place.read(mem, false);
-            if !(1..=MAX_BLOCK_WORDS).contains(&n) {
+            if !(1..=MAX_BLOCK_UNITS as i32).contains(&n) {
                 return Err(OperationError::DataOutOfRange);
             }
             let n = n as u32;
@@ -135,7 +133,13 @@ fn try_execute(mem: &mut Memory, data: &DataInstruction) -> Result<(), Operation
             let b = source(mem, &ops[1], wide, 1)?;
             let d = double_destination(mem, &ops[2], wide)?;
             let product = i64::from(a.read(mem, wide)) * i64::from(b.read(mem, wide));
-            d.write_double(mem, wide, product);
+            // The low half here, the high half in the next unit; a digit
+            // group holds only its own low bits.
+            d.write(mem, wide, product);
+            if !matches!(d, Place::Digits(..)) {
+                d.nth(1, wide)
+                    .write(mem, wide, product >> if wide { 32 } else { 16 });
+            }
         }
         DataOp::Div => {
             let a = source(mem, &ops[0], wide, 1)?;
@@ -148,7 +152,7 @@ fn try_execute(mem: &mut Memory, data: &DataInstruction) -> Result<(), Operation
             // Truncation toward zero; MIN / -1 wraps like the hardware.
             let (quotient, remainder) = (a / b, a % b);
             d.write(mem, wide, quotient);
-            if !matches!(d, WordPlace::Digits(..)) {
+            if !matches!(d, Place::Digits(..)) {
                 d.nth(1, wide).write(mem, wide, remainder);
             }
         }
