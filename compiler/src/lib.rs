@@ -6,10 +6,14 @@
 
 pub mod check;
 pub mod cli;
+pub mod codegen;
 pub mod diagnostics;
 pub mod host_device;
 pub mod interp;
+pub mod ir;
 pub mod isa;
+pub mod lower;
+pub mod pipeline;
 pub mod program;
 pub mod scenario;
 pub mod source;

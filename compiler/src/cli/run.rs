@@ -3,7 +3,7 @@
 use super::status;
 use crate::host_device::{parse_device, parse_value, HostDevice};
 use crate::program::{BitRef, CheckedProgram, Op};
-use crate::scenario::{instantiate, Engine, EngineKind};
+use crate::scenario::{instantiate, Engine, EngineError, EngineKind};
 use clap::{Args, ValueEnum};
 use ladder_runtime::{BitArea, Device, Width};
 use std::path::PathBuf;
@@ -62,9 +62,13 @@ pub fn run(args: &RunArgs) -> u8 {
     };
     let mut engine = match instantiate(kind, &program) {
         Ok(engine) => engine,
-        Err(unavailable) => {
-            say_err!("error: {}", unavailable.0);
+        Err(EngineError::Unavailable(reason)) => {
+            say_err!("error: {reason}");
             return status::UNUSABLE;
+        }
+        Err(EngineError::Failed(reason)) => {
+            say_err!("error: {reason}");
+            return status::FAILED;
         }
     };
     for set in &args.sets {

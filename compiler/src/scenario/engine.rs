@@ -26,9 +26,15 @@ impl EngineKind {
     }
 }
 
-/// Why an engine could not run here (reported as skipped, never as passed).
+/// Why an engine could not be set up for a program.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Unavailable(pub String);
+pub enum EngineError {
+    /// The engine cannot run on this machine (reported as skipped, never as
+    /// passed).
+    Unavailable(String),
+    /// The engine failed on this program (a failure of the scenario).
+    Failed(String),
+}
 
 /// What a scenario needs from an engine.
 pub trait Engine {
@@ -102,12 +108,16 @@ impl<R: ProgramRunner> Engine for InProcess<R> {
 pub fn instantiate<'p>(
     kind: EngineKind,
     program: &'p CheckedProgram,
-) -> Result<Box<dyn Engine + 'p>, Unavailable> {
+) -> Result<Box<dyn Engine + 'p>, EngineError> {
     match kind {
         EngineKind::Interp => Ok(Box::new(InProcess::new(Interpreter::new(program)))),
-        EngineKind::Jit | EngineKind::Aot => Err(Unavailable(format!(
-            "the {} engine is not part of this build",
-            kind.name()
-        ))),
+        EngineKind::Jit => {
+            let compiled =
+                crate::pipeline::jit(program).map_err(|e| EngineError::Failed(e.to_string()))?;
+            Ok(Box::new(InProcess::new(compiled)))
+        }
+        EngineKind::Aot => Err(EngineError::Unavailable(
+            "the aot engine is not part of this build".into(),
+        )),
     }
 }

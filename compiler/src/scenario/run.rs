@@ -1,7 +1,7 @@
 //! Running one scenario: compile its program once, then drive each engine
 //! through the directives and compare.
 
-use super::engine::{instantiate, Engine, EngineKind};
+use super::engine::{instantiate, Engine, EngineError, EngineKind};
 use super::parse::{Directive, ProgramSource, Scenario};
 use crate::check::compile_source;
 use crate::diagnostics::render_all;
@@ -142,7 +142,16 @@ pub fn run_scenario(
                     fail(&mut outcome, failure.0, kind.name(), failure.1);
                 }
             }
-            Err(unavailable) => outcome.skipped.push((kind, unavailable.0)),
+            Err(EngineError::Unavailable(reason)) => outcome.skipped.push((kind, reason)),
+            Err(EngineError::Failed(reason)) => {
+                outcome.ran.push(kind);
+                fail(
+                    &mut outcome,
+                    1,
+                    kind.name(),
+                    format!("the engine failed: {reason}"),
+                );
+            }
         }
     }
     outcome

@@ -1,0 +1,453 @@
+//! IR to Cranelift IR, one function. Shared by the JIT and object back ends.
+//!
+//! Every device access is a load or store at a fixed offset from the image
+//! pointer. A run-time index is clamped into its area here once more, so no
+//! generated access can leave the device image whatever the lowering did.
+
+use crate::ir::{self, BinOp, Index, Inst, Terminator, Type};
+use crate::isa::CompareOp;
+use cranelift_codegen::ir::condcodes::IntCC;
+use cranelift_codegen::ir::{types, FuncRef, InstBuilder, MemFlagsData, Value};
+use cranelift_frontend::{FunctionBuilder, Variable};
+use ladder_runtime::device::{FIRST_WIDE_COUNTER, WIDE_COUNTER_COUNT};
+use ladder_runtime::layout::{
+    bit_area_offset, word_area_offset, EDGE_SLOT_OFFSET, STL_BLOCK_ACTIVE_OFFSET,
+    WIDE_COUNTER_OFFSET,
+};
+use ladder_runtime::special::{D_ERROR_CODE, D_ERROR_LINE, M_OPERATION_ERROR};
+use ladder_runtime::{BitArea, WordArea};
+
+/// Imported runtime helpers, as callable from the function being built.
+pub struct HelperRefs {
+    pub timer_coil: FuncRef,
+    pub counter_coil: FuncRef,
+    pub reset_timer: FuncRef,
+    pub reset_counter: FuncRef,
+    pub schedule_state_off: FuncRef,
+    pub block_move: FuncRef,
+}
+
+fn cl_type(ty: Type) -> types::Type {
+    match ty {
+        Type::Bit => types::I8,
+        Type::I16 => types::I16,
+        Type::I32 => types::I32,
+        Type::I64 => types::I64,
+    }
+}
+
+fn condition(op: CompareOp) -> IntCC {
+    match op {
+        CompareOp::Eq => IntCC::Equal,
+        CompareOp::Ne => IntCC::NotEqual,
+        CompareOp::Gt => IntCC::SignedGreaterThan,
+        CompareOp::Lt => IntCC::SignedLessThan,
+        CompareOp::Ge => IntCC::SignedGreaterThanOrEqual,
+        CompareOp::Le => IntCC::SignedLessThanOrEqual,
+    }
+}
+
+/// Loads and stores of the image: aligned, never trapping (in bounds).
+fn flags() -> MemFlagsData {
+    MemFlagsData::trusted()
+}
+
+/// Translates `func` into the builder, whose entry block takes the image
+/// pointer as its only parameter.
+pub fn translate(
+    func: &ir::Function,
+    builder: &mut FunctionBuilder,
+    helpers: &HelperRefs,
+    pointer: types::Type,
+) {
+    let blocks: Vec<_> = func.blocks.iter().map(|_| builder.create_block()).collect();
+    let entry = blocks[0];
+    builder.append_block_params_for_function_params(entry);
+    builder.switch_to_block(entry);
+    let mem = builder.block_params(entry)[0];
+    let locals: Vec<Variable> = (0..func.locals)
+        .map(|_| builder.declare_var(types::I8))
+        .collect();
+    let mut values: Vec<Option<Value>> = vec![None; func.value_types.len()];
+    let mut t = Translator {
+        builder,
+        mem,
+        pointer,
+        helpers,
+        locals,
+    };
+    for (number, block) in func.blocks.iter().enumerate() {
+        if number > 0 {
+            t.builder.switch_to_block(blocks[number]);
+        }
+        for (result, inst) in &block.insts {
+            let value = t.inst(inst, &values);
+            if let (Some(result), Some(value)) = (result, value) {
+                values[result.0 as usize] = Some(value);
+            }
+        }
+        let get = |v: ir::Value| values[v.0 as usize].expect("defined before use");
+        match &block.terminator {
+            Terminator::Jump(target) => {
+                t.builder.ins().jump(blocks[target.0 as usize], &[]);
+            }
+            Terminator::Branch {
+                condition,
+                then,
+                otherwise,
+            } => {
+                t.builder.ins().brif(
+                    get(*condition),
+                    blocks[then.0 as usize],
+                    &[],
+                    blocks[otherwise.0 as usize],
+                    &[],
+                );
+            }
+            Terminator::Return => {
+                t.builder.ins().return_(&[]);
+            }
+        }
+    }
+    t.builder.seal_all_blocks();
+}
+
+struct Translator<'a, 'b> {
+    builder: &'a mut FunctionBuilder<'b>,
+    mem: Value,
+    pointer: types::Type,
+    helpers: &'a HelperRefs,
+    locals: Vec<Variable>,
+}
+
+impl Translator<'_, '_> {
+    fn iconst(&mut self, ty: types::Type, value: i64) -> Value {
+        self.builder.ins().iconst(ty, value)
+    }
+
+    /// The address of element `index` of an array at `base` with `len`
+    /// elements of `size` bytes, as (pointer, constant offset).
+    fn element(
+        &mut self,
+        base: usize,
+        size: usize,
+        len: u32,
+        index: Index,
+        values: &[Option<Value>],
+    ) -> (Value, i32) {
+        match index {
+            Index::Fixed(n) => {
+                let n = n.min(len - 1) as usize;
+                (self.mem, (base + n * size) as i32)
+            }
+            Index::Dynamic(v) => {
+                let index = values[v.0 as usize].expect("defined before use");
+                // Unsigned minimum: a negative index is huge and clamps too.
+                let last = self.iconst(types::I32, i64::from(len - 1));
+                let clamped = self.builder.ins().umin(index, last);
+                let wide = self.builder.ins().uextend(self.pointer, clamped);
+                let scaled = self.builder.ins().imul_imm_u(wide, size as i64);
+                (self.builder.ins().iadd(self.mem, scaled), base as i32)
+            }
+        }
+    }
+
+    fn bit_address(
+        &mut self,
+        area: BitArea,
+        index: Index,
+        values: &[Option<Value>],
+    ) -> (Value, i32) {
+        self.element(bit_area_offset(area), 1, area.count(), index, values)
+    }
+
+    fn word_address(
+        &mut self,
+        area: WordArea,
+        index: Index,
+        values: &[Option<Value>],
+    ) -> (Value, i32) {
+        self.element(word_area_offset(area), 2, area.count(), index, values)
+    }
+
+    /// A 32-bit counter by device number (C200..C255).
+    fn wide_counter_address(&mut self, index: Index, values: &[Option<Value>]) -> (Value, i32) {
+        match index {
+            Index::Fixed(n) => {
+                let slot = n
+                    .saturating_sub(FIRST_WIDE_COUNTER)
+                    .min(WIDE_COUNTER_COUNT - 1);
+                (self.mem, (WIDE_COUNTER_OFFSET + slot as usize * 4) as i32)
+            }
+            Index::Dynamic(v) => {
+                let number = values[v.0 as usize].expect("defined before use");
+                let slot = self
+                    .builder
+                    .ins()
+                    .iadd_imm_s(number, -i64::from(FIRST_WIDE_COUNTER));
+                let last = self.iconst(types::I32, i64::from(WIDE_COUNTER_COUNT - 1));
+                let clamped = self.builder.ins().umin(slot, last);
+                let wide = self.builder.ins().uextend(self.pointer, clamped);
+                let scaled = self.builder.ins().imul_imm_u(wide, 4);
+                (
+                    self.builder.ins().iadd(self.mem, scaled),
+                    WIDE_COUNTER_OFFSET as i32,
+                )
+            }
+        }
+    }
+
+    fn store_at(&mut self, value: Value, (address, offset): (Value, i32)) {
+        self.builder.ins().store(flags(), value, address, offset);
+    }
+
+    fn load_at(&mut self, ty: types::Type, (address, offset): (Value, i32)) -> Value {
+        self.builder.ins().load(ty, flags(), address, offset)
+    }
+
+    /// `count` elements of `size` bytes from an address set to `value`.
+    fn fill(&mut self, (address, offset): (Value, i32), size: usize, count: u32, value: Value) {
+        const UNROLL: u32 = 16;
+        if count <= UNROLL {
+            for i in 0..count {
+                self.builder.ins().store(
+                    flags(),
+                    value,
+                    address,
+                    offset + (i as usize * size) as i32,
+                );
+            }
+            return;
+        }
+        let start = self.builder.ins().iadd_imm_s(address, i64::from(offset));
+        let end = self
+            .builder
+            .ins()
+            .iadd_imm_s(start, (count as usize * size) as i64);
+        let header = self.builder.create_block();
+        let body = self.builder.create_block();
+        let done = self.builder.create_block();
+        self.builder.append_block_param(header, self.pointer);
+        self.builder.ins().jump(header, &[start.into()]);
+        self.builder.switch_to_block(header);
+        let cursor = self.builder.block_params(header)[0];
+        let more = self
+            .builder
+            .ins()
+            .icmp(IntCC::UnsignedLessThan, cursor, end);
+        self.builder.ins().brif(more, body, &[], done, &[]);
+        self.builder.switch_to_block(body);
+        self.builder.ins().store(flags(), value, cursor, 0);
+        let next = self.builder.ins().iadd_imm_s(cursor, size as i64);
+        self.builder.ins().jump(header, &[next.into()]);
+        self.builder.switch_to_block(done);
+    }
+
+    fn call(&mut self, helper: FuncRef, args: &[Value]) {
+        let mut all = vec![self.mem];
+        all.extend_from_slice(args);
+        self.builder.ins().call(helper, &all);
+    }
+
+    fn inst(&mut self, inst: &Inst, values: &[Option<Value>]) -> Option<Value> {
+        let get = |v: &ir::Value| values[v.0 as usize].expect("defined before use");
+        let ins_value = match inst {
+            Inst::Const { ty, value } => self.iconst(cl_type(*ty), *value),
+            Inst::LoadBit { area, index } => {
+                let at = self.bit_address(*area, *index, values);
+                self.load_at(types::I8, at)
+            }
+            Inst::StoreBit { area, index, value } => {
+                let at = self.bit_address(*area, *index, values);
+                self.store_at(get(value), at);
+                return None;
+            }
+            Inst::FillBits {
+                area,
+                start,
+                count,
+                on,
+            } => {
+                let at = self.bit_address(*area, *start, values);
+                let value = self.iconst(types::I8, i64::from(*on));
+                self.fill(at, 1, (*count).min(area.count()), value);
+                return None;
+            }
+            Inst::LoadWord { area, index } => {
+                let at = self.word_address(*area, *index, values);
+                self.load_at(types::I16, at)
+            }
+            Inst::StoreWord { area, index, value } => {
+                let at = self.word_address(*area, *index, values);
+                self.store_at(get(value), at);
+                return None;
+            }
+            Inst::ClearWords { area, start, count } => {
+                let at = self.word_address(*area, *start, values);
+                let zero = self.iconst(types::I16, 0);
+                self.fill(at, 2, (*count).min(area.count()), zero);
+                return None;
+            }
+            Inst::LoadWideCounter { index } => {
+                let at = self.wide_counter_address(*index, values);
+                self.load_at(types::I32, at)
+            }
+            Inst::StoreWideCounter { index, value } => {
+                let at = self.wide_counter_address(*index, values);
+                self.store_at(get(value), at);
+                return None;
+            }
+            Inst::LoadSlot { slot } => self.load_at(
+                types::I8,
+                (self.mem, (EDGE_SLOT_OFFSET + *slot as usize) as i32),
+            ),
+            Inst::StoreSlot { slot, value } => {
+                self.store_at(
+                    get(value),
+                    (self.mem, (EDGE_SLOT_OFFSET + *slot as usize) as i32),
+                );
+                return None;
+            }
+            Inst::LoadBlockActive { state } => self.load_at(
+                types::I8,
+                (self.mem, (STL_BLOCK_ACTIVE_OFFSET + *state as usize) as i32),
+            ),
+            Inst::StoreBlockActive { state, value } => {
+                self.store_at(
+                    get(value),
+                    (self.mem, (STL_BLOCK_ACTIVE_OFFSET + *state as usize) as i32),
+                );
+                return None;
+            }
+            Inst::GetLocal { local } => self.builder.use_var(self.locals[local.0 as usize]),
+            Inst::SetLocal { local, value } => {
+                self.builder
+                    .def_var(self.locals[local.0 as usize], get(value));
+                return None;
+            }
+            Inst::Not { value } => self.builder.ins().bxor_imm_u(get(value), 1),
+            Inst::And { a, b } => self.builder.ins().band(get(a), get(b)),
+            Inst::Or { a, b } => self.builder.ins().bor(get(a), get(b)),
+            Inst::Binary { op, a, b } => {
+                let (a, b) = (get(a), get(b));
+                let ins = self.builder.ins();
+                match op {
+                    BinOp::Add => ins.iadd(a, b),
+                    BinOp::Sub => ins.isub(a, b),
+                    BinOp::Mul => ins.imul(a, b),
+                    BinOp::Div => ins.sdiv(a, b),
+                    BinOp::Rem => ins.srem(a, b),
+                    BinOp::And => ins.band(a, b),
+                    BinOp::Or => ins.bor(a, b),
+                    BinOp::Shl => ins.ishl(a, b),
+                    BinOp::Shr => ins.sshr(a, b),
+                }
+            }
+            Inst::Compare { op, a, b } => self.builder.ins().icmp(condition(*op), get(a), get(b)),
+            Inst::Extend { value, to, signed } => {
+                let to = cl_type(*to);
+                if *signed {
+                    self.builder.ins().sextend(to, get(value))
+                } else {
+                    self.builder.ins().uextend(to, get(value))
+                }
+            }
+            Inst::Truncate { value, to } => self.builder.ins().ireduce(cl_type(*to), get(value)),
+            Inst::Select {
+                condition,
+                if_true,
+                if_false,
+            } => self
+                .builder
+                .ins()
+                .select(get(condition), get(if_true), get(if_false)),
+            Inst::RecordError { error, line } => {
+                let on = self.iconst(types::I8, 1);
+                self.store_at(
+                    on,
+                    (
+                        self.mem,
+                        (bit_area_offset(BitArea::M) + M_OPERATION_ERROR as usize) as i32,
+                    ),
+                );
+                let code = self.iconst(types::I16, i64::from(error.code() as i16));
+                self.store_at(
+                    code,
+                    (
+                        self.mem,
+                        (word_area_offset(WordArea::D) + 2 * D_ERROR_CODE as usize) as i32,
+                    ),
+                );
+                let line = self.iconst(types::I16, i64::from(*line as u16 as i16));
+                self.store_at(
+                    line,
+                    (
+                        self.mem,
+                        (word_area_offset(WordArea::D) + 2 * D_ERROR_LINE as usize) as i32,
+                    ),
+                );
+                return None;
+            }
+            Inst::TimerCoil {
+                timer,
+                coil,
+                preset,
+            }
+            | Inst::CounterCoil {
+                counter: timer,
+                coil,
+                preset,
+            } => {
+                let number = self.iconst(types::I32, i64::from(*timer));
+                let coil = self.builder.ins().uextend(types::I32, get(coil));
+                let helper = if matches!(inst, Inst::TimerCoil { .. }) {
+                    self.helpers.timer_coil
+                } else {
+                    self.helpers.counter_coil
+                };
+                self.call(helper, &[number, coil, get(preset)]);
+                return None;
+            }
+            Inst::ResetTimer { timer } => {
+                let number = self.iconst(types::I32, i64::from(*timer));
+                self.call(self.helpers.reset_timer, &[number]);
+                return None;
+            }
+            Inst::ResetCounter { counter } => {
+                let number = self.iconst(types::I32, i64::from(*counter));
+                self.call(self.helpers.reset_counter, &[number]);
+                return None;
+            }
+            Inst::ScheduleStateOff { state } => {
+                let number = self.iconst(types::I32, i64::from(*state));
+                self.call(self.helpers.schedule_state_off, &[number]);
+                return None;
+            }
+            Inst::BlockMove {
+                source,
+                destination,
+                count,
+                wide,
+                fill,
+            } => {
+                let mut args = Vec::new();
+                for place in [source, destination] {
+                    let kind = self.iconst(types::I32, i64::from(place.kind));
+                    let index = match place.index {
+                        Index::Fixed(n) => self.iconst(types::I32, i64::from(n)),
+                        Index::Dynamic(v) => get(&v),
+                    };
+                    let digits = self.iconst(types::I32, i64::from(place.digits));
+                    args.extend([kind, index, digits]);
+                }
+                let flags = ladder_runtime::helpers::BLOCK_MOVE_WIDE * u32::from(*wide)
+                    | ladder_runtime::helpers::BLOCK_MOVE_FILL * u32::from(*fill);
+                let flags = self.iconst(types::I32, i64::from(flags));
+                args.extend([get(count), flags]);
+                self.call(self.helpers.block_move, &args);
+                return None;
+            }
+        };
+        Some(ins_value)
+    }
+}

@@ -1,0 +1,207 @@
+//! Building a function block by block.
+
+use super::{BinOp, Block, BlockId, Function, Index, Inst, Local, Terminator, Type, Value};
+use crate::isa::CompareOp;
+
+/// Appends instructions to the current block of a function being built.
+pub struct Builder {
+    func: Function,
+    current: BlockId,
+    terminated: Vec<bool>,
+}
+
+impl Default for Builder {
+    fn default() -> Self {
+        Builder::new()
+    }
+}
+
+impl Builder {
+    /// A function with an empty entry block, which is current.
+    pub fn new() -> Builder {
+        let mut builder = Builder {
+            func: Function {
+                blocks: Vec::new(),
+                value_types: Vec::new(),
+                locals: 0,
+            },
+            current: BlockId(0),
+            terminated: Vec::new(),
+        };
+        builder.create_block();
+        builder
+    }
+
+    pub fn create_block(&mut self) -> BlockId {
+        self.func.blocks.push(Block {
+            insts: Vec::new(),
+            terminator: Terminator::Return,
+        });
+        self.terminated.push(false);
+        BlockId(self.func.blocks.len() as u32 - 1)
+    }
+
+    pub fn switch_to(&mut self, block: BlockId) {
+        self.current = block;
+    }
+
+    pub fn current(&self) -> BlockId {
+        self.current
+    }
+
+    pub fn value_type(&self, value: Value) -> Type {
+        self.func.value_type(value)
+    }
+
+    /// Appends an instruction that defines a value.
+    pub fn push(&mut self, inst: Inst) -> Value {
+        let ty = self
+            .result_type(&inst)
+            .expect("instruction defines a value");
+        let value = Value(self.func.value_types.len() as u32);
+        self.func.value_types.push(ty);
+        self.block_mut().insts.push((Some(value), inst));
+        value
+    }
+
+    /// Appends an instruction kept for its effect.
+    pub fn effect(&mut self, inst: Inst) {
+        debug_assert!(
+            self.result_type(&inst).is_none(),
+            "{inst:?} defines a value"
+        );
+        self.block_mut().insts.push((None, inst));
+    }
+
+    /// Ends the current block.
+    pub fn terminate(&mut self, terminator: Terminator) {
+        let index = self.current.0 as usize;
+        debug_assert!(!self.terminated[index], "block{index} terminated twice");
+        self.terminated[index] = true;
+        self.func.blocks[index].terminator = terminator;
+    }
+
+    /// Jumps from the current block to `target` and continues there.
+    pub fn jump_to(&mut self, target: BlockId) {
+        self.terminate(Terminator::Jump(target));
+        self.switch_to(target);
+    }
+
+    /// Runs `then` in a new block only when `condition` holds; continues after.
+    pub fn if_then(&mut self, condition: Value, then: impl FnOnce(&mut Builder)) {
+        let then_block = self.create_block();
+        let after = self.create_block();
+        self.terminate(Terminator::Branch {
+            condition,
+            then: then_block,
+            otherwise: after,
+        });
+        self.switch_to(then_block);
+        then(self);
+        self.jump_to(after);
+    }
+
+    pub fn finish(self, locals: u8) -> Function {
+        debug_assert!(
+            self.terminated.iter().all(|&t| t),
+            "every block ends in a terminator"
+        );
+        Function {
+            locals,
+            ..self.func
+        }
+    }
+
+    fn block_mut(&mut self) -> &mut Block {
+        &mut self.func.blocks[self.current.0 as usize]
+    }
+
+    fn result_type(&self, inst: &Inst) -> Option<Type> {
+        Some(match inst {
+            Inst::Const { ty, .. } => *ty,
+            Inst::LoadBit { .. }
+            | Inst::LoadSlot { .. }
+            | Inst::LoadBlockActive { .. }
+            | Inst::GetLocal { .. }
+            | Inst::Not { .. }
+            | Inst::And { .. }
+            | Inst::Or { .. }
+            | Inst::Compare { .. } => Type::Bit,
+            Inst::LoadWord { .. } => Type::I16,
+            Inst::LoadWideCounter { .. } => Type::I32,
+            Inst::Binary { a, .. } => self.value_type(*a),
+            Inst::Extend { to, .. } | Inst::Truncate { to, .. } => *to,
+            Inst::Select { if_true, .. } => self.value_type(*if_true),
+            _ => return None,
+        })
+    }
+
+    // ---- shorthands ----
+
+    pub fn constant(&mut self, ty: Type, value: i64) -> Value {
+        self.push(Inst::Const { ty, value })
+    }
+
+    pub fn bit(&mut self, on: bool) -> Value {
+        self.constant(Type::Bit, on as i64)
+    }
+
+    pub fn and(&mut self, a: Value, b: Value) -> Value {
+        self.push(Inst::And { a, b })
+    }
+
+    pub fn or(&mut self, a: Value, b: Value) -> Value {
+        self.push(Inst::Or { a, b })
+    }
+
+    pub fn not(&mut self, value: Value) -> Value {
+        self.push(Inst::Not { value })
+    }
+
+    pub fn binary(&mut self, op: BinOp, a: Value, b: Value) -> Value {
+        debug_assert_eq!(
+            self.value_type(a),
+            self.value_type(b),
+            "{op:?} of two types"
+        );
+        self.push(Inst::Binary { op, a, b })
+    }
+
+    pub fn compare(&mut self, op: CompareOp, a: Value, b: Value) -> Value {
+        self.push(Inst::Compare { op, a, b })
+    }
+
+    pub fn extend(&mut self, value: Value, to: Type, signed: bool) -> Value {
+        if self.value_type(value) == to {
+            return value;
+        }
+        self.push(Inst::Extend { value, to, signed })
+    }
+
+    pub fn truncate(&mut self, value: Value, to: Type) -> Value {
+        if self.value_type(value) == to {
+            return value;
+        }
+        self.push(Inst::Truncate { value, to })
+    }
+
+    pub fn select(&mut self, condition: Value, if_true: Value, if_false: Value) -> Value {
+        self.push(Inst::Select {
+            condition,
+            if_true,
+            if_false,
+        })
+    }
+
+    pub fn load_bit(&mut self, area: ladder_runtime::BitArea, index: Index) -> Value {
+        self.push(Inst::LoadBit { area, index })
+    }
+
+    pub fn store_bit(&mut self, area: ladder_runtime::BitArea, index: Index, value: Value) {
+        self.effect(Inst::StoreBit { area, index, value });
+    }
+
+    pub fn get_local(&mut self, local: Local) -> Value {
+        self.push(Inst::GetLocal { local })
+    }
+}

@@ -1,0 +1,351 @@
+//! The SSA intermediate representation between the checked program and
+//! machine code. It makes the PLC's hidden state explicit:
+//!
+//! - device reads and writes are typed loads and stores of the device image;
+//! - every edge instruction's previous-scan slot is a named load and store;
+//! - an STL block is a gated region: run while its state is ON, reset once
+//!   (OUT coils off, timers cleared, slots cleared) when found OFF after running,
+//!   skipped otherwise, with the block's "last ran active" flag loaded and stored;
+//! - timer and counter updates are explicit operations;
+//! - the logic stack (ANB/ORB/MPS) lives in SSA values, never in memory.
+//!
+//! A function is a list of blocks; each block holds instructions and ends in a
+//! terminator. A value is defined once and used in blocks its definition
+//! dominates. The master-control power of each level is a local variable.
+
+mod builder;
+pub mod passes;
+mod print;
+
+pub use builder::Builder;
+
+use crate::isa::CompareOp;
+use ladder_runtime::{BitArea, OperationError, WordArea};
+
+/// An SSA value.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Value(pub u32);
+
+/// A basic block.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct BlockId(pub u32);
+
+/// A local variable (the power of a master-control level).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Local(pub u8);
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Type {
+    /// 0 or 1.
+    Bit,
+    I16,
+    I32,
+    I64,
+}
+
+/// A device number: fixed, or computed at run time and already brought into
+/// the area by the lowering (code generation clamps it once more, so a
+/// lowering mistake cannot reach outside the image).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Index {
+    Fixed(u32),
+    /// An I32 value.
+    Dynamic(Value),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum BinOp {
+    Add,
+    Sub,
+    Mul,
+    /// Signed, truncating toward zero. The divisor is never zero.
+    Div,
+    /// Signed remainder (sign of the dividend). The divisor is never zero.
+    Rem,
+    And,
+    Or,
+    Shl,
+    /// Arithmetic shift right.
+    Shr,
+}
+
+/// Where BMOV/FMOV read or write: an encoded `ladder_runtime::Place`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct PlaceArg {
+    pub kind: u32,
+    pub index: Index,
+    pub digits: u32,
+}
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Inst {
+    Const {
+        ty: Type,
+        value: i64,
+    },
+    LoadBit {
+        area: BitArea,
+        index: Index,
+    },
+    StoreBit {
+        area: BitArea,
+        index: Index,
+        value: Value,
+    },
+    /// `count` consecutive bits from `start` set to `on` (SET/RST Kn).
+    FillBits {
+        area: BitArea,
+        start: Index,
+        count: u32,
+        on: bool,
+    },
+    LoadWord {
+        area: WordArea,
+        index: Index,
+    },
+    StoreWord {
+        area: WordArea,
+        index: Index,
+        value: Value,
+    },
+    /// `count` consecutive words from `start` set to 0 (RST Dn Kn).
+    ClearWords {
+        area: WordArea,
+        start: Index,
+        count: u32,
+    },
+    /// The current value of a 32-bit counter (index = device number).
+    LoadWideCounter {
+        index: Index,
+    },
+    StoreWideCounter {
+        index: Index,
+        value: Value,
+    },
+    /// The previous-scan value of edge instruction `slot`.
+    LoadSlot {
+        slot: u32,
+    },
+    StoreSlot {
+        slot: u32,
+        value: Value,
+    },
+    /// Whether the block of `state` last ran with its state ON.
+    LoadBlockActive {
+        state: u32,
+    },
+    StoreBlockActive {
+        state: u32,
+        value: Value,
+    },
+    GetLocal {
+        local: Local,
+    },
+    SetLocal {
+        local: Local,
+        value: Value,
+    },
+    Not {
+        value: Value,
+    },
+    And {
+        a: Value,
+        b: Value,
+    },
+    Or {
+        a: Value,
+        b: Value,
+    },
+    Binary {
+        op: BinOp,
+        a: Value,
+        b: Value,
+    },
+    /// Signed comparison giving a Bit.
+    Compare {
+        op: CompareOp,
+        a: Value,
+        b: Value,
+    },
+    Extend {
+        value: Value,
+        to: Type,
+        signed: bool,
+    },
+    Truncate {
+        value: Value,
+        to: Type,
+    },
+    Select {
+        condition: Value,
+        if_true: Value,
+        if_false: Value,
+    },
+    /// M8067 ON, D8067 = code, D8069 = line.
+    RecordError {
+        error: OperationError,
+        line: u32,
+    },
+    /// `OUT Tn preset` with `coil` (Bit) and `preset` (I32).
+    TimerCoil {
+        timer: u32,
+        coil: Value,
+        preset: Value,
+    },
+    /// `OUT Cn preset` with `coil` (Bit) and `preset` (I32).
+    CounterCoil {
+        counter: u32,
+        coil: Value,
+        preset: Value,
+    },
+    ResetTimer {
+        timer: u32,
+    },
+    ResetCounter {
+        counter: u32,
+    },
+    /// A SET transfer: `state` turns OFF at the start of the next scan.
+    ScheduleStateOff {
+        state: u32,
+    },
+    /// BMOV/FMOV of `count` (I32) units between checked places.
+    BlockMove {
+        source: PlaceArg,
+        destination: PlaceArg,
+        count: Value,
+        wide: bool,
+        fill: bool,
+    },
+}
+
+impl Inst {
+    /// Has no effect besides its result: may be removed when unused.
+    pub fn is_pure(&self) -> bool {
+        matches!(
+            self,
+            Inst::Const { .. }
+                | Inst::LoadBit { .. }
+                | Inst::LoadWord { .. }
+                | Inst::LoadWideCounter { .. }
+                | Inst::LoadSlot { .. }
+                | Inst::LoadBlockActive { .. }
+                | Inst::GetLocal { .. }
+                | Inst::Not { .. }
+                | Inst::And { .. }
+                | Inst::Or { .. }
+                | Inst::Binary { .. }
+                | Inst::Compare { .. }
+                | Inst::Extend { .. }
+                | Inst::Truncate { .. }
+                | Inst::Select { .. }
+        )
+    }
+
+    /// Values the instruction reads.
+    pub fn operands(&self) -> Vec<Value> {
+        let index = |i: &Index| match i {
+            Index::Dynamic(v) => vec![*v],
+            Index::Fixed(_) => vec![],
+        };
+        match self {
+            Inst::Const { .. }
+            | Inst::LoadSlot { .. }
+            | Inst::LoadBlockActive { .. }
+            | Inst::GetLocal { .. }
+            | Inst::RecordError { .. }
+            | Inst::ResetTimer { .. }
+            | Inst::ResetCounter { .. }
+            | Inst::ScheduleStateOff { .. } => vec![],
+            Inst::LoadBit { index: i, .. }
+            | Inst::LoadWord { index: i, .. }
+            | Inst::LoadWideCounter { index: i } => index(i),
+            Inst::FillBits { start, .. } | Inst::ClearWords { start, .. } => index(start),
+            Inst::StoreBit {
+                index: i, value, ..
+            }
+            | Inst::StoreWord {
+                index: i, value, ..
+            }
+            | Inst::StoreWideCounter { index: i, value } => [index(i), vec![*value]].concat(),
+            Inst::StoreSlot { value, .. }
+            | Inst::StoreBlockActive { value, .. }
+            | Inst::SetLocal { value, .. }
+            | Inst::Not { value }
+            | Inst::Extend { value, .. }
+            | Inst::Truncate { value, .. } => vec![*value],
+            Inst::And { a, b }
+            | Inst::Or { a, b }
+            | Inst::Binary { a, b, .. }
+            | Inst::Compare { a, b, .. } => vec![*a, *b],
+            Inst::Select {
+                condition,
+                if_true,
+                if_false,
+            } => vec![*condition, *if_true, *if_false],
+            Inst::TimerCoil { coil, preset, .. } | Inst::CounterCoil { coil, preset, .. } => {
+                vec![*coil, *preset]
+            }
+            Inst::BlockMove {
+                source,
+                destination,
+                count,
+                ..
+            } => [
+                index(&source.index),
+                index(&destination.index),
+                vec![*count],
+            ]
+            .concat(),
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Terminator {
+    Jump(BlockId),
+    Branch {
+        condition: Value,
+        then: BlockId,
+        otherwise: BlockId,
+    },
+    Return,
+}
+
+impl Terminator {
+    pub fn successors(&self) -> Vec<BlockId> {
+        match self {
+            Terminator::Jump(b) => vec![*b],
+            Terminator::Branch {
+                then, otherwise, ..
+            } => vec![*then, *otherwise],
+            Terminator::Return => vec![],
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Block {
+    /// Instructions with the value each defines (None for effects).
+    pub insts: Vec<(Option<Value>, Inst)>,
+    pub terminator: Terminator,
+}
+
+/// One compiled program: the body of the scan (step 3).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Function {
+    pub blocks: Vec<Block>,
+    /// The type of every value, by number.
+    pub value_types: Vec<Type>,
+    /// Number of local variables (master-control levels).
+    pub locals: u8,
+}
+
+impl Function {
+    pub fn value_type(&self, value: Value) -> Type {
+        self.value_types[value.0 as usize]
+    }
+
+    pub fn block(&self, block: BlockId) -> &Block {
+        &self.blocks[block.0 as usize]
+    }
+}

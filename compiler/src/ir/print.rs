@@ -1,0 +1,186 @@
+//! The text form of the IR (`ladderc build --emit ir`), stable for snapshots.
+
+use super::{BinOp, Function, Index, Inst, PlaceArg, Terminator, Type};
+use std::fmt::{self, Display, Formatter};
+
+impl Display for Type {
+    fn fmt(&self, f: &mut Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Type::Bit => "bit",
+            Type::I16 => "i16",
+            Type::I32 => "i32",
+            Type::I64 => "i64",
+        })
+    }
+}
+
+impl Display for super::Value {
+    fn fmt(&self, f: &mut Formatter<'_>) -> fmt::Result {
+        write!(f, "v{}", self.0)
+    }
+}
+
+impl Display for super::BlockId {
+    fn fmt(&self, f: &mut Formatter<'_>) -> fmt::Result {
+        write!(f, "block{}", self.0)
+    }
+}
+
+fn index(prefix: &str, name: impl Fn(u32) -> String, index: &Index) -> String {
+    match index {
+        Index::Fixed(n) => name(*n),
+        Index::Dynamic(v) => format!("{prefix}[{v}]"),
+    }
+}
+
+fn place(p: &PlaceArg) -> String {
+    let at = match p.index {
+        Index::Fixed(n) => n.to_string(),
+        Index::Dynamic(v) => v.to_string(),
+    };
+    format!("place(kind {}, {at}, digits {})", p.kind, p.digits)
+}
+
+fn binop(op: BinOp) -> &'static str {
+    match op {
+        BinOp::Add => "add",
+        BinOp::Sub => "sub",
+        BinOp::Mul => "mul",
+        BinOp::Div => "sdiv",
+        BinOp::Rem => "srem",
+        BinOp::And => "band",
+        BinOp::Or => "bor",
+        BinOp::Shl => "shl",
+        BinOp::Shr => "sshr",
+    }
+}
+
+fn inst(func: &Function, inst: &Inst) -> String {
+    use Inst::*;
+    match inst {
+        Const { ty, value } => format!("const.{ty} {value}"),
+        LoadBit { area, index: i } => format!(
+            "load.bit {}",
+            index(area.prefix(), |n| area.device_name(n), i)
+        ),
+        StoreBit {
+            area,
+            index: i,
+            value,
+        } => {
+            format!(
+                "store.bit {}, {value}",
+                index(area.prefix(), |n| area.device_name(n), i)
+            )
+        }
+        FillBits {
+            area,
+            start,
+            count,
+            on,
+        } => format!(
+            "fill.bit {} x{count}, {}",
+            index(area.prefix(), |n| area.device_name(n), start),
+            *on as u8
+        ),
+        LoadWord { area, index: i } => format!(
+            "load.i16 {}",
+            index(area.prefix(), |n| area.device_name(n), i)
+        ),
+        StoreWord {
+            area,
+            index: i,
+            value,
+        } => {
+            format!(
+                "store.i16 {}, {value}",
+                index(area.prefix(), |n| area.device_name(n), i)
+            )
+        }
+        ClearWords { area, start, count } => {
+            format!(
+                "clear.i16 {} x{count}",
+                index(area.prefix(), |n| area.device_name(n), start)
+            )
+        }
+        LoadWideCounter { index: i } => {
+            format!("load.i32 {}", index("CN", |n| format!("CN{n}"), i))
+        }
+        StoreWideCounter { index: i, value } => format!(
+            "store.i32 {}, {value}",
+            index("CN", |n| format!("CN{n}"), i)
+        ),
+        LoadSlot { slot } => format!("load.slot #{slot}"),
+        StoreSlot { slot, value } => format!("store.slot #{slot}, {value}"),
+        LoadBlockActive { state } => format!("load.active S{state}"),
+        StoreBlockActive { state, value } => format!("store.active S{state}, {value}"),
+        GetLocal { local } => format!("get.mc N{}", local.0),
+        SetLocal { local, value } => format!("set.mc N{}, {value}", local.0),
+        Not { value } => format!("not {value}"),
+        And { a, b } => format!("and {a}, {b}"),
+        Or { a, b } => format!("or {a}, {b}"),
+        Binary { op, a, b } => format!("{}.{} {a}, {b}", binop(*op), func.value_type(*a)),
+        Compare { op, a, b } => format!("cmp{} {a}, {b}", op.symbol()),
+        Extend { value, to, signed } => {
+            format!("{}.{to} {value}", if *signed { "sext" } else { "zext" })
+        }
+        Truncate { value, to } => format!("trunc.{to} {value}"),
+        Select {
+            condition,
+            if_true,
+            if_false,
+        } => format!("select {condition}, {if_true}, {if_false}"),
+        RecordError { error, line } => format!("record.error {:04X}H, line {line}", error.code()),
+        TimerCoil {
+            timer,
+            coil,
+            preset,
+        } => format!("timer T{timer}, coil {coil}, preset {preset}"),
+        CounterCoil {
+            counter,
+            coil,
+            preset,
+        } => format!("counter C{counter}, coil {coil}, preset {preset}"),
+        ResetTimer { timer } => format!("reset.timer T{timer}"),
+        ResetCounter { counter } => format!("reset.counter C{counter}"),
+        ScheduleStateOff { state } => format!("state.off.next.scan S{state}"),
+        BlockMove {
+            source,
+            destination,
+            count,
+            wide,
+            fill,
+        } => format!(
+            "{}{} {} -> {}, count {count}",
+            if *fill { "fill" } else { "move" },
+            if *wide { ".i32" } else { ".i16" },
+            place(source),
+            place(destination)
+        ),
+    }
+}
+
+impl Display for Function {
+    fn fmt(&self, f: &mut Formatter<'_>) -> fmt::Result {
+        writeln!(f, "program(mem) {{")?;
+        for (number, block) in self.blocks.iter().enumerate() {
+            writeln!(f, "block{number}:")?;
+            for (result, instruction) in &block.insts {
+                match result {
+                    Some(value) => writeln!(f, "    {value} = {}", inst(self, instruction))?,
+                    None => writeln!(f, "    {}", inst(self, instruction))?,
+                }
+            }
+            match &block.terminator {
+                Terminator::Jump(target) => writeln!(f, "    jump {target}")?,
+                Terminator::Branch {
+                    condition,
+                    then,
+                    otherwise,
+                } => writeln!(f, "    br {condition}, {then}, {otherwise}")?,
+                Terminator::Return => writeln!(f, "    return")?,
+            }
+        }
+        writeln!(f, "}}")
+    }
+}

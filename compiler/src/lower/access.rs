@@ -1,0 +1,170 @@
+//! Device access in the lowering, with the offset rules of DIALECT.md for
+//! contacts and coils: an out-of-range `DEV[Dk]` uses the nearest valid
+//! device and records an operation error.
+
+use super::Lowering;
+use crate::ir::{BinOp, Index, Inst, Type, Value};
+use crate::isa::CompareOp;
+use crate::program::{Address, BitRef, WordRef};
+use ladder_runtime::device::{COUNTER_COUNT, FIRST_WIDE_COUNTER};
+use ladder_runtime::{OperationError, WordArea};
+
+impl Lowering<'_> {
+    /// `index + D[k]` as an I32 (the register is signed).
+    pub(super) fn offset_index(&mut self, base: u32, register: u32) -> Value {
+        let offset = self.b.push(Inst::LoadWord {
+            area: WordArea::D,
+            index: Index::Fixed(register),
+        });
+        let offset = self.b.extend(offset, Type::I32, true);
+        let base = self.b.constant(Type::I32, i64::from(base));
+        self.b.binary(BinOp::Add, base, offset)
+    }
+
+    /// The address brought into `first..=last`; leaving that range records
+    /// `error`.
+    pub(super) fn clamped_index(
+        &mut self,
+        address: Address,
+        first: u32,
+        last: u32,
+        error: OperationError,
+        line: u32,
+    ) -> Index {
+        let Some(register) = address.offset else {
+            return Index::Fixed(address.index);
+        };
+        let index = self.offset_index(address.index, register);
+        let low = self.b.constant(Type::I32, i64::from(first));
+        let high = self.b.constant(Type::I32, i64::from(last));
+        let below = self.b.compare(CompareOp::Lt, index, low);
+        let above = self.b.compare(CompareOp::Gt, index, high);
+        let outside = self.b.or(below, above);
+        self.b
+            .if_then(outside, |b| b.effect(Inst::RecordError { error, line }));
+        let upper = self.b.select(above, high, index);
+        Index::Dynamic(self.b.select(below, low, upper))
+    }
+
+    pub(super) fn read_bit(&mut self, bit: BitRef, line: u32) -> Value {
+        match bit {
+            BitRef::Device(area, address) => {
+                let index = self.clamped_index(
+                    address,
+                    0,
+                    area.count() - 1,
+                    OperationError::ReadOutOfRange,
+                    line,
+                );
+                self.b.load_bit(area, index)
+            }
+            BitRef::WordBit(area, address, bit) => {
+                let index = self.clamped_index(
+                    address,
+                    0,
+                    area.count() - 1,
+                    OperationError::ReadOutOfRange,
+                    line,
+                );
+                let word = self.b.push(Inst::LoadWord { area, index });
+                let word = self.b.extend(word, Type::I32, true);
+                let mask = self.b.constant(Type::I32, 1 << bit);
+                let masked = self.b.binary(BinOp::And, word, mask);
+                let zero = self.b.constant(Type::I32, 0);
+                self.b.compare(CompareOp::Ne, masked, zero)
+            }
+        }
+    }
+
+    pub(super) fn write_bit(&mut self, bit: BitRef, value: Value, line: u32) {
+        match bit {
+            BitRef::Device(area, address) => {
+                let index = self.clamped_index(
+                    address,
+                    0,
+                    area.count() - 1,
+                    OperationError::WriteOutOfRange,
+                    line,
+                );
+                self.b.store_bit(area, index, value);
+            }
+            BitRef::WordBit(area, address, bit) => {
+                let index = self.clamped_index(
+                    address,
+                    0,
+                    area.count() - 1,
+                    OperationError::WriteOutOfRange,
+                    line,
+                );
+                let word = self.b.push(Inst::LoadWord { area, index });
+                let word = self.b.extend(word, Type::I32, true);
+                let keep = self.b.constant(Type::I32, !(1i64 << bit));
+                let cleared = self.b.binary(BinOp::And, word, keep);
+                let mask = self.b.constant(Type::I32, 1 << bit);
+                let zero = self.b.constant(Type::I32, 0);
+                let set = self.b.select(value, mask, zero);
+                let updated = self.b.binary(BinOp::Or, cleared, set);
+                let updated = self.b.truncate(updated, Type::I16);
+                self.b.effect(Inst::StoreWord {
+                    area,
+                    index,
+                    value: updated,
+                });
+            }
+        }
+    }
+
+    /// SET/RST of `count` bits; an offset start is clamped so the run fits.
+    pub(super) fn write_bits(&mut self, bit: BitRef, count: u32, on: bool, line: u32) {
+        match bit {
+            BitRef::Device(area, address) => {
+                let start = self.clamped_index(
+                    address,
+                    0,
+                    area.count() - count,
+                    OperationError::WriteOutOfRange,
+                    line,
+                );
+                self.b.effect(Inst::FillBits {
+                    area,
+                    start,
+                    count,
+                    on,
+                });
+            }
+            word_bit => {
+                let value = self.b.bit(on);
+                self.write_bit(word_bit, value, line);
+            }
+        }
+    }
+
+    /// A comparison contact's operand as an I64: out of range, it reads the
+    /// nearest valid device and records 4085H, like any contact.
+    pub(super) fn compare_operand(&mut self, word: WordRef, wide: bool, line: u32) -> Value {
+        let error = OperationError::ReadOutOfRange;
+        let operand =
+            match word {
+                WordRef::Constant(value) => super::data::Operand::Constant(i64::from(value)),
+                WordRef::Word(area, address) => {
+                    let span = if wide { 2 } else { 1 };
+                    super::data::Operand::Word(
+                        area,
+                        self.clamped_index(address, 0, area.count() - span, error, line),
+                    )
+                }
+                WordRef::WideCounter(address) => super::data::Operand::WideCounter(
+                    self.clamped_index(address, FIRST_WIDE_COUNTER, COUNTER_COUNT - 1, error, line),
+                ),
+                WordRef::Digits(area, address, digits) => {
+                    let span = 4 * u32::from(digits);
+                    super::data::Operand::Digits(
+                        area,
+                        self.clamped_index(address, 0, area.count() - span, error, line),
+                        digits,
+                    )
+                }
+            };
+        self.read(&operand, wide)
+    }
+}

@@ -1,0 +1,377 @@
+//! Lowering: `CheckedProgram` to the SSA IR.
+//!
+//! Written apart from the interpreter on purpose: comparing the two engines
+//! tests this translation. The logic stack is kept at compile time as SSA
+//! values, so ANB/ORB/MPS/MRD/MPP produce no code at all.
+
+mod access;
+mod data;
+
+use crate::ir::{Builder, Function, Inst, Local, Terminator, Type, Value};
+use crate::isa::Sense;
+use crate::program::{CheckedProgram, Contact, Instruction, Op, ResetTarget, StlBlock};
+use ladder_runtime::{BitArea, OperationError};
+use std::collections::BTreeMap;
+
+/// Lowers a checked program to the IR of its scan body.
+pub fn lower(program: &CheckedProgram) -> Function {
+    let mut lowering = Lowering::new(program);
+    lowering.run();
+    let locals = lowering.locals;
+    lowering.b.finish(locals)
+}
+
+struct Lowering<'p> {
+    program: &'p CheckedProgram,
+    b: Builder,
+    /// The current block's power flow.
+    result: Value,
+    /// Earlier blocks waiting for ANB/ORB.
+    blocks: Vec<Value>,
+    /// Branch points pushed by MPS.
+    branches: Vec<Value>,
+    /// The IR block that starts at each instruction index something jumps to
+    /// (labels, the instruction after an STL block, the end).
+    targets: BTreeMap<usize, crate::ir::BlockId>,
+    locals: u8,
+}
+
+impl<'p> Lowering<'p> {
+    fn new(program: &'p CheckedProgram) -> Lowering<'p> {
+        let mut b = Builder::new();
+        let result = b.bit(false);
+        Lowering {
+            program,
+            b,
+            result,
+            blocks: Vec::new(),
+            branches: Vec::new(),
+            targets: BTreeMap::new(),
+            locals: 0,
+        }
+    }
+
+    fn run(&mut self) {
+        let instructions = &self.program.instructions;
+        for instruction in instructions {
+            let target = match &instruction.op {
+                Op::Jump { target } => Some(*target),
+                Op::StlBegin { block } => Some(self.program.stl_blocks[*block].end + 1),
+                _ => None,
+            };
+            if let Some(target) = target {
+                if !self.targets.contains_key(&target) {
+                    let block = self.b.create_block();
+                    self.targets.insert(target, block);
+                }
+            }
+            if let Op::MasterControl { level, .. } = instruction.op {
+                self.locals = self.locals.max(level + 1);
+            }
+        }
+        // Every master-control level has power until its MC says otherwise.
+        let on = self.b.bit(true);
+        for level in 0..self.locals {
+            self.b.effect(Inst::SetLocal {
+                local: Local(level),
+                value: on,
+            });
+        }
+        for (index, instruction) in instructions.iter().enumerate() {
+            self.enter_target(index);
+            self.instruction(instruction);
+        }
+        self.enter_target(instructions.len());
+        self.b.terminate(Terminator::Return);
+    }
+
+    /// Falls through into the block that starts at `index`, if any. Rungs
+    /// never span such a point, so the logic stack starts empty there.
+    fn enter_target(&mut self, index: usize) {
+        if let Some(&block) = self.targets.get(&index) {
+            self.b.jump_to(block);
+            self.result = self.b.bit(false);
+            self.blocks.clear();
+            self.branches.clear();
+        }
+    }
+
+    fn instruction(&mut self, instruction: &Instruction) {
+        let line = instruction.line;
+        match &instruction.op {
+            Op::Load {
+                contact,
+                new_rung,
+                mc_levels,
+            } => {
+                if *new_rung {
+                    self.blocks.clear();
+                    self.branches.clear();
+                } else {
+                    self.blocks.push(self.result);
+                }
+                let passes = self.contact(contact, line);
+                self.result = match self.rail(*mc_levels) {
+                    Some(rail) => self.b.and(rail, passes),
+                    None => passes,
+                };
+            }
+            Op::And(contact) => {
+                let passes = self.contact(contact, line);
+                self.result = self.b.and(self.result, passes);
+            }
+            Op::Or(contact) => {
+                let passes = self.contact(contact, line);
+                self.result = self.b.or(self.result, passes);
+            }
+            Op::AndBlock | Op::OrBlock => {
+                let earlier = self.blocks.pop().unwrap_or_else(|| self.b.bit(false));
+                self.result = if instruction.op == Op::AndBlock {
+                    self.b.and(earlier, self.result)
+                } else {
+                    self.b.or(earlier, self.result)
+                };
+            }
+            Op::Push => self.branches.push(self.result),
+            Op::Read => self.result = self.branches.last().copied().unwrap_or(self.result),
+            Op::Pop => self.result = self.branches.pop().unwrap_or(self.result),
+            Op::Invert => self.result = self.b.not(self.result),
+            Op::ResultEdge { falling, slot } => {
+                self.result = self.edge(*slot, self.result, *falling)
+            }
+            Op::Jump { target } => {
+                let continue_at = self.b.create_block();
+                let taken = self.targets[target];
+                self.b.terminate(Terminator::Branch {
+                    condition: self.result,
+                    then: taken,
+                    otherwise: continue_at,
+                });
+                self.b.switch_to(continue_at);
+            }
+            Op::StlBegin { block } => {
+                let program = self.program;
+                self.stl_gate(&program.stl_blocks[*block]);
+            }
+            Op::Label | Op::StlEnd => {}
+            op => self.output(op, self.result, line),
+        }
+    }
+
+    /// The power rail of the master-control levels in `mask`.
+    fn rail(&mut self, mask: u8) -> Option<Value> {
+        let mut rail = None;
+        for level in (0..8u8).filter(|level| mask & (1 << level) != 0) {
+            let power = self.b.get_local(Local(level));
+            rail = Some(match rail {
+                Some(outer) => self.b.and(outer, power),
+                None => power,
+            });
+        }
+        rail
+    }
+
+    /// The STL gate: run the block while its state is ON; reset it once when
+    /// the state is found OFF after the block ran; otherwise skip it.
+    fn stl_gate(&mut self, block: &StlBlock) {
+        let state = block.state;
+        let skip_to = self.targets[&(block.end + 1)];
+        let run = self.b.create_block();
+        let inactive = self.b.create_block();
+        let reset = self.b.create_block();
+        let on = self.b.load_bit(BitArea::S, crate::ir::Index::Fixed(state));
+        self.b.terminate(Terminator::Branch {
+            condition: on,
+            then: run,
+            otherwise: inactive,
+        });
+
+        self.b.switch_to(inactive);
+        let was_active = self.b.push(Inst::LoadBlockActive { state });
+        self.b.terminate(Terminator::Branch {
+            condition: was_active,
+            then: reset,
+            otherwise: skip_to,
+        });
+
+        self.b.switch_to(reset);
+        let off = self.b.bit(false);
+        self.b.effect(Inst::StoreBlockActive { state, value: off });
+        for &index in &block.reset_outputs {
+            let instruction = &self.program.instructions[index];
+            self.output(&instruction.op, off, instruction.line);
+        }
+        for &slot in &block.reset_slots {
+            self.b.effect(Inst::StoreSlot { slot, value: off });
+        }
+        self.b.terminate(Terminator::Jump(skip_to));
+
+        self.b.switch_to(run);
+        let on = self.b.bit(true);
+        self.b.effect(Inst::StoreBlockActive { state, value: on });
+        self.result = self.b.bit(false);
+    }
+
+    fn contact(&mut self, contact: &Contact, line: u32) -> Value {
+        match *contact {
+            Contact::Level { bit, closed } => {
+                let value = self.read_bit(bit, line);
+                if closed {
+                    self.b.not(value)
+                } else {
+                    value
+                }
+            }
+            Contact::Edge { bit, falling, slot } => {
+                let now = self.read_bit(bit, line);
+                self.edge(slot, now, falling)
+            }
+            Contact::Constant(on) => self.b.bit(on),
+            Contact::Compare {
+                op,
+                wide,
+                left,
+                right,
+            } => {
+                let left = self.compare_operand(left, wide, line);
+                let right = self.compare_operand(right, wide, line);
+                self.b.compare(op, left, right)
+            }
+        }
+    }
+
+    /// An edge against the slot's previous value; the slot keeps `now`.
+    fn edge(&mut self, slot: u32, now: Value, falling: bool) -> Value {
+        let before = self.b.push(Inst::LoadSlot { slot });
+        self.b.effect(Inst::StoreSlot { slot, value: now });
+        if falling {
+            let off_now = self.b.not(now);
+            self.b.and(off_now, before)
+        } else {
+            let not_before = self.b.not(before);
+            self.b.and(now, not_before)
+        }
+    }
+
+    /// An output instruction with `power` (the rung result, or OFF for the
+    /// one-time reset of an STL block).
+    fn output(&mut self, op: &Op, power: Value, line: u32) {
+        match op {
+            Op::Out(bit) => self.write_bit(*bit, power, line),
+            Op::OutTimer { timer, preset } => {
+                let preset = self.preset(*preset, false);
+                self.b.effect(Inst::TimerCoil {
+                    timer: *timer,
+                    coil: power,
+                    preset,
+                });
+            }
+            Op::OutCounter { counter, preset } => {
+                let wide = ladder_runtime::device::is_wide_counter(*counter);
+                let preset = self.preset(*preset, wide);
+                self.b.effect(Inst::CounterCoil {
+                    counter: *counter,
+                    coil: power,
+                    preset,
+                });
+            }
+            Op::Set {
+                target,
+                count,
+                transfer_from,
+            } => self.when(power, |this| {
+                this.write_bits(*target, *count, true, line);
+                if let Some(state) = transfer_from {
+                    this.b.effect(Inst::ScheduleStateOff { state: *state });
+                }
+            }),
+            Op::Reset { target, count } => {
+                self.when(power, |this| this.reset(*target, *count, line))
+            }
+            Op::Pulse {
+                target,
+                sense,
+                slot,
+            } => {
+                let pulse = self.edge(*slot, power, *sense == Sense::Falling);
+                self.write_bit(*target, pulse, line);
+            }
+            Op::StateJump { state } => self.when(power, |this| {
+                let on = this.b.bit(true);
+                this.b
+                    .store_bit(BitArea::S, crate::ir::Index::Fixed(*state), on);
+            }),
+            Op::MasterControl { level, relay } => {
+                self.b.effect(Inst::SetLocal {
+                    local: Local(*level),
+                    value: power,
+                });
+                self.write_bit(*relay, power, line);
+            }
+            Op::Data(data) => {
+                let run = match data.pulse_slot {
+                    Some(slot) => self.edge(slot, power, false),
+                    None => power,
+                };
+                let after = self.b.create_block();
+                let body = self.b.create_block();
+                self.b.terminate(Terminator::Branch {
+                    condition: run,
+                    then: body,
+                    otherwise: after,
+                });
+                self.b.switch_to(body);
+                self.data(data, line, after);
+                self.b.jump_to(after);
+            }
+            other => unreachable!("not an output: {other:?}"),
+        }
+    }
+
+    /// Runs `then` only while `condition` is ON.
+    fn when(&mut self, condition: Value, then: impl FnOnce(&mut Self)) {
+        let body = self.b.create_block();
+        let after = self.b.create_block();
+        self.b.terminate(Terminator::Branch {
+            condition,
+            then: body,
+            otherwise: after,
+        });
+        self.b.switch_to(body);
+        then(self);
+        self.b.jump_to(after);
+    }
+
+    fn reset(&mut self, target: ResetTarget, count: u32, line: u32) {
+        match target {
+            ResetTarget::Bit(bit) => self.write_bits(bit, count, false, line),
+            ResetTarget::Timer(first) => {
+                for timer in first..first + count {
+                    self.b.effect(Inst::ResetTimer { timer });
+                }
+            }
+            ResetTarget::Counter(first) => {
+                for counter in first..first + count {
+                    self.b.effect(Inst::ResetCounter { counter });
+                }
+            }
+            ResetTarget::Word(area, address) => {
+                let start = self.clamped_index(
+                    address,
+                    0,
+                    area.count() - count,
+                    OperationError::WriteOutOfRange,
+                    line,
+                );
+                self.b.effect(Inst::ClearWords { area, start, count });
+            }
+        }
+    }
+
+    /// A timer or counter preset as an I32.
+    fn preset(&mut self, preset: crate::program::WordRef, wide: bool) -> Value {
+        let (operand, _) = self.resolve(preset, wide, data::Units::Checked(1));
+        let value = self.read(&operand, wide);
+        self.b.truncate(value, Type::I32)
+    }
+}

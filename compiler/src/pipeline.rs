@@ -1,0 +1,23 @@
+//! The stages after the checker, in order: lowering to IR, IR passes, and
+//! code generation.
+
+use crate::codegen::{emit_object, CodegenError, JitProgram, ObjectOptions};
+use crate::ir::{passes, Function};
+use crate::program::CheckedProgram;
+
+/// The optimised IR of a checked program.
+pub fn ir(program: &CheckedProgram) -> Function {
+    let mut function = crate::lower::lower(program);
+    passes::optimize(&mut function);
+    function
+}
+
+/// The program compiled into this process.
+pub fn jit(program: &CheckedProgram) -> Result<JitProgram, CodegenError> {
+    JitProgram::compile(&ir(program))
+}
+
+/// The program as an object file.
+pub fn object(program: &CheckedProgram, options: &ObjectOptions) -> Result<Vec<u8>, CodegenError> {
+    emit_object(&ir(program), options)
+}
