@@ -283,9 +283,10 @@ impl Translator<'_, '_> {
                 return None;
             }
             Inst::ClearWords { area, start, count } => {
-                let at = self.word_address(*area, *start, values);
+                let count = (*count).clamp(1, area.count());
+                let at = self.element(word_area_offset(*area), 2, area.count() - count + 1, *start, values);
                 let zero = self.iconst(types::I16, 0);
-                self.fill(at, 2, (*count).min(area.count()), zero);
+                self.fill(at, 2, count, zero);
                 return None;
             }
             Inst::LoadWideCounter { index } => {
