@@ -26,18 +26,35 @@ fn field_at(offset: usize) -> String {
         ("d (2 bytes each)", offset_of!(Memory, d)),
         ("sd", offset_of!(Memory, sd)),
         ("r", offset_of!(Memory, r)),
-        ("timer_value (2 bytes each)", offset_of!(Memory, timer_value)),
-        ("counter_value (2 bytes each)", offset_of!(Memory, counter_value)),
-        ("wide_counter_value (4 bytes each)", offset_of!(Memory, wide_counter_value)),
+        (
+            "timer_value (2 bytes each)",
+            offset_of!(Memory, timer_value),
+        ),
+        (
+            "counter_value (2 bytes each)",
+            offset_of!(Memory, counter_value),
+        ),
+        (
+            "wide_counter_value (4 bytes each)",
+            offset_of!(Memory, wide_counter_value),
+        ),
         ("timer_remainder_ms", offset_of!(Memory, timer_remainder_ms)),
         ("timer_coil_was_on", offset_of!(Memory, timer_coil_was_on)),
-        ("counter_coil_was_on", offset_of!(Memory, counter_coil_was_on)),
+        (
+            "counter_coil_was_on",
+            offset_of!(Memory, counter_coil_was_on),
+        ),
         ("stl_pending_off", offset_of!(Memory, stl_pending_off)),
         ("stl_block_active", offset_of!(Memory, stl_block_active)),
         ("edge_slot", offset_of!(Memory, edge_slot)),
         ("input_image", offset_of!(Memory, input_image)),
     ];
-    let (name, start) = fields.iter().rev().find(|(_, start)| *start <= offset).copied().unwrap_or(("?", 0));
+    let (name, start) = fields
+        .iter()
+        .rev()
+        .find(|(_, start)| *start <= offset)
+        .copied()
+        .unwrap_or(("?", 0));
     format!("{name} + byte {}", offset - start)
 }
 
@@ -52,10 +69,23 @@ struct Stimulus {
 fn stimulus() -> impl Strategy<Value = Stimulus> {
     (
         any::<u8>(),
-        proptest::option::weighted(0.3, (-3i16..12, -3i16..12, prop_oneof![Just(-1i16), Just(9000), 0i16..5], -2i16..6).prop_map(|(a, b, c, d)| [a, b, c, d])),
+        proptest::option::weighted(
+            0.3,
+            (
+                -3i16..12,
+                -3i16..12,
+                prop_oneof![Just(-1i16), Just(9000), 0i16..5],
+                -2i16..6,
+            )
+                .prop_map(|(a, b, c, d)| [a, b, c, d]),
+        ),
         prop_oneof![Just(10u32), Just(100), 0u32..250],
     )
-        .prop_map(|(inputs, registers, elapsed_ms)| Stimulus { inputs, registers, elapsed_ms })
+        .prop_map(|(inputs, registers, elapsed_ms)| Stimulus {
+            inputs,
+            registers,
+            elapsed_ms,
+        })
 }
 
 fn apply(mem: &mut Memory, stimulus: &Stimulus) {

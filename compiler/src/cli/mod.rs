@@ -28,6 +28,7 @@ fn write_raw(to_stderr: bool, text: &str) {
     };
 }
 
+mod build;
 mod check;
 mod explain;
 mod run;
@@ -64,6 +65,8 @@ pub enum Command {
         /// The instruction-list program.
         program: PathBuf,
     },
+    /// Compile a program to an object file (or show its IR).
+    Build(build::BuildArgs),
     /// Run a program for some scans and print watched devices after each.
     Run(run::RunArgs),
     /// Run scenario files (folders are searched for *.scn).
@@ -112,6 +115,7 @@ pub fn main_with_args(args: impl IntoIterator<Item = std::ffi::OsString>) -> u8 
     };
     match cli.command {
         Command::Check { program } => check::run(&program),
+        Command::Build(args) => build::run(&args),
         Command::Run(args) => run::run(&args),
         Command::Test { paths, engine } => test::run(&paths, &engine.kinds()),
         Command::Explain { code } => explain::run(&code),

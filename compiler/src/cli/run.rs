@@ -28,7 +28,7 @@ pub struct RunArgs {
     #[arg(long, value_enum, default_value_t = Format::Table)]
     format: Format,
     /// Engine that runs the program.
-    #[arg(long, value_enum, default_value_t = RunEngine::Interp)]
+    #[arg(long, value_enum, default_value_t = RunEngine::Jit)]
     engine: RunEngine,
 }
 

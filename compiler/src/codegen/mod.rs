@@ -7,7 +7,7 @@ mod object;
 mod translate;
 
 pub use jit::JitProgram;
-pub use object::{emit_object, ObjectOptions};
+pub use object::{emit_object, ObjectOptions, DEFAULT_PREFIX};
 
 use crate::ir::Function;
 use cranelift_codegen::ir::{types, AbiParam, Signature, UserFuncName};

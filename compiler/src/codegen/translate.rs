@@ -284,7 +284,13 @@ impl Translator<'_, '_> {
             }
             Inst::ClearWords { area, start, count } => {
                 let count = (*count).clamp(1, area.count());
-                let at = self.element(word_area_offset(*area), 2, area.count() - count + 1, *start, values);
+                let at = self.element(
+                    word_area_offset(*area),
+                    2,
+                    area.count() - count + 1,
+                    *start,
+                    values,
+                );
                 let zero = self.iconst(types::I16, 0);
                 self.fill(at, 2, count, zero);
                 return None;

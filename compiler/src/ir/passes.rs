@@ -17,8 +17,54 @@ pub fn optimize(function: &mut Function) {
     fold_constants(function);
     fold_branches(function);
     remove_unreachable(function);
+    thread_jumps(function);
     merge_blocks(function);
     remove_dead_values(function);
+}
+
+/// Sends jumps and branches that land on an empty block that only jumps on
+/// straight to where it jumps.
+pub fn thread_jumps(function: &mut Function) {
+    let forward: Vec<Option<BlockId>> = function
+        .blocks
+        .iter()
+        .enumerate()
+        .map(|(index, block)| match block.terminator {
+            Terminator::Jump(target)
+                if index != 0 && block.insts.is_empty() && target.0 as usize != index =>
+            {
+                Some(target)
+            }
+            _ => None,
+        })
+        .collect();
+    let resolve = |mut block: BlockId| {
+        // Follow chains of empty blocks, at most once around any cycle.
+        for _ in 0..forward.len() {
+            match forward[block.0 as usize] {
+                Some(next) => block = next,
+                None => break,
+            }
+        }
+        block
+    };
+    for block in &mut function.blocks {
+        block.terminator = match block.terminator {
+            Terminator::Jump(target) => Terminator::Jump(resolve(target)),
+            Terminator::Branch {
+                condition,
+                then,
+                otherwise,
+            } => Terminator::Branch {
+                condition,
+                then: resolve(then),
+                otherwise: resolve(otherwise),
+            },
+            Terminator::Return => Terminator::Return,
+        };
+    }
+    fold_branches(function);
+    remove_unreachable(function);
 }
 
 /// Blocks in reverse postorder from the entry: every definition comes before
@@ -36,7 +82,13 @@ fn reverse_postorder(function: &Function) -> Vec<BlockId> {
             continue;
         }
         stack.push((block, true));
-        for successor in function.block(block).terminator.successors().into_iter().rev() {
+        for successor in function
+            .block(block)
+            .terminator
+            .successors()
+            .into_iter()
+            .rev()
+        {
             if !visited[successor.0 as usize] {
                 stack.push((successor, false));
             }
@@ -62,10 +114,14 @@ fn constant_relays(function: &Function) -> HashMap<(BitArea, u32), bool> {
         for (_, inst) in &block.insts {
             let written: Option<(BitArea, Index, u32)> = match inst {
                 Inst::StoreBit { area, index, .. } => Some((*area, *index, 1)),
-                Inst::FillBits { area, start, count, .. } => Some((*area, *start, *count)),
+                Inst::FillBits {
+                    area, start, count, ..
+                } => Some((*area, *start, *count)),
                 Inst::BlockMove { destination, .. } => {
                     // A digit-group destination writes bits of some area.
-                    let bits = destination.kind.checked_sub(ladder_runtime::place::PLACE_DIGITS);
+                    let bits = destination
+                        .kind
+                        .checked_sub(ladder_runtime::place::PLACE_DIGITS);
                     let area = BitArea::ALL.iter().find(|a| Some(**a as u32) == bits);
                     area.map(|&area| (area, Index::Dynamic(Value(0)), 0))
                 }
@@ -119,6 +175,8 @@ pub fn fold_constants(function: &mut Function) {
     let relays = constant_relays(function);
     let mut constants: HashMap<Value, i64> = HashMap::new();
     let mut replaced: HashMap<Value, Value> = HashMap::new();
+    // Value defined by an Extend -> the value it extended.
+    let mut extended_from: HashMap<Value, Value> = HashMap::new();
     for block in reverse_postorder(function) {
         let types = function.value_types.clone();
         let insts = &mut function.blocks[block.0 as usize].insts;
@@ -129,7 +187,10 @@ pub fn fold_constants(function: &mut Function) {
             let known = |v: &Value| constants.get(v).copied();
             let folded: Option<i64> = match &*inst {
                 Inst::Const { value, .. } => Some(*value),
-                Inst::LoadBit { area, index: Index::Fixed(n) } => relays.get(&(*area, *n)).map(|&on| on as i64),
+                Inst::LoadBit {
+                    area,
+                    index: Index::Fixed(n),
+                } => relays.get(&(*area, *n)).map(|&on| on as i64),
                 Inst::Not { value } => known(value).map(|v| 1 - v),
                 Inst::And { a, b } => match (known(a), known(b)) {
                     (Some(0), _) | (_, Some(0)) => Some(0),
@@ -165,8 +226,23 @@ pub fn fold_constants(function: &mut Function) {
                     }
                     _ => None,
                 },
-                Inst::Binary { op, a, b } => match (known(a), known(b)) {
-                    (Some(x), Some(y)) => fold_binary(*op, ty, x, y),
+                Inst::Binary { op, a, b } => match (op, known(a), known(b)) {
+                    (_, Some(x), Some(y)) => fold_binary(*op, ty, x, y),
+                    // x + 0, x - 0, x | 0, x << 0, x >> 0, x * 1
+                    (
+                        BinOp::Add | BinOp::Sub | BinOp::Or | BinOp::Shl | BinOp::Shr,
+                        None,
+                        Some(0),
+                    )
+                    | (BinOp::Mul, None, Some(1)) => {
+                        replaced.insert(result, *a);
+                        None
+                    }
+                    // 0 + x, 0 | x, 1 * x
+                    (BinOp::Add | BinOp::Or, Some(0), None) | (BinOp::Mul, Some(1), None) => {
+                        replaced.insert(result, *b);
+                        None
+                    }
                     _ => None,
                 },
                 Inst::Compare { op, a, b } => match (known(a), known(b)) {
@@ -185,8 +261,20 @@ pub fn fold_constants(function: &mut Function) {
                         }
                     }
                 }),
-                Inst::Truncate { value, to } => known(value).map(|v| wrap(*to, v)),
-                Inst::Select { condition, if_true, if_false } => match known(condition) {
+                Inst::Truncate { value, to } => match (known(value), extended_from.get(value)) {
+                    (Some(v), _) => Some(wrap(*to, v)),
+                    // trunc(ext(x)) back to x's own type is x.
+                    (None, Some(&inner)) if types[inner.0 as usize] == *to => {
+                        replaced.insert(result, inner);
+                        None
+                    }
+                    _ => None,
+                },
+                Inst::Select {
+                    condition,
+                    if_true,
+                    if_false,
+                } => match known(condition) {
                     Some(c) => {
                         let chosen = if c != 0 { *if_true } else { *if_false };
                         match known(&chosen) {
@@ -205,6 +293,9 @@ pub fn fold_constants(function: &mut Function) {
                 },
                 _ => None,
             };
+            if let Inst::Extend { value, .. } = &*inst {
+                extended_from.insert(result, *value);
+            }
             if let Some(value) = folded {
                 let value = wrap(ty, value);
                 constants.insert(result, value);
@@ -253,9 +344,17 @@ fn rewrite_operands(inst: &mut Inst, replaced: &HashMap<Value, Value>) {
         | Inst::ResetTimer { .. }
         | Inst::ResetCounter { .. }
         | Inst::ScheduleStateOff { .. } => {}
-        Inst::LoadBit { index: i, .. } | Inst::LoadWord { index: i, .. } | Inst::LoadWideCounter { index: i } => index(i),
+        Inst::LoadBit { index: i, .. }
+        | Inst::LoadWord { index: i, .. }
+        | Inst::LoadWideCounter { index: i } => index(i),
         Inst::FillBits { start, .. } | Inst::ClearWords { start, .. } => index(start),
-        Inst::StoreBit { index: i, value, .. } | Inst::StoreWord { index: i, value, .. } | Inst::StoreWideCounter { index: i, value } => {
+        Inst::StoreBit {
+            index: i, value, ..
+        }
+        | Inst::StoreWord {
+            index: i, value, ..
+        }
+        | Inst::StoreWideCounter { index: i, value } => {
             index(i);
             map(value);
         }
@@ -265,11 +364,18 @@ fn rewrite_operands(inst: &mut Inst, replaced: &HashMap<Value, Value>) {
         | Inst::Not { value }
         | Inst::Extend { value, .. }
         | Inst::Truncate { value, .. } => map(value),
-        Inst::And { a, b } | Inst::Or { a, b } | Inst::Binary { a, b, .. } | Inst::Compare { a, b, .. } => {
+        Inst::And { a, b }
+        | Inst::Or { a, b }
+        | Inst::Binary { a, b, .. }
+        | Inst::Compare { a, b, .. } => {
             map(a);
             map(b);
         }
-        Inst::Select { condition, if_true, if_false } => {
+        Inst::Select {
+            condition,
+            if_true,
+            if_false,
+        } => {
             map(condition);
             map(if_true);
             map(if_false);
@@ -278,7 +384,12 @@ fn rewrite_operands(inst: &mut Inst, replaced: &HashMap<Value, Value>) {
             map(coil);
             map(preset);
         }
-        Inst::BlockMove { source, destination, count, .. } => {
+        Inst::BlockMove {
+            source,
+            destination,
+            count,
+            ..
+        } => {
             index(&mut source.index);
             index(&mut destination.index);
             map(count);
@@ -298,7 +409,12 @@ pub fn fold_branches(function: &mut Function) {
         })
         .collect();
     for block in &mut function.blocks {
-        if let Terminator::Branch { condition, then, otherwise } = block.terminator {
+        if let Terminator::Branch {
+            condition,
+            then,
+            otherwise,
+        } = block.terminator
+        {
             match constants.get(&condition) {
                 Some(0) => block.terminator = Terminator::Jump(otherwise),
                 Some(_) => block.terminator = Terminator::Jump(then),
@@ -317,17 +433,27 @@ pub fn remove_unreachable(function: &mut Function) {
     for (new, old) in order.iter().enumerate() {
         renumber[old.0 as usize] = Some(BlockId(new as u32));
     }
-    let map = |b: BlockId| renumber[b.0 as usize].expect("successor of a reachable block is reachable");
-    let mut old_blocks: Vec<Option<Block>> = std::mem::take(&mut function.blocks).into_iter().map(Some).collect();
+    let map =
+        |b: BlockId| renumber[b.0 as usize].expect("successor of a reachable block is reachable");
+    let mut old_blocks: Vec<Option<Block>> = std::mem::take(&mut function.blocks)
+        .into_iter()
+        .map(Some)
+        .collect();
     function.blocks = order
         .iter()
         .map(|old| {
             let mut block = old_blocks[old.0 as usize].take().expect("each block once");
             block.terminator = match block.terminator {
                 Terminator::Jump(target) => Terminator::Jump(map(target)),
-                Terminator::Branch { condition, then, otherwise } => {
-                    Terminator::Branch { condition, then: map(then), otherwise: map(otherwise) }
-                }
+                Terminator::Branch {
+                    condition,
+                    then,
+                    otherwise,
+                } => Terminator::Branch {
+                    condition,
+                    then: map(then),
+                    otherwise: map(otherwise),
+                },
                 Terminator::Return => Terminator::Return,
             };
             block
@@ -345,18 +471,27 @@ pub fn merge_blocks(function: &mut Function) {
                 predecessors[successor.0 as usize] += 1;
             }
         }
-        let candidate = function.blocks.iter().enumerate().find_map(|(index, block)| match block.terminator {
-            Terminator::Jump(target)
-                if target.0 != 0 && target.0 as usize != index && predecessors[target.0 as usize] == 1 =>
-            {
-                Some((index, target.0 as usize))
-            }
-            _ => None,
-        });
+        let candidate = function
+            .blocks
+            .iter()
+            .enumerate()
+            .find_map(|(index, block)| match block.terminator {
+                Terminator::Jump(target)
+                    if target.0 != 0
+                        && target.0 as usize != index
+                        && predecessors[target.0 as usize] == 1 =>
+                {
+                    Some((index, target.0 as usize))
+                }
+                _ => None,
+            });
         let Some((into, from)) = candidate else { break };
         let moved = std::mem::replace(
             &mut function.blocks[from],
-            Block { insts: Vec::new(), terminator: Terminator::Return },
+            Block {
+                insts: Vec::new(),
+                terminator: Terminator::Return,
+            },
         );
         let target = &mut function.blocks[into];
         target.insts.extend(moved.insts);
