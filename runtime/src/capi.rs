@@ -108,7 +108,7 @@ fn device(kind: u32, number: u32) -> Option<Device> {
 /// `storage` is null or valid for writes of `size` bytes.
 #[no_mangle]
 pub unsafe extern "C" fn ladder_init(storage: *mut c_void, size: usize) -> *mut LadderMemory {
-    if storage.is_null() || size < MEMORY_SIZE || (storage as usize) % MEMORY_ALIGN != 0 {
+    if storage.is_null() || size < MEMORY_SIZE || !(storage as usize).is_multiple_of(MEMORY_ALIGN) {
         return core::ptr::null_mut();
     }
     // SAFETY: checked non-null, large enough and aligned; all-zero bytes are a

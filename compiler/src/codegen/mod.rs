@@ -114,8 +114,8 @@ impl Helpers {
         let coil = signature(isa, &[pointer, i32, i32, i32]);
         let one = signature(isa, &[pointer, i32]);
         let moves = signature(isa, &[pointer, i32, i32, i32, i32, i32, i32, i32, i32]);
-        let mut import = |name: &str, signature: &Signature| {
-            module.declare_function(name, Linkage::Import, signature)
+        let mut import = |name: &str, signature: &Signature| -> Result<FuncId, CodegenError> {
+            Ok(module.declare_function(name, Linkage::Import, signature)?)
         };
         Ok(Helpers {
             timer_coil: import(names::TIMER_COIL, &coil)?,

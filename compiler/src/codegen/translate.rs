@@ -447,8 +447,8 @@ impl Translator<'_, '_> {
                     let digits = self.iconst(types::I32, i64::from(place.digits));
                     args.extend([kind, index, digits]);
                 }
-                let flags = ladder_runtime::helpers::BLOCK_MOVE_WIDE * u32::from(*wide)
-                    | ladder_runtime::helpers::BLOCK_MOVE_FILL * u32::from(*fill);
+                let flags = (ladder_runtime::helpers::BLOCK_MOVE_WIDE * u32::from(*wide))
+                    | (ladder_runtime::helpers::BLOCK_MOVE_FILL * u32::from(*fill));
                 let flags = self.iconst(types::I32, i64::from(flags));
                 args.extend([get(count), flags]);
                 self.call(self.helpers.block_move, &args);
