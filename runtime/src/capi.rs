@@ -7,7 +7,7 @@
 
 use crate::device::{BitArea, WordArea, FIRST_WIDE_COUNTER};
 use crate::force::ForceError;
-use crate::host::{Device, Width};
+use crate::host::{Basic, BasicAccess};
 use crate::layout::{MEMORY_ALIGN, MEMORY_SIZE};
 use crate::memory::Memory;
 use crate::special::{D_ERROR_CODE, D_ERROR_LINE, M_OPERATION_ERROR};
@@ -79,9 +79,9 @@ fn image_mut<'a>(mem: *mut LadderMemory) -> Option<&'a mut Memory> {
     unsafe { mem.cast::<Memory>().as_mut() }
 }
 
-fn device(kind: u32, number: u32) -> Option<Device> {
-    let bit = |area| Device::Bit(area, number);
-    let word = |area| Device::Word(area, number);
+fn device(kind: u32, number: u32) -> Option<Basic> {
+    let bit = |area| Basic::Bit(area, number);
+    let word = |area| Basic::Word(area, number);
     Some(match kind {
         0 => bit(BitArea::X),
         1 => bit(BitArea::Y),
@@ -94,7 +94,7 @@ fn device(kind: u32, number: u32) -> Option<Device> {
         8 => word(WordArea::Sd),
         9 => word(WordArea::R),
         10 => word(WordArea::TimerValue),
-        11 if number >= FIRST_WIDE_COUNTER => Device::WideCounter(number),
+        11 if number >= FIRST_WIDE_COUNTER => Basic::WideCounter(number),
         11 => word(WordArea::CounterValue),
         _ => return None,
     })
@@ -151,7 +151,7 @@ pub unsafe extern "C" fn ladder_read(
     let Some(out) = (unsafe { value.as_mut() }) else {
         return LadderStatus::BadArgument;
     };
-    match mem.read_device(device, Width::Single) {
+    match mem.basic(device) {
         Some(read) => {
             *out = read;
             LadderStatus::Ok
@@ -172,16 +172,15 @@ pub extern "C" fn ladder_write(
     let (Some(mem), Some(device)) = (image_mut(mem), device(kind, number)) else {
         return LadderStatus::BadArgument;
     };
-    if mem.write_device(device, Width::Single, value) {
-        LadderStatus::Ok
-    } else {
-        LadderStatus::OutOfRange
+    match mem.write_basic(device, value) {
+        Ok(()) => LadderStatus::Ok,
+        Err(_) => LadderStatus::OutOfRange,
     }
 }
 
 fn force_area(kind: u32) -> Option<BitArea> {
     match device(kind, 0)? {
-        Device::Bit(area, _) => Some(area),
+        Basic::Bit(area, _) => Some(area),
         _ => None,
     }
 }

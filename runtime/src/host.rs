@@ -1,8 +1,13 @@
 //! Host-side access to single devices, as a monitor, a scenario or a C host
 //! names them: a bit, a word, a bit of a word, a digit group or a 32-bit value.
+//!
+//! Composite devices are built from three basic ones (a bit, a word, a 32-bit
+//! counter value), the operations the C API offers. `read_composite` and
+//! `write_composite` work over any `BasicAccess`: the image in this process,
+//! or a compiled program's image in another process.
 
 use crate::device::{BitArea, WordArea, FIRST_WIDE_COUNTER};
-use crate::memory::Memory;
+use crate::memory::{join_words, split_words, Memory};
 
 /// One device a host can read or write.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -33,69 +38,182 @@ impl Device {
     }
 }
 
+/// The devices the basic operations address.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Basic {
+    Bit(BitArea, u32),
+    Word(WordArea, u32),
+    WideCounter(u32),
+}
+
+/// Why an access failed.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum AccessError {
+    /// The device, or part of it, is outside its area; or the width does not
+    /// fit the device.
+    OutOfRange,
+    /// The image could not be reached (a host process that went away).
+    Unreachable(String),
+}
+
+/// Reading and writing basic devices: bits as 0/1, words sign-extended,
+/// 32-bit counter values whole. Writing X sets the input image.
+pub trait BasicAccess {
+    fn read_basic(&mut self, device: Basic) -> Result<i32, AccessError>;
+    fn write_basic(&mut self, device: Basic, value: i32) -> Result<(), AccessError>;
+}
+
+/// Reads a device of any shape through basic reads.
+pub fn read_composite(
+    access: &mut impl BasicAccess,
+    device: Device,
+    width: Width,
+) -> Result<i32, AccessError> {
+    match (device, width) {
+        (Device::Bit(area, n), Width::Single) => access.read_basic(Basic::Bit(area, n)),
+        (Device::WordBit(area, n, bit), Width::Single) if bit < 16 => {
+            Ok((access.read_basic(Basic::Word(area, n))? >> bit) & 1)
+        }
+        (Device::Word(area, n), Width::Single) => access.read_basic(Basic::Word(area, n)),
+        (Device::Word(area, n), Width::Double) => {
+            let high_index = n.checked_add(1).ok_or(AccessError::OutOfRange)?;
+            let low = access.read_basic(Basic::Word(area, n))?;
+            let high = access.read_basic(Basic::Word(area, high_index))?;
+            Ok(join_words(low as i16, high as i16))
+        }
+        (Device::Digits(area, start, digits), width) if digits <= digit_limit(width) => {
+            let mut bits = 0u32;
+            for i in 0..4 * u32::from(digits) {
+                let index = start.checked_add(i).ok_or(AccessError::OutOfRange)?;
+                bits |= (access.read_basic(Basic::Bit(area, index))? as u32 & 1) << i;
+            }
+            Ok(match width {
+                Width::Single => i32::from(bits as i16),
+                Width::Double => bits as i32,
+            })
+        }
+        (Device::WideCounter(n), _) => access.read_basic(Basic::WideCounter(n)),
+        _ => Err(AccessError::OutOfRange),
+    }
+}
+
+/// Writes a device of any shape through basic reads and writes.
+pub fn write_composite(
+    access: &mut impl BasicAccess,
+    device: Device,
+    width: Width,
+    value: i32,
+) -> Result<(), AccessError> {
+    match (device, width) {
+        (Device::Bit(area, n), Width::Single) => {
+            access.write_basic(Basic::Bit(area, n), (value != 0) as i32)
+        }
+        (Device::WordBit(area, n, bit), Width::Single) if bit < 16 => {
+            let word = access.read_basic(Basic::Word(area, n))?;
+            let mask = 1 << bit;
+            let updated = if value != 0 {
+                word | mask
+            } else {
+                word & !mask
+            };
+            access.write_basic(Basic::Word(area, n), updated)
+        }
+        (Device::Word(area, n), Width::Single) => {
+            access.write_basic(Basic::Word(area, n), i32::from(value as i16))
+        }
+        (Device::Word(area, n), Width::Double) => {
+            let high_index = n
+                .checked_add(1)
+                .filter(|&h| h < area.count())
+                .ok_or(AccessError::OutOfRange)?;
+            let (low, high) = split_words(value);
+            access.write_basic(Basic::Word(area, n), i32::from(low))?;
+            access.write_basic(Basic::Word(area, high_index), i32::from(high))
+        }
+        (Device::Digits(area, start, digits), width) if digits <= digit_limit(width) => {
+            let count = 4 * u32::from(digits);
+            if u64::from(start) + u64::from(count) > u64::from(area.count()) {
+                return Err(AccessError::OutOfRange);
+            }
+            for i in 0..count {
+                access.write_basic(Basic::Bit(area, start + i), (value >> i) & 1)?;
+            }
+            Ok(())
+        }
+        (Device::WideCounter(n), _) if n >= FIRST_WIDE_COUNTER => {
+            access.write_basic(Basic::WideCounter(n), value)
+        }
+        _ => Err(AccessError::OutOfRange),
+    }
+}
+
+fn digit_limit(width: Width) -> u8 {
+    match width {
+        Width::Single => 4,
+        Width::Double => 8,
+    }
+}
+
+impl BasicAccess for Memory {
+    fn read_basic(&mut self, device: Basic) -> Result<i32, AccessError> {
+        self.basic(device).ok_or(AccessError::OutOfRange)
+    }
+
+    fn write_basic(&mut self, device: Basic, value: i32) -> Result<(), AccessError> {
+        let written = match device {
+            Basic::Bit(BitArea::X, n) => match self.input_image.get_mut(n as usize) {
+                Some(image) => {
+                    *image = (value != 0) as u8;
+                    if self.forced(BitArea::X, n).is_none() {
+                        self.x[n as usize] = (value != 0) as u8;
+                    }
+                    true
+                }
+                None => false,
+            },
+            Basic::Bit(area, n) => self.set_bit(area, n, value != 0),
+            Basic::Word(area, n) => self.set_word(area, n, value as i16),
+            Basic::WideCounter(n) => self.set_wide_counter(n, value),
+        };
+        written.then_some(()).ok_or(AccessError::OutOfRange)
+    }
+}
+
 impl Memory {
+    /// Reads a basic device: bits as 0/1, words sign-extended, 32-bit counter
+    /// values whole; `None` out of range.
+    pub fn basic(&self, device: Basic) -> Option<i32> {
+        match device {
+            Basic::Bit(area, n) => self.bit(area, n).map(i32::from),
+            Basic::Word(area, n) => self.word(area, n).map(i32::from),
+            Basic::WideCounter(n) => self.wide_counter(n),
+        }
+    }
+
     /// Reads a device; words are sign-extended. `None` when out of range or
     /// when the width does not fit the device.
     pub fn read_device(&self, device: Device, width: Width) -> Option<i32> {
-        match (device, width) {
-            (Device::Bit(area, n), Width::Single) => self.bit(area, n).map(i32::from),
-            (Device::WordBit(area, n, bit), Width::Single) if bit < 16 => {
-                self.word(area, n).map(|w| i32::from((w >> bit) & 1))
-            }
-            (Device::Word(area, n), Width::Single) => self.word(area, n).map(i32::from),
-            (Device::Word(area, n), Width::Double) => self.word_pair(area, n),
-            (Device::Digits(area, start, digits), Width::Single) if digits <= 4 => self
-                .digits(area, start, u32::from(digits))
-                .map(|v| i32::from(v as i16)),
-            (Device::Digits(area, start, digits), Width::Double) if digits <= 8 => {
-                self.digits(area, start, u32::from(digits))
-            }
-            (Device::WideCounter(n), _) => self.wide_counter(n),
-            _ => None,
-        }
+        read_composite(&mut ReadOnly(self), device, width).ok()
     }
 
     /// Writes a device as a host or programming tool would (not forced).
     /// Writing X sets the input image (and X itself unless X is forced).
     /// Returns false when out of range or the width does not fit.
     pub fn write_device(&mut self, device: Device, width: Width, value: i32) -> bool {
-        match (device, width) {
-            (Device::Bit(BitArea::X, n), Width::Single) => {
-                let Some(image) = self.input_image.get_mut(n as usize) else {
-                    return false;
-                };
-                *image = (value != 0) as u8;
-                if self.forced(BitArea::X, n).is_none() {
-                    self.x[n as usize] = (value != 0) as u8;
-                }
-                true
-            }
-            (Device::Bit(area, n), Width::Single) => self.set_bit(area, n, value != 0),
-            (Device::WordBit(area, n, bit), Width::Single) if bit < 16 => {
-                let Some(word) = self.word(area, n) else {
-                    return false;
-                };
-                let mask = 1i16 << bit;
-                let updated = if value != 0 {
-                    word | mask
-                } else {
-                    word & !mask
-                };
-                self.set_word(area, n, updated)
-            }
-            (Device::Word(area, n), Width::Single) => self.set_word(area, n, value as i16),
-            (Device::Word(area, n), Width::Double) => self.set_word_pair(area, n, value),
-            (Device::Digits(area, start, digits), Width::Single) if digits <= 4 => {
-                self.set_digits(area, start, u32::from(digits), value)
-            }
-            (Device::Digits(area, start, digits), Width::Double) if digits <= 8 => {
-                self.set_digits(area, start, u32::from(digits), value)
-            }
-            (Device::WideCounter(n), _) if n >= FIRST_WIDE_COUNTER => {
-                self.set_wide_counter(n, value)
-            }
-            _ => false,
-        }
+        write_composite(self, device, width, value).is_ok()
+    }
+}
+
+/// Reads of a shared image through `BasicAccess`.
+struct ReadOnly<'a>(&'a Memory);
+
+impl BasicAccess for ReadOnly<'_> {
+    fn read_basic(&mut self, device: Basic) -> Result<i32, AccessError> {
+        self.0.basic(device).ok_or(AccessError::OutOfRange)
+    }
+
+    fn write_basic(&mut self, _: Basic, _: i32) -> Result<(), AccessError> {
+        Err(AccessError::Unreachable("read-only view".into()))
     }
 }
 
@@ -119,6 +237,29 @@ mod tests {
         assert_eq!(
             mem.read_device(Device::Digits(BitArea::M, 0, 5), Width::Single),
             None
+        );
+        assert!(mem.write_device(Device::Digits(BitArea::M, 100, 8), Width::Double, -1));
+        assert_eq!(
+            mem.read_device(Device::Digits(BitArea::M, 100, 8), Width::Double),
+            Some(-1)
+        );
+        assert!(!mem.write_device(Device::Digits(BitArea::X, 250, 2), Width::Single, 1));
+    }
+
+    #[test]
+    fn pairs_and_wide_counters() {
+        let mut mem = Memory::new_boxed();
+        assert!(mem.write_device(Device::Word(WordArea::D, 10), Width::Double, 0x0001_8000));
+        assert_eq!(mem.d[10], -32768);
+        assert_eq!(
+            mem.read_device(Device::Word(WordArea::D, 10), Width::Double),
+            Some(0x0001_8000)
+        );
+        assert!(!mem.write_device(Device::Word(WordArea::D, 8511), Width::Double, 1));
+        assert!(mem.write_device(Device::WideCounter(255), Width::Double, -7));
+        assert_eq!(
+            mem.read_device(Device::WideCounter(255), Width::Single),
+            Some(-7)
         );
     }
 

@@ -17,7 +17,7 @@ pub mod timer;
 
 pub use device::{BitArea, TimerClass, WordArea};
 pub use force::ForceError;
-pub use host::{Device, Width};
+pub use host::{AccessError, Basic, BasicAccess, Device, Width};
 pub use memory::Memory;
 pub use place::Place;
 pub use special::OperationError;
