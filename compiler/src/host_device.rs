@@ -50,10 +50,7 @@ pub fn parse_device(text: &str, double: bool) -> Result<HostDevice, String> {
                     return Err(format!("`{text}` runs past the end of {}", area.prefix()));
                 }
                 if !double && digits > 4 {
-                    return Err(format!(
-                        "`{text}` has {} bits; use set32/expect32",
-                        4 * digits
-                    ));
+                    return Err(format!("`{text}` has {} bits; use set32/expect32", 4 * digits));
                 }
                 Device::Digits(area, n, digits)
             }
@@ -84,9 +81,7 @@ pub fn parse_device(text: &str, double: bool) -> Result<HostDevice, String> {
         Prefix::Tn if !double => word(WordArea::TimerValue)?,
         Prefix::Cn if (FIRST_WIDE_COUNTER..COUNTER_COUNT).contains(&n) => Device::WideCounter(n),
         Prefix::Cn if !double && n < FIRST_WIDE_COUNTER => word(WordArea::CounterValue)?,
-        Prefix::Tn | Prefix::Cn => {
-            return Err(format!("`{text}` is a 16-bit value; use set/expect"))
-        }
+        Prefix::Tn | Prefix::Cn => return Err(format!("`{text}` is a 16-bit value; use set/expect")),
         Prefix::P | Prefix::N => return Err(format!("`{text}` is not a device")),
     };
     if double && device.is_bit() {
@@ -135,8 +130,7 @@ pub fn parse_number(text: &str) -> Result<i64, String> {
         Some(rest) if radix == 10 => (true, rest),
         _ => (false, digits),
     };
-    if magnitude.is_empty() || magnitude.len() > 20 || !magnitude.chars().all(|c| c.is_digit(radix))
-    {
+    if magnitude.is_empty() || magnitude.len() > 20 || !magnitude.chars().all(|c| c.is_digit(radix)) {
         return Err(invalid());
     }
     let value = i64::from_str_radix(magnitude, radix).map_err(|_| invalid())?;
@@ -145,11 +139,7 @@ pub fn parse_number(text: &str) -> Result<i64, String> {
 
 /// Whether two values are the same bits of a device of `bits` width.
 pub fn same_bits(a: i32, b: i32, bits: u32) -> bool {
-    let mask = if bits >= 32 {
-        u32::MAX
-    } else {
-        (1u32 << bits) - 1
-    };
+    let mask = if bits >= 32 { u32::MAX } else { (1u32 << bits) - 1 };
     (a as u32 & mask) == (b as u32 & mask)
 }
 
@@ -168,10 +158,7 @@ mod tests {
 
     #[test]
     fn names() {
-        assert_eq!(
-            parse_device("X17", false).unwrap().device,
-            Device::Bit(BitArea::X, 15)
-        );
+        assert_eq!(parse_device("X17", false).unwrap().device, Device::Bit(BitArea::X, 15));
         assert_eq!(
             parse_device("TS0", false).unwrap().device,
             Device::Bit(BitArea::TimerContact, 0)
@@ -185,10 +172,7 @@ mod tests {
             Device::Word(WordArea::CounterValue, 3)
         );
         let wide = parse_device("CN200", false).unwrap();
-        assert_eq!(
-            (wide.device, wide.width),
-            (Device::WideCounter(200), Width::Double)
-        );
+        assert_eq!((wide.device, wide.width), (Device::WideCounter(200), Width::Double));
         assert_eq!(
             parse_device("D0.F", false).unwrap().device,
             Device::WordBit(WordArea::D, 0, 15)

@@ -4,6 +4,7 @@
 //! `source` → `syntax` (tokens, statements with spans) → `check`
 //! (`CheckedProgram`) → `interp` (reference interpreter).
 
+pub mod aot;
 pub mod check;
 pub mod cli;
 pub mod codegen;

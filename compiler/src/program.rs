@@ -17,10 +17,7 @@ pub struct Address {
 
 impl Address {
     pub fn fixed(index: u32) -> Address {
-        Address {
-            index,
-            offset: None,
-        }
+        Address { index, offset: None }
     }
 }
 
@@ -52,11 +49,7 @@ pub enum Contact {
     /// Normally open or closed.
     Level { bit: BitRef, closed: bool },
     /// Rising or falling transition since this instance last executed.
-    Edge {
-        bit: BitRef,
-        falling: bool,
-        slot: u32,
-    },
+    Edge { bit: BitRef, falling: bool, slot: u32 },
     /// ATI (true) / AFI (false).
     Constant(bool),
     /// `LD= S1 S2` and friends; `wide` for the D forms.

@@ -29,10 +29,7 @@ fn check_reports_location_code_and_underline() {
     let output = ladderc(&["check", "bad.il"], &dir);
     assert_eq!(output.status.code(), Some(1));
     let stderr = text(&output.stderr);
-    assert!(
-        stderr.contains("error[E0001]: unknown instruction `LDD`"),
-        "{stderr}"
-    );
+    assert!(stderr.contains("error[E0001]: unknown instruction `LDD`"), "{stderr}");
     assert!(stderr.contains("bad.il:2:3"), "{stderr}");
     assert!(stderr.contains("2 │   LDD X1\n  │   ^^^"), "{stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
@@ -69,9 +66,7 @@ fn run_prints_a_table_or_csv() {
     let dir = temp_dir("run");
     std::fs::write(dir.join("p.il"), "LD X0\nOUT Y0\nLD X0\nINC D0\n").unwrap();
     let output = ladderc(
-        &[
-            "run", "p.il", "--scans", "3", "--set", "X0=1", "--watch", "Y0,D0",
-        ],
+        &["run", "p.il", "--scans", "3", "--set", "X0=1", "--watch", "Y0,D0"],
         &dir,
     );
     assert_eq!(output.status.code(), Some(0), "{}", text(&output.stderr));
@@ -80,9 +75,7 @@ fn run_prints_a_table_or_csv() {
         "scan  Y0      D0\n   1   1       1\n   2   1       2\n   3   1       3\n"
     );
     let output = ladderc(
-        &[
-            "run", "p.il", "--scans", "2", "--format", "csv", "--watch", "D0",
-        ],
+        &["run", "p.il", "--scans", "2", "--format", "csv", "--watch", "D0"],
         &dir,
     );
     assert_eq!(text(&output.stdout), "scan,D0\n1,0\n2,0\n");
@@ -104,18 +97,11 @@ fn test_reports_failures_and_summary() {
         "program <<\nLD X0\nOUT Y0\n>>\nset X0 1\nscan\nexpect Y0 1\nexpect Y0 0\n",
     )
     .unwrap();
-    std::fs::write(
-        dir.join("b.scn"),
-        "program <<\nLD X0\nOUT Y0\n>>\nscan\nexpect Y0 0\n",
-    )
-    .unwrap();
+    std::fs::write(dir.join("b.scn"), "program <<\nLD X0\nOUT Y0\n>>\nscan\nexpect Y0 0\n").unwrap();
     let output = ladderc(&["test", ".", "--engine", "interp"], &dir);
     assert_eq!(output.status.code(), Some(1));
     let stdout = text(&output.stdout);
-    assert!(
-        stdout.contains("a.scn:8: [interp] expected Y0 = 0, got 1"),
-        "{stdout}"
-    );
+    assert!(stdout.contains("a.scn:8: [interp] expected Y0 = 0, got 1"), "{stdout}");
     assert_eq!(stdout.lines().last(), Some("1 passed, 1 failed"));
 }
 

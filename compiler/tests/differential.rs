@@ -26,24 +26,15 @@ fn field_at(offset: usize) -> String {
         ("d (2 bytes each)", offset_of!(Memory, d)),
         ("sd", offset_of!(Memory, sd)),
         ("r", offset_of!(Memory, r)),
-        (
-            "timer_value (2 bytes each)",
-            offset_of!(Memory, timer_value),
-        ),
-        (
-            "counter_value (2 bytes each)",
-            offset_of!(Memory, counter_value),
-        ),
+        ("timer_value (2 bytes each)", offset_of!(Memory, timer_value)),
+        ("counter_value (2 bytes each)", offset_of!(Memory, counter_value)),
         (
             "wide_counter_value (4 bytes each)",
             offset_of!(Memory, wide_counter_value),
         ),
         ("timer_remainder_ms", offset_of!(Memory, timer_remainder_ms)),
         ("timer_coil_was_on", offset_of!(Memory, timer_coil_was_on)),
-        (
-            "counter_coil_was_on",
-            offset_of!(Memory, counter_coil_was_on),
-        ),
+        ("counter_coil_was_on", offset_of!(Memory, counter_coil_was_on)),
         ("stl_pending_off", offset_of!(Memory, stl_pending_off)),
         ("stl_block_active", offset_of!(Memory, stl_block_active)),
         ("edge_slot", offset_of!(Memory, edge_slot)),

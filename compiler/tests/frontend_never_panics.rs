@@ -57,11 +57,7 @@ fn line() -> impl Strategy<Value = String> {
         "( |,|// x|;y)?",
     )
         .prop_map(|(step, mnemonic, operands, tail)| {
-            format!(
-                "{}{mnemonic} {}{tail}",
-                step.unwrap_or_default(),
-                operands.join(" ")
-            )
+            format!("{}{mnemonic} {}{tail}", step.unwrap_or_default(), operands.join(" "))
         })
 }
 

@@ -48,12 +48,7 @@ fn stl_seed_examples() {
 
 #[test]
 fn same_device_seed_examples() {
-    for name in [
-        "out_twice",
-        "set_rst",
-        "pls_different_timing",
-        "plf_different_timing",
-    ] {
+    for name in ["out_twice", "set_rst", "pls_different_timing", "plf_different_timing"] {
         snapshot_scenario(&format!("testsuite/scenarios/seeds/same_device/{name}.scn"));
     }
 }

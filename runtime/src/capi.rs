@@ -163,12 +163,7 @@ pub unsafe extern "C" fn ladder_read(
 /// Writes a device as a programming tool would (not forced). Writing X sets the
 /// input image.
 #[no_mangle]
-pub extern "C" fn ladder_write(
-    mem: *mut LadderMemory,
-    kind: u32,
-    number: u32,
-    value: i32,
-) -> LadderStatus {
+pub extern "C" fn ladder_write(mem: *mut LadderMemory, kind: u32, number: u32, value: i32) -> LadderStatus {
     let (Some(mem), Some(device)) = (image_mut(mem), device(kind, number)) else {
         return LadderStatus::BadArgument;
     };
@@ -195,12 +190,7 @@ fn force_status(result: Result<(), ForceError>) -> LadderStatus {
 
 /// Forces X, Y, M, T (contact) or C (contact) ON or OFF until unforced.
 #[no_mangle]
-pub extern "C" fn ladder_force(
-    mem: *mut LadderMemory,
-    kind: u32,
-    number: u32,
-    on: bool,
-) -> LadderStatus {
+pub extern "C" fn ladder_force(mem: *mut LadderMemory, kind: u32, number: u32, on: bool) -> LadderStatus {
     let Some(mem) = image_mut(mem) else {
         return LadderStatus::BadArgument;
     };
@@ -282,9 +272,7 @@ mod tests {
         unsafe {
             assert!(ladder_init(core::ptr::null_mut(), bytes).is_null());
             assert!(ladder_init(storage.as_mut_ptr().cast(), bytes - 1).is_null());
-            assert!(
-                ladder_init(storage.as_mut_ptr().cast::<u8>().add(1).cast(), bytes - 4).is_null()
-            );
+            assert!(ladder_init(storage.as_mut_ptr().cast::<u8>().add(1).cast(), bytes - 4).is_null());
             assert!(!ladder_init(storage.as_mut_ptr().cast(), bytes).is_null());
         }
     }
@@ -303,10 +291,7 @@ mod tests {
             LadderStatus::OutOfRange
         );
         assert_eq!(ladder_write(mem, 99, 0, 1), LadderStatus::BadArgument);
-        assert_eq!(
-            ladder_force(mem, LadderDevice::Y as u32, 1, true),
-            LadderStatus::Ok
-        );
+        assert_eq!(ladder_force(mem, LadderDevice::Y as u32, 1, true), LadderStatus::Ok);
         assert_eq!(
             ladder_force(mem, LadderDevice::D as u32, 1, true),
             LadderStatus::NotForceable

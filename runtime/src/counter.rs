@@ -85,17 +85,11 @@ mod tests {
     fn wide_counter_counts_down_and_wraps() {
         let mut mem = Memory::new_boxed();
         pulse(&mut mem, 200, 1);
-        assert_eq!(
-            (mem.wide_counter(200), mem.counter_contact[200]),
-            (Some(1), 1)
-        );
+        assert_eq!((mem.wide_counter(200), mem.counter_contact[200]), (Some(1), 1));
         mem.m[8200] = 1;
         pulse(&mut mem, 200, 1);
         pulse(&mut mem, 200, 1);
-        assert_eq!(
-            (mem.wide_counter(200), mem.counter_contact[200]),
-            (Some(-1), 0)
-        );
+        assert_eq!((mem.wide_counter(200), mem.counter_contact[200]), (Some(-1), 0));
         mem.set_wide_counter(201, i32::MAX);
         pulse(&mut mem, 201, 0);
         assert_eq!(mem.wide_counter(201), Some(i32::MIN));

@@ -53,9 +53,7 @@ impl Memory {
     /// value at once, so a monitor sees it before the next scan.
     pub fn force(&mut self, area: BitArea, index: u32, on: bool) -> Result<(), ForceError> {
         let table = self.force_table_mut(area).ok_or(ForceError::NotForceable)?;
-        let entry = table
-            .get_mut(index as usize)
-            .ok_or(ForceError::OutOfRange)?;
+        let entry = table.get_mut(index as usize).ok_or(ForceError::OutOfRange)?;
         let was_forced = *entry != FORCE_NONE;
         *entry = if on { FORCE_ON } else { FORCE_OFF };
         if !was_forced {
@@ -69,9 +67,7 @@ impl Memory {
     /// devices keep their value until the program changes it.
     pub fn unforce(&mut self, area: BitArea, index: u32) -> Result<(), ForceError> {
         let table = self.force_table_mut(area).ok_or(ForceError::NotForceable)?;
-        let entry = table
-            .get_mut(index as usize)
-            .ok_or(ForceError::OutOfRange)?;
+        let entry = table.get_mut(index as usize).ok_or(ForceError::OutOfRange)?;
         if *entry == FORCE_NONE {
             return Ok(());
         }
@@ -157,14 +153,8 @@ mod tests {
     #[test]
     fn refuses_unforceable_devices() {
         let mut mem = Memory::new_boxed();
-        assert_eq!(
-            mem.force(BitArea::S, 0, true),
-            Err(ForceError::NotForceable)
-        );
-        assert_eq!(
-            mem.force(BitArea::X, 256, true),
-            Err(ForceError::OutOfRange)
-        );
+        assert_eq!(mem.force(BitArea::S, 0, true), Err(ForceError::NotForceable));
+        assert_eq!(mem.force(BitArea::X, 256, true), Err(ForceError::OutOfRange));
         mem.force(BitArea::M, 5, true).unwrap();
         mem.force(BitArea::M, 5, false).unwrap();
         assert_eq!(mem.forced_count, 1, "re-forcing counts once");

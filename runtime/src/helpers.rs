@@ -19,12 +19,7 @@ unsafe fn memory<'a>(mem: *mut Memory) -> Option<&'a mut Memory> {
 /// # Safety
 /// `mem` is null or the program's device image.
 #[no_mangle]
-pub unsafe extern "C" fn ladder_rt_timer_coil(
-    mem: *mut Memory,
-    timer: u32,
-    coil: u32,
-    preset: i32,
-) {
+pub unsafe extern "C" fn ladder_rt_timer_coil(mem: *mut Memory, timer: u32, coil: u32, preset: i32) {
     if let Some(mem) = unsafe { memory(mem) } {
         mem.timer_coil(timer, coil != 0, preset);
     }
@@ -35,12 +30,7 @@ pub unsafe extern "C" fn ladder_rt_timer_coil(
 /// # Safety
 /// `mem` is null or the program's device image.
 #[no_mangle]
-pub unsafe extern "C" fn ladder_rt_counter_coil(
-    mem: *mut Memory,
-    counter: u32,
-    coil: u32,
-    preset: i32,
-) {
+pub unsafe extern "C" fn ladder_rt_counter_coil(mem: *mut Memory, counter: u32, coil: u32, preset: i32) {
     if let Some(mem) = unsafe { memory(mem) } {
         mem.counter_coil(counter, coil != 0, preset);
     }
@@ -100,9 +90,7 @@ pub unsafe extern "C" fn ladder_rt_block_move(
 ) {
     let source = Place::decode(source_kind, source_index, source_digits);
     let destination = Place::decode(destination_kind, destination_index, destination_digits);
-    if let (Some(mem), Some(source), Some(destination)) =
-        (unsafe { memory(mem) }, source, destination)
-    {
+    if let (Some(mem), Some(source), Some(destination)) = (unsafe { memory(mem) }, source, destination) {
         mem.block_move(
             source,
             destination,
@@ -113,33 +101,37 @@ pub unsafe extern "C" fn ladder_rt_block_move(
     }
 }
 
+/// Steps 1-2 of the scan, for the scan entry point of compiled objects. The
+/// symbol carries the layout tag (`layout::TAGGED_BEGIN_SCAN`).
+///
+/// # Safety
+/// `mem` is null or the program's device image.
+#[export_name = "ladder_rt_begin_scan_v1_137856"]
+pub unsafe extern "C" fn ladder_rt_begin_scan(mem: *mut Memory, elapsed_ms: u32) {
+    if let Some(mem) = unsafe { memory(mem) } {
+        mem.begin_scan(elapsed_ms);
+    }
+}
+
 /// `ladder_rt_block_move` flag: 32-bit units.
 pub const BLOCK_MOVE_WIDE: u32 = 1;
 /// `ladder_rt_block_move` flag: fill (FMOV) instead of move (BMOV).
 pub const BLOCK_MOVE_FILL: u32 = 2;
 
 /// The helpers by name with their addresses, for a JIT to resolve imports.
-pub fn symbols() -> [(&'static str, *const u8); 8] {
+pub fn symbols() -> [(&'static str, *const u8); 9] {
     [
         ("ladder_rt_timer_coil", ladder_rt_timer_coil as *const u8),
-        (
-            "ladder_rt_counter_coil",
-            ladder_rt_counter_coil as *const u8,
-        ),
+        ("ladder_rt_counter_coil", ladder_rt_counter_coil as *const u8),
         ("ladder_rt_reset_timer", ladder_rt_reset_timer as *const u8),
-        (
-            "ladder_rt_reset_counter",
-            ladder_rt_reset_counter as *const u8,
-        ),
+        ("ladder_rt_reset_counter", ladder_rt_reset_counter as *const u8),
         (
             "ladder_rt_schedule_state_off",
             ladder_rt_schedule_state_off as *const u8,
         ),
         ("ladder_rt_block_move", ladder_rt_block_move as *const u8),
-        (
-            "ladder_begin_scan",
-            crate::capi::ladder_begin_scan as *const u8,
-        ),
+        (crate::layout::TAGGED_BEGIN_SCAN, ladder_rt_begin_scan as *const u8),
+        ("ladder_begin_scan", crate::capi::ladder_begin_scan as *const u8),
         ("ladder_end_scan", crate::capi::ladder_end_scan as *const u8),
     ]
 }

@@ -64,11 +64,7 @@ pub trait BasicAccess {
 }
 
 /// Reads a device of any shape through basic reads.
-pub fn read_composite(
-    access: &mut impl BasicAccess,
-    device: Device,
-    width: Width,
-) -> Result<i32, AccessError> {
+pub fn read_composite(access: &mut impl BasicAccess, device: Device, width: Width) -> Result<i32, AccessError> {
     match (device, width) {
         (Device::Bit(area, n), Width::Single) => access.read_basic(Basic::Bit(area, n)),
         (Device::WordBit(area, n, bit), Width::Single) if bit < 16 => {
@@ -105,22 +101,14 @@ pub fn write_composite(
     value: i32,
 ) -> Result<(), AccessError> {
     match (device, width) {
-        (Device::Bit(area, n), Width::Single) => {
-            access.write_basic(Basic::Bit(area, n), (value != 0) as i32)
-        }
+        (Device::Bit(area, n), Width::Single) => access.write_basic(Basic::Bit(area, n), (value != 0) as i32),
         (Device::WordBit(area, n, bit), Width::Single) if bit < 16 => {
             let word = access.read_basic(Basic::Word(area, n))?;
             let mask = 1 << bit;
-            let updated = if value != 0 {
-                word | mask
-            } else {
-                word & !mask
-            };
+            let updated = if value != 0 { word | mask } else { word & !mask };
             access.write_basic(Basic::Word(area, n), updated)
         }
-        (Device::Word(area, n), Width::Single) => {
-            access.write_basic(Basic::Word(area, n), i32::from(value as i16))
-        }
+        (Device::Word(area, n), Width::Single) => access.write_basic(Basic::Word(area, n), i32::from(value as i16)),
         (Device::Word(area, n), Width::Double) => {
             let high_index = n
                 .checked_add(1)
@@ -140,9 +128,7 @@ pub fn write_composite(
             }
             Ok(())
         }
-        (Device::WideCounter(n), _) if n >= FIRST_WIDE_COUNTER => {
-            access.write_basic(Basic::WideCounter(n), value)
-        }
+        (Device::WideCounter(n), _) if n >= FIRST_WIDE_COUNTER => access.write_basic(Basic::WideCounter(n), value),
         _ => Err(AccessError::OutOfRange),
     }
 }
@@ -234,10 +220,7 @@ mod tests {
             mem.read_device(Device::Digits(BitArea::M, 0, 4), Width::Single),
             Some(-32767)
         );
-        assert_eq!(
-            mem.read_device(Device::Digits(BitArea::M, 0, 5), Width::Single),
-            None
-        );
+        assert_eq!(mem.read_device(Device::Digits(BitArea::M, 0, 5), Width::Single), None);
         assert!(mem.write_device(Device::Digits(BitArea::M, 100, 8), Width::Double, -1));
         assert_eq!(
             mem.read_device(Device::Digits(BitArea::M, 100, 8), Width::Double),
@@ -257,10 +240,7 @@ mod tests {
         );
         assert!(!mem.write_device(Device::Word(WordArea::D, 8511), Width::Double, 1));
         assert!(mem.write_device(Device::WideCounter(255), Width::Double, -7));
-        assert_eq!(
-            mem.read_device(Device::WideCounter(255), Width::Single),
-            Some(-7)
-        );
+        assert_eq!(mem.read_device(Device::WideCounter(255), Width::Single), Some(-7));
     }
 
     #[test]

@@ -12,6 +12,15 @@ pub const MEMORY_SIZE: usize = size_of::<Memory>();
 /// Alignment of `Memory` in bytes.
 pub const MEMORY_ALIGN: usize = align_of::<Memory>();
 
+/// Names this layout in the symbol that compiled objects import
+/// (`ladder_rt_begin_scan_<tag>`), so that an object linked against a runtime
+/// with another layout fails to link instead of corrupting memory. Change it
+/// whenever an offset changes; `layout_fingerprint_is_recorded` insists.
+pub const LAYOUT_TAG: &str = "v1_137856";
+
+/// The begin-scan entry compiled objects call; carries the layout tag.
+pub const TAGGED_BEGIN_SCAN: &str = "ladder_rt_begin_scan_v1_137856";
+
 /// Offset of a bit area's first byte (one byte per bit).
 pub const fn bit_area_offset(area: BitArea) -> usize {
     match area {
@@ -47,6 +56,54 @@ pub const STL_BLOCK_ACTIVE_OFFSET: usize = offset_of!(Memory, stl_block_active);
 mod tests {
     use super::*;
 
+    /// Every field's offset, in order: a change here changes the layout.
+    fn fingerprint() -> String {
+        let offsets = [
+            offset_of!(Memory, x),
+            offset_of!(Memory, y),
+            offset_of!(Memory, m),
+            offset_of!(Memory, s),
+            offset_of!(Memory, sm),
+            offset_of!(Memory, timer_contact),
+            offset_of!(Memory, counter_contact),
+            offset_of!(Memory, d),
+            offset_of!(Memory, sd),
+            offset_of!(Memory, r),
+            offset_of!(Memory, timer_value),
+            offset_of!(Memory, counter_value),
+            offset_of!(Memory, wide_counter_value),
+            offset_of!(Memory, timer_remainder_ms),
+            offset_of!(Memory, timer_coil_was_on),
+            offset_of!(Memory, counter_coil_was_on),
+            offset_of!(Memory, stl_pending_off),
+            offset_of!(Memory, stl_block_active),
+            offset_of!(Memory, edge_slot),
+            offset_of!(Memory, input_image),
+            offset_of!(Memory, output_image),
+            offset_of!(Memory, force_x),
+            offset_of!(Memory, force_y),
+            offset_of!(Memory, force_m),
+            offset_of!(Memory, force_timer),
+            offset_of!(Memory, force_counter),
+            offset_of!(Memory, forced_count),
+            offset_of!(Memory, stl_pending_any),
+            offset_of!(Memory, elapsed_ms),
+            offset_of!(Memory, scan_count),
+            MEMORY_SIZE,
+        ];
+        offsets.map(|o| o.to_string()).join(",")
+    }
+
+    #[test]
+    fn layout_fingerprint_is_recorded() {
+        assert_eq!(
+            fingerprint(),
+            "0,256,512,9024,13120,14144,14656,14912,31936,33984,99520,100544,100944,101168,102192,102704,102960,107056,111152,127536,127792,128048,128304,128560,137072,137584,137840,137844,137848,137852,137856",
+            "the memory layout changed: bump LAYOUT_TAG (and the tagged symbol) and record the new fingerprint"
+        );
+        assert_eq!(TAGGED_BEGIN_SCAN, format!("ladder_rt_begin_scan_{LAYOUT_TAG}"));
+    }
+
     #[test]
     fn offsets_address_the_fields() {
         let mut mem = Memory::new_boxed();
@@ -58,10 +115,7 @@ mod tests {
         let d5 = word_area_offset(WordArea::D) + 2 * 5;
         assert_eq!(i16::from_ne_bytes([bytes[d5], bytes[d5 + 1]]), -2);
         let c201 = WIDE_COUNTER_OFFSET + 4;
-        assert_eq!(
-            i32::from_ne_bytes(bytes[c201..c201 + 4].try_into().unwrap()),
-            7
-        );
+        assert_eq!(i32::from_ne_bytes(bytes[c201..c201 + 4].try_into().unwrap()), 7);
         assert_eq!(MEMORY_ALIGN, 4);
         assert_eq!(WIDE_COUNTER_OFFSET % 4, 0);
     }

@@ -5,9 +5,7 @@
 //! fixed offsets (see `layout`). All-zero bytes are a valid, freshly
 //! initialised image: that is the state a firmware host gets from `memset`.
 
-use crate::device::{
-    BitArea, WordArea, COUNTER_COUNT, EDGE_SLOT_COUNT, STATE_COUNT, TIMER_COUNT, WIDE_COUNTER_COUNT,
-};
+use crate::device::{BitArea, WordArea, COUNTER_COUNT, EDGE_SLOT_COUNT, STATE_COUNT, TIMER_COUNT, WIDE_COUNTER_COUNT};
 use crate::special::{OperationError, D_ERROR_CODE, D_ERROR_LINE, M_OPERATION_ERROR};
 use bytemuck::{Pod, Zeroable};
 
@@ -273,10 +271,7 @@ mod tests {
         assert_eq!(mem.word(WordArea::D, 10), Some(-32768));
         assert_eq!(mem.word(WordArea::D, 11), Some(1));
         assert_eq!(mem.word_pair(WordArea::D, 10), Some(0x0001_8000));
-        assert!(
-            !mem.set_word_pair(WordArea::D, 8511, 1),
-            "high word would be D8512"
-        );
+        assert!(!mem.set_word_pair(WordArea::D, 8511, 1), "high word would be D8512");
         assert_eq!(mem.word_pair(WordArea::D, 8511), None);
     }
 
@@ -292,11 +287,7 @@ mod tests {
         assert!(mem.set_digits(BitArea::M, 100, 8, -1));
         assert_eq!(mem.digits(BitArea::M, 100, 8), Some(-1));
         assert_eq!(mem.digits(BitArea::M, 100, 3), Some(0xFFF));
-        assert_eq!(
-            mem.digits(BitArea::X, 250, 2),
-            None,
-            "X250..X257 runs past X377"
-        );
+        assert_eq!(mem.digits(BitArea::X, 250, 2), None, "X250..X257 runs past X377");
     }
 
     #[test]

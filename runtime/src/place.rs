@@ -24,9 +24,7 @@ impl Place {
             Place::Constant(_) => self,
             Place::Word(area, index) => Place::Word(area, index + unit * if wide { 2 } else { 1 }),
             Place::WideCounter(index) => Place::WideCounter(index + unit),
-            Place::Digits(area, start, digits) => {
-                Place::Digits(area, start + unit * 4 * u32::from(digits), digits)
-            }
+            Place::Digits(area, start, digits) => Place::Digits(area, start + unit * 4 * u32::from(digits), digits),
         }
     }
 
@@ -77,25 +75,19 @@ impl Place {
             Place::Constant(value) => (PLACE_CONSTANT, value as u32, 0),
             Place::Word(area, index) => (area as u32, index, 0),
             Place::WideCounter(index) => (PLACE_WIDE_COUNTER, index, 0),
-            Place::Digits(area, start, digits) => {
-                (PLACE_DIGITS + area as u32, start, u32::from(digits))
-            }
+            Place::Digits(area, start, digits) => (PLACE_DIGITS + area as u32, start, u32::from(digits)),
         }
     }
 
     /// The inverse of `encode`; `None` for a kind that does not exist.
     pub fn decode(kind: u32, index: u32, digits: u32) -> Option<Place> {
         let word = WordArea::ALL.iter().find(|&&a| a as u32 == kind);
-        let bits = BitArea::ALL
-            .iter()
-            .find(|&&a| PLACE_DIGITS + a as u32 == kind);
+        let bits = BitArea::ALL.iter().find(|&&a| PLACE_DIGITS + a as u32 == kind);
         match (kind, word, bits) {
             (PLACE_CONSTANT, _, _) => Some(Place::Constant(index as i32)),
             (PLACE_WIDE_COUNTER, _, _) => Some(Place::WideCounter(index)),
             (_, Some(&area), _) => Some(Place::Word(area, index)),
-            (_, _, Some(&area)) if (1..=8).contains(&digits) => {
-                Some(Place::Digits(area, index, digits as u8))
-            }
+            (_, _, Some(&area)) if (1..=8).contains(&digits) => Some(Place::Digits(area, index, digits as u8)),
             _ => None,
         }
     }
@@ -115,25 +107,14 @@ impl Memory {
     /// BMOV (`fill` false) or FMOV (`fill` true) of `n` units, after the
     /// caller checked that both places hold `n` units. Overlapping blocks move
     /// as a whole; nothing is allocated.
-    pub fn block_move(
-        &mut self,
-        source: Place,
-        destination: Place,
-        n: u32,
-        wide: bool,
-        fill: bool,
-    ) {
+    pub fn block_move(&mut self, source: Place, destination: Place, n: u32, wide: bool, fill: bool) {
         let n = n.min(MAX_BLOCK_UNITS);
         let mut values = [0i32; MAX_BLOCK_UNITS as usize];
         for (unit, value) in values.iter_mut().enumerate().take(n as usize) {
-            *value = source
-                .nth(if fill { 0 } else { unit as u32 }, wide)
-                .read(self, wide);
+            *value = source.nth(if fill { 0 } else { unit as u32 }, wide).read(self, wide);
         }
         for (unit, value) in values.iter().enumerate().take(n as usize) {
-            destination
-                .nth(unit as u32, wide)
-                .write(self, wide, i64::from(*value));
+            destination.nth(unit as u32, wide).write(self, wide, i64::from(*value));
         }
     }
 }
@@ -169,13 +150,7 @@ mod tests {
             false,
         );
         assert_eq!(&mem.d[..4], &[1, 1, 2, 3]);
-        mem.block_move(
-            Place::Constant(7),
-            Place::Digits(BitArea::M, 0, 1),
-            2,
-            false,
-            true,
-        );
+        mem.block_move(Place::Constant(7), Place::Digits(BitArea::M, 0, 1), 2, false, true);
         assert_eq!(mem.digits(BitArea::M, 0, 2), Some(0x77));
     }
 }

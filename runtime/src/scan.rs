@@ -7,8 +7,8 @@
 
 use crate::memory::Memory;
 use crate::special::{
-    M_ALWAYS_OFF, M_ALWAYS_ON, M_FIRST_SCAN, M_NOT_FIRST_SCAN, SM_ALWAYS_OFF, SM_ALWAYS_ON,
-    SM_FIRST_SCAN, SM_NOT_FIRST_SCAN,
+    M_ALWAYS_OFF, M_ALWAYS_ON, M_FIRST_SCAN, M_NOT_FIRST_SCAN, SM_ALWAYS_OFF, SM_ALWAYS_ON, SM_FIRST_SCAN,
+    SM_NOT_FIRST_SCAN,
 };
 
 impl Memory {
@@ -87,20 +87,11 @@ mod tests {
     fn first_scan_relays() {
         let mut mem = Memory::new_boxed();
         mem.begin_scan(10);
-        assert_eq!(
-            (mem.m[8002], mem.m[8003], mem.sm[2], mem.sm[3]),
-            (1, 0, 1, 0)
-        );
-        assert_eq!(
-            (mem.m[8000], mem.m[8001], mem.m[8150], mem.m[8151]),
-            (1, 0, 1, 1)
-        );
+        assert_eq!((mem.m[8002], mem.m[8003], mem.sm[2], mem.sm[3]), (1, 0, 1, 0));
+        assert_eq!((mem.m[8000], mem.m[8001], mem.m[8150], mem.m[8151]), (1, 0, 1, 1));
         mem.end_scan();
         mem.begin_scan(10);
-        assert_eq!(
-            (mem.m[8002], mem.m[8003], mem.m[8150], mem.sm[2]),
-            (0, 1, 0, 0)
-        );
+        assert_eq!((mem.m[8002], mem.m[8003], mem.m[8150], mem.sm[2]), (0, 1, 0, 0));
     }
 
     #[test]

@@ -36,10 +36,7 @@ pub const M_COUNTER_DIRECTION_BASE: u32 = 8200;
 /// Is M relay `n` one the runtime rewrites at every scan (a write by the
 /// program would not last)?
 pub fn is_system_m(n: u32) -> bool {
-    M_ALWAYS_ON.contains(&n)
-        || M_ALWAYS_OFF.contains(&n)
-        || M_FIRST_SCAN.contains(&n)
-        || M_NOT_FIRST_SCAN.contains(&n)
+    M_ALWAYS_ON.contains(&n) || M_ALWAYS_OFF.contains(&n) || M_FIRST_SCAN.contains(&n) || M_NOT_FIRST_SCAN.contains(&n)
 }
 
 /// Is SM relay `n` one the runtime rewrites at every scan?

@@ -16,9 +16,7 @@ pub struct Context {
 impl Context {
     /// The MC levels open here, as a bit mask.
     pub fn mc_mask(&self) -> u8 {
-        self.mc_regions
-            .iter()
-            .fold(0, |mask, &(level, _)| mask | (1 << level))
+        self.mc_regions.iter().fold(0, |mask, &(level, _)| mask | (1 << level))
     }
 
     /// May a jump from `self` land in `target`? Leaving a block or region is
@@ -70,11 +68,7 @@ impl BlockTracker {
     pub fn context(&self) -> Context {
         Context {
             stl_block: self.open_block.as_ref().map(|b| b.id),
-            mc_regions: self
-                .mc_open
-                .iter()
-                .map(|&(level, id, _)| (level, id))
-                .collect(),
+            mc_regions: self.mc_open.iter().map(|&(level, id, _)| (level, id)).collect(),
         }
     }
 
@@ -90,10 +84,7 @@ impl BlockTracker {
             diagnostics.push(
                 Diagnostic::new(Code::NestedStl, span, "STL inside an STL block")
                     .with_label("state blocks do not nest")
-                    .with_related(
-                        open.span,
-                        format!("the block of S{} is still open", open.state),
-                    )
+                    .with_related(open.span, format!("the block of S{} is still open", open.state))
                     .with_note("close the open block with STLE first"),
             );
         }
@@ -108,13 +99,9 @@ impl BlockTracker {
         if let Some(state) = state {
             if let Some(&first) = self.state_blocks.get(&state) {
                 diagnostics.push(
-                    Diagnostic::new(
-                        Code::DuplicateState,
-                        span,
-                        format!("S{state} already has a block"),
-                    )
-                    .with_label("second block of this state")
-                    .with_related(first, "first block here"),
+                    Diagnostic::new(Code::DuplicateState, span, format!("S{state} already has a block"))
+                        .with_label("second block of this state")
+                        .with_related(first, "first block here"),
                 );
             } else {
                 self.state_blocks.insert(state, span);
@@ -134,10 +121,8 @@ impl BlockTracker {
     pub fn stle(&mut self, span: Span, diagnostics: &mut Diagnostics) -> Option<usize> {
         let closed = self.open_block.take().map(|b| b.id);
         if closed.is_none() {
-            diagnostics.push(
-                Diagnostic::new(Code::StrayStle, span, "STLE without STL")
-                    .with_label("no open state block"),
-            );
+            diagnostics
+                .push(Diagnostic::new(Code::StrayStle, span, "STLE without STL").with_label("no open state block"));
         }
         closed
     }
@@ -155,13 +140,9 @@ impl BlockTracker {
         if let Some(&(top, _, top_span)) = self.mc_open.last() {
             if level <= top {
                 diagnostics.push(
-                    Diagnostic::new(
-                        Code::McPairing,
-                        span,
-                        format!("MC N{level} inside MC N{top}"),
-                    )
-                    .with_label(format!("nested levels must be higher than N{top}"))
-                    .with_related(top_span, format!("MC N{top} opened here")),
+                    Diagnostic::new(Code::McPairing, span, format!("MC N{level} inside MC N{top}"))
+                        .with_label(format!("nested levels must be higher than N{top}"))
+                        .with_related(top_span, format!("MC N{top} opened here")),
                 );
                 return false;
             }
@@ -184,33 +165,18 @@ impl BlockTracker {
         match self.mc_open.iter().position(|&(open, _, _)| open == level) {
             Some(index) => self.mc_open.truncate(index),
             None => diagnostics.push(
-                Diagnostic::new(
-                    Code::McPairing,
-                    span,
-                    format!("MCR N{level} without MC N{level}"),
-                )
-                .with_label("no open master-control region of this level"),
+                Diagnostic::new(Code::McPairing, span, format!("MCR N{level} without MC N{level}"))
+                    .with_label("no open master-control region of this level"),
             ),
         }
     }
 
-    pub fn label(
-        &mut self,
-        number: u32,
-        position: usize,
-        target: usize,
-        span: Span,
-        diagnostics: &mut Diagnostics,
-    ) {
+    pub fn label(&mut self, number: u32, position: usize, target: usize, span: Span, diagnostics: &mut Diagnostics) {
         if let Some(first) = self.labels.get(&number) {
             diagnostics.push(
-                Diagnostic::new(
-                    Code::DuplicateLabel,
-                    span,
-                    format!("label P{number} defined twice"),
-                )
-                .with_label("second definition")
-                .with_related(first.span, "first definition"),
+                Diagnostic::new(Code::DuplicateLabel, span, format!("label P{number} defined twice"))
+                    .with_label("second definition")
+                    .with_related(first.span, "first definition"),
             );
             return;
         }
@@ -243,12 +209,8 @@ impl BlockTracker {
         }
         for (level, _, span) in self.mc_open.drain(..) {
             diagnostics.push(
-                Diagnostic::new(
-                    Code::McPairing,
-                    span,
-                    format!("MC N{level} without MCR N{level}"),
-                )
-                .with_label("this region is never closed"),
+                Diagnostic::new(Code::McPairing, span, format!("MC N{level} without MCR N{level}"))
+                    .with_label("this region is never closed"),
             );
         }
     }

@@ -27,21 +27,13 @@ pub fn compile_source(file: &SourceFile) -> (Option<CheckedProgram>, Vec<Diagnos
     let (parsed, mut diagnostics) = syntax::parse(file);
     let (program, check_diagnostics) = check(&parsed, &file.name, file.text.len());
     diagnostics.extend(check_diagnostics);
-    let program = if diagnostics.has_errors() {
-        None
-    } else {
-        Some(program)
-    };
+    let program = if diagnostics.has_errors() { None } else { Some(program) };
     (program, diagnostics.into_sorted())
 }
 
 /// Checks a parsed program. The program is complete only when the
 /// diagnostics hold no errors.
-pub fn check(
-    parsed: &ParsedProgram,
-    name: &str,
-    source_len: usize,
-) -> (CheckedProgram, Diagnostics) {
+pub fn check(parsed: &ParsedProgram, name: &str, source_len: usize) -> (CheckedProgram, Diagnostics) {
     let mut checker = Checker::default();
     for (position, statement) in parsed.statements.iter().enumerate() {
         checker.statement(position, statement);
@@ -98,12 +90,8 @@ impl Checker {
         if self.ended && !self.warned_after_end {
             self.warned_after_end = true;
             self.report(
-                Diagnostic::new(
-                    Code::CodeAfterEnd,
-                    statement.span,
-                    "code after END is never executed",
-                )
-                .with_label("from here on"),
+                Diagnostic::new(Code::CodeAfterEnd, statement.span, "code after END is never executed")
+                    .with_label("from here on"),
             );
         }
         let site = Site {
@@ -133,12 +121,8 @@ impl Checker {
         self.rung.close(site.span, &mut self.diagnostics);
         if number > operands::LAST_LABEL {
             self.report(
-                Diagnostic::new(
-                    Code::DeviceRange,
-                    site.span,
-                    format!("label P{number} is out of range"),
-                )
-                .with_label("labels are P0..P4095"),
+                Diagnostic::new(Code::DeviceRange, site.span, format!("label P{number} is out of range"))
+                    .with_label("labels are P0..P4095"),
             );
             return;
         }
@@ -161,16 +145,13 @@ impl Checker {
         if let Some(block) = in_block {
             let block = &mut self.stl_blocks[block];
             match &op {
-                Op::Out(_) | Op::OutTimer { .. } | Op::OutCounter { .. } => {
-                    block.reset_outputs.push(index)
-                }
+                Op::Out(_) | Op::OutTimer { .. } | Op::OutCounter { .. } => block.reset_outputs.push(index),
                 Op::Pulse { slot, .. } => {
                     block.reset_outputs.push(index);
                     block.reset_slots.push(*slot);
                 }
                 Op::Data(DataInstruction {
-                    pulse_slot: Some(slot),
-                    ..
+                    pulse_slot: Some(slot), ..
                 }) => block.reset_slots.push(*slot),
                 _ => {}
             }
@@ -197,13 +178,7 @@ impl Checker {
         slot.min(EDGE_SLOT_COUNT - 1)
     }
 
-    fn instruction(
-        &mut self,
-        spec: &'static InstrSpec,
-        syntax: &InstructionSyntax,
-        position: usize,
-        site: &Site,
-    ) {
+    fn instruction(&mut self, spec: &'static InstrSpec, syntax: &InstructionSyntax, position: usize, site: &Site) {
         let count = syntax.operands.len();
         let counts_ok = (spec.required..=spec.operands.len()).contains(&count);
         if !counts_ok && !syntax.malformed {
@@ -261,17 +236,7 @@ impl Checker {
                     let left = self.ok(operands::word_source(left, wide));
                     let right = self.ok(operands::word_source(right, wide));
                     if let (Some(left), Some(right)) = (left, right) {
-                        self.emit_contact(
-                            role,
-                            new_rung,
-                            Contact::Compare {
-                                op,
-                                wide,
-                                left,
-                                right,
-                            },
-                            site,
-                        );
+                        self.emit_contact(role, new_rung, Contact::Compare { op, wide, left, right }, site);
                     }
                 }
             }
@@ -333,14 +298,7 @@ impl Checker {
                 if let Some([target]) = operands {
                     if let Some(target) = self.ok(operands::bit_target(target)) {
                         let slot = self.slot(span);
-                        self.emit(
-                            Op::Pulse {
-                                target,
-                                sense,
-                                slot,
-                            },
-                            site,
-                        );
+                        self.emit(Op::Pulse { target, sense, slot }, site);
                     }
                 }
             }
@@ -378,8 +336,7 @@ impl Checker {
                 if let Some([label]) = operands {
                     if let Some(label) = self.ok(operands::label(label)) {
                         let context = self.blocks.context();
-                        if let Some(instruction) = self.emit(Op::Jump { target: usize::MAX }, site)
-                        {
+                        if let Some(instruction) = self.emit(Op::Jump { target: usize::MAX }, site) {
                             self.blocks.jump(PendingJump {
                                 label,
                                 position,
@@ -423,9 +380,7 @@ impl Checker {
                     .context()
                     .stl_block
                     .and_then(|id| self.emitted_blocks.get(&id).copied());
-                if self.blocks.stle(span, &mut self.diagnostics).is_some()
-                    && self.emit(Op::StlEnd, site).is_some()
-                {
+                if self.blocks.stle(span, &mut self.diagnostics).is_some() && self.emit(Op::StlEnd, site).is_some() {
                     if let Some(block) = closed {
                         self.stl_blocks[block].end = end;
                     }
@@ -457,13 +412,7 @@ impl Checker {
         }
     }
 
-    fn contact(
-        &mut self,
-        role: Role,
-        sense: Sense,
-        operands: Option<&[syntax::Operand]>,
-        site: &Site,
-    ) {
+    fn contact(&mut self, role: Role, sense: Sense, operands: Option<&[syntax::Operand]>, site: &Site) {
         let new_rung = self.structure_contact(role, site.span);
         let Some([device]) = operands else {
             return;
@@ -518,12 +467,8 @@ impl Checker {
             }
             (Coil::Timer(_) | Coil::Counter(_), None) => {
                 self.report(
-                    Diagnostic::new(
-                        Code::MissingPreset,
-                        site.span,
-                        "timer or counter coil without a preset",
-                    )
-                    .with_label("add the preset, e.g. K10 or D100"),
+                    Diagnostic::new(Code::MissingPreset, site.span, "timer or counter coil without a preset")
+                        .with_label("add the preset, e.g. K10 or D100"),
                 );
                 return;
             }
@@ -560,8 +505,8 @@ impl Checker {
         };
         let transfer_from = match (self.blocks.current_state(), target) {
             (Some(source), BitRef::Device(BitArea::S, address)) => {
-                let covers_source = address.offset.is_none()
-                    && (address.index..address.index + count).contains(&source);
+                let covers_source =
+                    address.offset.is_none() && (address.index..address.index + count).contains(&source);
                 (!covers_source).then_some(source)
             }
             _ => None,
@@ -584,12 +529,8 @@ impl Checker {
                 None => Some(1),
                 Some(extra) => {
                     self.report(
-                        Diagnostic::new(
-                            Code::OperandKind,
-                            extra.span,
-                            "a bit of a word takes no device count",
-                        )
-                        .with_label("unexpected count"),
+                        Diagnostic::new(Code::OperandKind, extra.span, "a bit of a word takes no device count")
+                            .with_label("unexpected count"),
                     );
                     None
                 }
@@ -630,8 +571,7 @@ impl Checker {
                     return;
                 }
                 Prefix::D | Prefix::Sd | Prefix::R => {
-                    let Some(WordRef::Word(area, address)) =
-                        self.ok(operands::word_destination(first, false, 1))
+                    let Some(WordRef::Word(area, address)) = self.ok(operands::word_destination(first, false, 1))
                     else {
                         return;
                     };
@@ -664,13 +604,7 @@ impl Checker {
         );
     }
 
-    fn data(
-        &mut self,
-        spec: &InstrSpec,
-        op: isa::DataOp,
-        operands: &[syntax::Operand],
-        site: &Site,
-    ) {
+    fn data(&mut self, spec: &InstrSpec, op: isa::DataOp, operands: &[syntax::Operand], site: &Site) {
         let wide = spec.wide;
         let resolved: Vec<Option<DataOperand>> = spec
             .operands
@@ -678,15 +612,9 @@ impl Checker {
             .zip(operands)
             .map(|(kind, operand)| {
                 let result = match kind {
-                    OperandKind::Source => {
-                        operands::word_source(operand, wide).map(DataOperand::Word)
-                    }
-                    OperandKind::Destination => {
-                        operands::word_destination(operand, wide, 1).map(DataOperand::Word)
-                    }
-                    OperandKind::WideDestination => {
-                        operands::word_destination(operand, wide, 2).map(DataOperand::Word)
-                    }
+                    OperandKind::Source => operands::word_source(operand, wide).map(DataOperand::Word),
+                    OperandKind::Destination => operands::word_destination(operand, wide, 1).map(DataOperand::Word),
+                    OperandKind::WideDestination => operands::word_destination(operand, wide, 2).map(DataOperand::Word),
                     OperandKind::BitTriple => operands::bit_triple(operand).map(DataOperand::Bits),
                     OperandKind::WordCount => operands::word_count(operand).map(DataOperand::Word),
                     other => unreachable!("data instructions do not take {other:?}"),

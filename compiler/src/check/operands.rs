@@ -26,11 +26,7 @@ fn kind_error(operand: &Operand, message: impl Into<String>, label: &str) -> Dia
     Diagnostic::new(Code::OperandKind, operand.span, message).with_label(label)
 }
 
-fn range_error(
-    operand: &Operand,
-    message: impl Into<String>,
-    label: impl Into<String>,
-) -> Diagnostic {
+fn range_error(operand: &Operand, message: impl Into<String>, label: impl Into<String>) -> Diagnostic {
     Diagnostic::new(Code::DeviceRange, operand.span, message).with_label(label)
 }
 
@@ -64,14 +60,7 @@ fn bit_area(prefix: Prefix) -> Option<BitArea> {
 }
 
 /// Checks that `count` units from `index` lie in an area of `len` units.
-fn check_extent(
-    operand: &Operand,
-    name: &str,
-    index: u32,
-    count: u32,
-    len: u32,
-    area_text: &str,
-) -> Resolved<()> {
+fn check_extent(operand: &Operand, name: &str, index: u32, count: u32, len: u32, area_text: &str) -> Resolved<()> {
     if index >= len {
         return Err(range_error(
             operand,
@@ -82,9 +71,7 @@ fn check_extent(
     if u64::from(index) + u64::from(count) > u64::from(len) {
         return Err(range_error(
             operand,
-            format!(
-                "`{name}` needs {count} consecutive devices, which run past the end of the area"
-            ),
+            format!("`{name}` needs {count} consecutive devices, which run past the end of the area"),
             area_text.to_string(),
         ));
     }
@@ -182,14 +169,7 @@ pub fn bit_source(operand: &Operand) -> Resolved<BitRef> {
         )),
         prefix => {
             let area = bit_area(prefix).expect("remaining prefixes are bit areas");
-            check_extent(
-                operand,
-                &text_of(d),
-                d.number,
-                1,
-                area.count(),
-                &area_text_bits(area),
-            )?;
+            check_extent(operand, &text_of(d), d.number, 1, area.count(), &area_text_bits(area))?;
             Ok(BitRef::Device(area, address))
         }
     }
@@ -231,14 +211,7 @@ pub fn coil(operand: &Operand) -> Resolved<Coil> {
             } else {
                 BitArea::CounterContact
             };
-            check_extent(
-                operand,
-                &text_of(d),
-                d.number,
-                1,
-                area.count(),
-                &area_text_bits(area),
-            )?;
+            check_extent(operand, &text_of(d), d.number, 1, area.count(), &area_text_bits(area))?;
             return Ok(if is_timer {
                 Coil::Timer(d.number)
             } else {
@@ -256,20 +229,15 @@ pub fn preset(operand: &Operand, wide: bool) -> Resolved<WordRef> {
         OperandSyntax::Constant(c) => {
             let value = constant(operand, c, wide)?;
             if !wide && value < 0 {
-                return Err(Diagnostic::new(
-                    Code::ConstantRange,
-                    operand.span,
-                    "a preset cannot be negative",
-                )
-                .with_label("presets are K0..K32767"));
+                return Err(
+                    Diagnostic::new(Code::ConstantRange, operand.span, "a preset cannot be negative")
+                        .with_label("presets are K0..K32767"),
+                );
             }
             Ok(WordRef::Constant(value))
         }
         OperandSyntax::Device(d)
-            if d.prefix == Prefix::D
-                && d.digits.is_none()
-                && d.bit.is_none()
-                && d.offset.is_none() =>
+            if d.prefix == Prefix::D && d.digits.is_none() && d.bit.is_none() && d.offset.is_none() =>
         {
             check_extent(
                 operand,
@@ -308,10 +276,7 @@ pub fn constant(operand: &Operand, c: &Constant, wide: bool) -> Resolved<i32> {
             operand.span,
             "constant out of range for this instruction",
         )
-        .with_label(format!(
-            "{}-bit operands take {range}",
-            if wide { 32 } else { 16 }
-        )));
+        .with_label(format!("{}-bit operands take {range}", if wide { 32 } else { 16 })));
     }
     Ok(if wide {
         c.value as u32 as i32
@@ -330,12 +295,10 @@ pub fn device_count(operand: &Operand, first: u32, area_len: u32) -> Resolved<u3
         ));
     };
     if c.value < 1 || c.value > i64::from(area_len) {
-        return Err(Diagnostic::new(
-            Code::ConstantRange,
-            operand.span,
-            "device count out of range",
-        )
-        .with_label(format!("count is K1..K{area_len}")));
+        return Err(
+            Diagnostic::new(Code::ConstantRange, operand.span, "device count out of range")
+                .with_label(format!("count is K1..K{area_len}")),
+        );
     }
     let count = c.value as u32;
     if u64::from(first) + u64::from(count) > u64::from(area_len) {
@@ -353,12 +316,7 @@ pub fn device_count(operand: &Operand, first: u32, area_len: u32) -> Resolved<u3
 fn numbered(operand: &Operand, prefix: Prefix, last: u32, what: &str) -> Resolved<u32> {
     let name = prefix.as_str();
     match device(operand) {
-        Some(d)
-            if d.prefix == prefix
-                && d.digits.is_none()
-                && d.bit.is_none()
-                && d.offset.is_none() =>
-        {
+        Some(d) if d.prefix == prefix && d.digits.is_none() && d.bit.is_none() && d.offset.is_none() => {
             if d.number > last {
                 return Err(range_error(
                     operand,
@@ -466,10 +424,7 @@ fn word_device(operand: &Operand, wide: bool, multiple: u32) -> Resolved<WordRef
     if d.bit.is_some() {
         return Err(kind_error(
             operand,
-            format!(
-                "`{name}.{:X}` is a bit; this operand is a word",
-                d.bit.unwrap_or(0)
-            ),
+            format!("`{name}.{:X}` is a bit; this operand is a word", d.bit.unwrap_or(0)),
             "bit, not word",
         ));
     }
@@ -495,21 +450,16 @@ fn word_device(operand: &Operand, wide: bool, multiple: u32) -> Resolved<WordRef
             )?;
             return Ok(WordRef::Word(WordArea::TimerValue, address));
         }
-        Prefix::C | Prefix::Cn => {
-            return counter_value(operand, &name, d.number, address, wide, multiple)
-        }
+        Prefix::C | Prefix::Cn => return counter_value(operand, &name, d.number, address, wide, multiple),
         _ => {
-            return Err(kind_error(operand, format!("`{name}` is a bit device; this operand is a word (use a digit group such as K4{name})"), "bit, not word"));
+            return Err(kind_error(
+                operand,
+                format!("`{name}` is a bit device; this operand is a word (use a digit group such as K4{name})"),
+                "bit, not word",
+            ));
         }
     };
-    check_extent(
-        operand,
-        &name,
-        d.number,
-        words,
-        area.count(),
-        &area_text_words(area),
-    )?;
+    check_extent(operand, &name, d.number, words, area.count(), &area_text_words(area))?;
     Ok(WordRef::Word(area, address))
 }
 
@@ -593,12 +543,10 @@ pub fn word_count(operand: &Operand) -> Resolved<WordRef> {
     let count = word_source(operand, false)?;
     if let WordRef::Constant(n) = count {
         if n < 1 {
-            return Err(Diagnostic::new(
-                Code::ConstantRange,
-                operand.span,
-                "the word count must be at least 1",
-            )
-            .with_label("count is K1..K32767"));
+            return Err(
+                Diagnostic::new(Code::ConstantRange, operand.span, "the word count must be at least 1")
+                    .with_label("count is K1..K32767"),
+            );
         }
     }
     Ok(count)
@@ -630,14 +578,8 @@ mod tests {
         assert_eq!(bit_source(&op("D0")).unwrap_err().code, Code::OperandKind);
         assert_eq!(bit_source(&op("TN3")).unwrap_err().code, Code::OperandKind);
         assert_eq!(bit_source(&op("K1")).unwrap_err().code, Code::OperandKind);
-        assert_eq!(
-            bit_source(&op("M8512")).unwrap_err().code,
-            Code::DeviceRange
-        );
-        assert_eq!(
-            bit_source(&op("M0[D8512]")).unwrap_err().code,
-            Code::DeviceRange
-        );
+        assert_eq!(bit_source(&op("M8512")).unwrap_err().code, Code::DeviceRange);
+        assert_eq!(bit_source(&op("M0[D8512]")).unwrap_err().code, Code::DeviceRange);
     }
 
     #[test]
@@ -653,38 +595,17 @@ mod tests {
     fn word_widths() {
         assert_eq!(word_source(&op("K-1"), false), Ok(WordRef::Constant(-1)));
         assert_eq!(word_source(&op("HFFFF"), false), Ok(WordRef::Constant(-1)));
-        assert_eq!(
-            word_source(&op("K40000"), false).unwrap_err().code,
-            Code::ConstantRange
-        );
-        assert_eq!(
-            word_source(&op("K40000"), true),
-            Ok(WordRef::Constant(40000))
-        );
-        assert_eq!(
-            word_source(&op("HFFFFFFFF"), true),
-            Ok(WordRef::Constant(-1))
-        );
-        assert_eq!(
-            word_source(&op("D8511"), true).unwrap_err().code,
-            Code::DeviceRange
-        );
-        assert_eq!(
-            word_source(&op("K8M0"), false).unwrap_err().code,
-            Code::OperandKind
-        );
-        assert_eq!(
-            word_source(&op("C200"), false).unwrap_err().code,
-            Code::OperandKind
-        );
+        assert_eq!(word_source(&op("K40000"), false).unwrap_err().code, Code::ConstantRange);
+        assert_eq!(word_source(&op("K40000"), true), Ok(WordRef::Constant(40000)));
+        assert_eq!(word_source(&op("HFFFFFFFF"), true), Ok(WordRef::Constant(-1)));
+        assert_eq!(word_source(&op("D8511"), true).unwrap_err().code, Code::DeviceRange);
+        assert_eq!(word_source(&op("K8M0"), false).unwrap_err().code, Code::OperandKind);
+        assert_eq!(word_source(&op("C200"), false).unwrap_err().code, Code::OperandKind);
         assert_eq!(
             word_source(&op("C200"), true),
             Ok(WordRef::WideCounter(Address::fixed(200)))
         );
-        assert_eq!(
-            word_source(&op("T0"), true).unwrap_err().code,
-            Code::OperandKind
-        );
+        assert_eq!(word_source(&op("T0"), true).unwrap_err().code, Code::OperandKind);
         assert_eq!(
             word_destination(&op("K1"), false, 1).unwrap_err().code,
             Code::OperandKind
@@ -702,14 +623,8 @@ mod tests {
     #[test]
     fn counts_labels_levels() {
         assert_eq!(device_count(&op("K3"), 0, 10), Ok(3));
-        assert_eq!(
-            device_count(&op("K0"), 0, 10).unwrap_err().code,
-            Code::ConstantRange
-        );
-        assert_eq!(
-            device_count(&op("K3"), 8, 10).unwrap_err().code,
-            Code::DeviceRange
-        );
+        assert_eq!(device_count(&op("K0"), 0, 10).unwrap_err().code, Code::ConstantRange);
+        assert_eq!(device_count(&op("K3"), 8, 10).unwrap_err().code, Code::DeviceRange);
         assert_eq!(label(&op("P4095")), Ok(4095));
         assert_eq!(label(&op("P4096")).unwrap_err().code, Code::DeviceRange);
         assert_eq!(nest_level(&op("N8")).unwrap_err().code, Code::DeviceRange);

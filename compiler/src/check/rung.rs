@@ -139,17 +139,13 @@ impl RungTracker {
             );
         } else if self.branches > 0 {
             diagnostics.push(
-                Diagnostic::new(
-                    Code::OpenBranch,
-                    span,
-                    "MPS without MPP at the end of the rung",
-                )
-                .with_label(format!(
-                    "{} branch point{} still open",
-                    self.branches,
-                    if self.branches == 1 { "" } else { "s" }
-                ))
-                .with_related(start, "the rung starts here"),
+                Diagnostic::new(Code::OpenBranch, span, "MPS without MPP at the end of the rung")
+                    .with_label(format!(
+                        "{} branch point{} still open",
+                        self.branches,
+                        if self.branches == 1 { "" } else { "s" }
+                    ))
+                    .with_related(start, "the rung starts here"),
             );
         } else if !self.outputs_seen {
             diagnostics.push(

@@ -39,10 +39,7 @@ fn independent_errors_are_all_reported_once() {
 fn bad_operands_do_not_cascade_into_structure_errors() {
     // The LD with a bad operand still starts the rung: no "output without a
     // condition" for the OUT, no "no rung" for the AND.
-    assert_eq!(
-        codes("LD X9\nAND X1\nOUT Y0\n"),
-        [(Code::MalformedOperand, 1)]
-    );
+    assert_eq!(codes("LD X9\nAND X1\nOUT Y0\n"), [(Code::MalformedOperand, 1)]);
     assert_eq!(codes("LD Q7\nOUT Y0\n"), [(Code::MalformedOperand, 1)]);
     // A wrong operand count keeps the instruction's role too.
     assert_eq!(codes("LD X0 X1\nOUT Y0\n"), [(Code::OperandCount, 1)]);
@@ -51,10 +48,7 @@ fn bad_operands_do_not_cascade_into_structure_errors() {
 #[test]
 fn unknown_instructions_do_not_cascade() {
     assert_eq!(codes("LDX X0\nOUT Y0\n"), [(Code::UnknownMnemonic, 1)]);
-    assert_eq!(
-        codes("LD X0\nOUTT Y0\nLD X1\nOUT Y1\n"),
-        [(Code::UnknownMnemonic, 2)]
-    );
+    assert_eq!(codes("LD X0\nOUTT Y0\nLD X1\nOUT Y1\n"), [(Code::UnknownMnemonic, 2)]);
 }
 
 #[test]
@@ -65,19 +59,11 @@ fn nested_stl_is_one_error() {
 
 #[test]
 fn warnings_do_not_block_compilation() {
-    let (program, diagnostics) =
-        compile("LD X0\nOUT Y0\nLD X1\nOUT Y0\nLD X2\nOUT M8000\nEND\nLD X3\nOUT Y3\n");
+    let (program, diagnostics) = compile("LD X0\nOUT Y0\nLD X1\nOUT Y0\nLD X2\nOUT M8000\nEND\nLD X3\nOUT Y3\n");
     let found: Vec<Code> = diagnostics.iter().map(|d| d.code).collect();
-    assert_eq!(
-        found,
-        [Code::DoubleCoil, Code::SystemRelayWrite, Code::CodeAfterEnd]
-    );
+    assert_eq!(found, [Code::DoubleCoil, Code::SystemRelayWrite, Code::CodeAfterEnd]);
     let program = program.expect("warnings only");
-    assert_eq!(
-        program.instructions.len(),
-        6,
-        "nothing after END is executable"
-    );
+    assert_eq!(program.instructions.len(), 6, "nothing after END is executable");
 }
 
 #[test]
@@ -124,8 +110,7 @@ fn too_many_edge_instructions() {
 
 #[test]
 fn new_rungs_and_blocks_are_told_apart() {
-    let (program, _) =
-        compile("LD X0\nOUT Y0\nLD X1\nMPS\nAND X2\nOUT Y1\nMPP\nLD X3\nANB\nOUT Y2\n");
+    let (program, _) = compile("LD X0\nOUT Y0\nLD X1\nMPS\nAND X2\nOUT Y1\nMPP\nLD X3\nANB\nOUT Y2\n");
     let loads: Vec<bool> = program
         .unwrap()
         .instructions

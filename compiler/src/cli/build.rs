@@ -109,8 +109,7 @@ fn is_c_identifier_prefix(prefix: &str) -> bool {
     match chars.next() {
         None => true,
         Some(first) => {
-            (first.is_ascii_alphabetic() || first == '_')
-                && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
+            (first.is_ascii_alphabetic() || first == '_') && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
         }
     }
 }

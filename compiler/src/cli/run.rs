@@ -86,10 +86,7 @@ pub fn run(args: &RunArgs) -> u8 {
     }
 }
 
-fn watch_list(
-    args: &RunArgs,
-    program: &CheckedProgram,
-) -> Result<Vec<(String, HostDevice)>, String> {
+fn watch_list(args: &RunArgs, program: &CheckedProgram) -> Result<Vec<(String, HostDevice)>, String> {
     let names: Vec<String> = if args.watch.is_empty() {
         driven_outputs(program)
     } else {
@@ -111,9 +108,7 @@ fn driven_outputs(program: &CheckedProgram) -> Vec<String> {
         .instructions
         .iter()
         .filter_map(|i| match &i.op {
-            Op::Out(bit) | Op::Set { target: bit, .. } | Op::Pulse { target: bit, .. } => {
-                Some(*bit)
-            }
+            Op::Out(bit) | Op::Set { target: bit, .. } | Op::Pulse { target: bit, .. } => Some(*bit),
             _ => None,
         })
         .filter_map(|bit| match bit {
@@ -123,10 +118,7 @@ fn driven_outputs(program: &CheckedProgram) -> Vec<String> {
         .collect();
     outputs.sort_unstable();
     outputs.dedup();
-    outputs
-        .into_iter()
-        .map(|n| BitArea::Y.device_name(n))
-        .collect()
+    outputs.into_iter().map(|n| BitArea::Y.device_name(n)).collect()
 }
 
 fn apply_set(engine: &mut dyn Engine, set: &str) -> Result<(), String> {
@@ -136,11 +128,7 @@ fn apply_set(engine: &mut dyn Engine, set: &str) -> Result<(), String> {
     engine.write(device, value)
 }
 
-fn print_scans(
-    engine: &mut dyn Engine,
-    args: &RunArgs,
-    watched: &[(String, HostDevice)],
-) -> Result<(), String> {
+fn print_scans(engine: &mut dyn Engine, args: &RunArgs, watched: &[(String, HostDevice)]) -> Result<(), String> {
     let headers: Vec<&str> = std::iter::once("scan")
         .chain(watched.iter().map(|(n, _)| n.as_str()))
         .collect();

@@ -40,13 +40,16 @@ pub fn run_to(out: &mut dyn Write, paths: &[PathBuf], engines: &[EngineKind]) ->
         for kind in &outcome.ran {
             *ran.entry(*kind).or_default() += 1;
         }
-        for (kind, reason) in outcome.skipped {
-            skipped.entry(kind).or_insert(reason);
+        for (kind, reason) in &outcome.skipped {
+            skipped.entry(*kind).or_insert_with(|| reason.clone());
         }
-        if outcome.failures.is_empty() {
-            passed += 1;
-        } else {
+        // A scenario no engine could run is neither passed nor failed; the
+        // skip lines say why.
+        let ran_nothing = outcome.ran.is_empty() && !outcome.skipped.is_empty();
+        if !outcome.failures.is_empty() {
             failed += 1;
+        } else if !ran_nothing {
+            passed += 1;
         }
     }
     let ran_names: Vec<&str> = ran.keys().map(|k| k.name()).collect();
@@ -82,12 +85,7 @@ fn load(file: &Path) -> Option<(crate::scenario::Scenario, crate::source::Source
     let scenario = match parse_scenario(file, &text) {
         Ok(scenario) => scenario,
         Err(error) => {
-            say_err!(
-                "{}:{}: error: {}",
-                file.display(),
-                error.line,
-                error.message
-            );
+            say_err!("{}:{}: error: {}", file.display(), error.line, error.message);
             return None;
         }
     };

@@ -28,8 +28,7 @@ impl JitProgram {
         // SAFETY: `code` is the function just defined with the signature
         // `fn(*mut Memory)` in the host's default calling convention, which is
         // the C convention of this process.
-        let body =
-            unsafe { std::mem::transmute::<*const u8, unsafe extern "C" fn(*mut Memory)>(code) };
+        let body = unsafe { std::mem::transmute::<*const u8, unsafe extern "C" fn(*mut Memory)>(code) };
         Ok(JitProgram {
             module: Some(module),
             body,

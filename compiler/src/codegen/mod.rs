@@ -40,19 +40,13 @@ impl From<ModuleError> for CodegenError {
 fn flags(pic: bool) -> settings::Flags {
     let mut builder = settings::builder();
     let set = |builder: &mut settings::Builder, name: &str, value: &str| {
-        builder
-            .set(name, value)
-            .expect("a setting every Cranelift build knows");
+        builder.set(name, value).expect("a setting every Cranelift build knows");
     };
     set(&mut builder, "opt_level", "speed");
     set(
         &mut builder,
         "enable_verifier",
-        if cfg!(debug_assertions) {
-            "true"
-        } else {
-            "false"
-        },
+        if cfg!(debug_assertions) { "true" } else { "false" },
     );
     set(&mut builder, "is_pic", if pic { "true" } else { "false" });
     set(&mut builder, "use_colocated_libcalls", "false");
@@ -64,11 +58,8 @@ fn target_isa(triple: Option<&str>, pic: bool) -> Result<OwnedTargetIsa, Codegen
     let builder = match triple {
         None => cranelift_native::builder().map_err(|e| CodegenError::Target(e.to_string()))?,
         Some(name) => {
-            let triple: target_lexicon::Triple = name
-                .parse()
-                .map_err(|_| CodegenError::Target(name.to_string()))?;
-            cranelift_codegen::isa::lookup(triple)
-                .map_err(|_| CodegenError::Target(name.to_string()))?
+            let triple: target_lexicon::Triple = name.parse().map_err(|_| CodegenError::Target(name.to_string()))?;
+            cranelift_codegen::isa::lookup(triple).map_err(|_| CodegenError::Target(name.to_string()))?
         }
     };
     builder
@@ -84,15 +75,12 @@ mod names {
     pub const RESET_COUNTER: &str = "ladder_rt_reset_counter";
     pub const SCHEDULE_STATE_OFF: &str = "ladder_rt_schedule_state_off";
     pub const BLOCK_MOVE: &str = "ladder_rt_block_move";
-    pub const BEGIN_SCAN: &str = "ladder_begin_scan";
     pub const END_SCAN: &str = "ladder_end_scan";
 }
 
 fn signature(isa: &dyn TargetIsa, params: &[types::Type]) -> Signature {
     let mut signature = Signature::new(isa.default_call_conv());
-    signature
-        .params
-        .extend(params.iter().map(|&ty| AbiParam::new(ty)));
+    signature.params.extend(params.iter().map(|&ty| AbiParam::new(ty)));
     signature
 }
 

@@ -21,28 +21,24 @@ pub const DEFAULT_PREFIX: &str = "ladder_program_";
 
 /// Compiles the program into an object file exporting
 /// `void <prefix>scan(LadderMemory *mem, uint32_t elapsed_ms)`, which runs one
-/// whole scan (it calls `ladder_begin_scan` and `ladder_end_scan` of the runtime).
+/// whole scan (it calls the runtime's layout-tagged begin-scan and
+/// `ladder_end_scan`, so it only links against a runtime with its layout).
 pub fn emit_object(program: &Function, options: &ObjectOptions) -> Result<Vec<u8>, CodegenError> {
     let isa = target_isa(options.target.as_deref(), true)?;
     let builder = ObjectBuilder::new(isa, "ladder_program", default_libcall_names())?;
     let mut module = ObjectModule::new(builder);
-    let body = define_program(
-        &mut module,
-        program,
-        &format!("{}body", options.prefix),
-        Linkage::Local,
-    )?;
+    let body = define_program(&mut module, program, &format!("{}body", options.prefix), Linkage::Local)?;
 
     let pointer = module.target_config().pointer_type();
     let scan_signature = signature(module.isa(), &[pointer, types::I32]);
     let end_signature = signature(module.isa(), &[pointer]);
-    let begin = module.declare_function(names::BEGIN_SCAN, Linkage::Import, &scan_signature)?;
-    let end = module.declare_function(names::END_SCAN, Linkage::Import, &end_signature)?;
-    let entry = module.declare_function(
-        &format!("{}scan", options.prefix),
-        Linkage::Export,
+    let begin = module.declare_function(
+        ladder_runtime::layout::TAGGED_BEGIN_SCAN,
+        Linkage::Import,
         &scan_signature,
     )?;
+    let end = module.declare_function(names::END_SCAN, Linkage::Import, &end_signature)?;
+    let entry = module.declare_function(&format!("{}scan", options.prefix), Linkage::Export, &scan_signature)?;
 
     let mut context = module.make_context();
     context.func.signature = scan_signature;
@@ -53,10 +49,7 @@ pub fn emit_object(program: &Function, options: &ObjectOptions) -> Result<Vec<u8
         let block = builder.create_block();
         builder.append_block_params_for_function_params(block);
         builder.switch_to_block(block);
-        let (mem, elapsed) = (
-            builder.block_params(block)[0],
-            builder.block_params(block)[1],
-        );
+        let (mem, elapsed) = (builder.block_params(block)[0], builder.block_params(block)[1]);
         let begin = module.declare_func_in_func(begin, builder.func);
         let body = module.declare_func_in_func(body, builder.func);
         let end = module.declare_func_in_func(end, builder.func);
@@ -68,8 +61,5 @@ pub fn emit_object(program: &Function, options: &ObjectOptions) -> Result<Vec<u8
         builder.finalize(module.target_config());
     }
     module.define_function(entry, &mut context)?;
-    module
-        .finish()
-        .emit()
-        .map_err(|e| CodegenError::Object(e.to_string()))
+    module.finish().emit().map_err(|e| CodegenError::Object(e.to_string()))
 }

@@ -11,8 +11,7 @@ use cranelift_codegen::ir::{types, FuncRef, InstBuilder, MemFlagsData, Value};
 use cranelift_frontend::{FunctionBuilder, Variable};
 use ladder_runtime::device::{FIRST_WIDE_COUNTER, WIDE_COUNTER_COUNT};
 use ladder_runtime::layout::{
-    bit_area_offset, word_area_offset, EDGE_SLOT_OFFSET, STL_BLOCK_ACTIVE_OFFSET,
-    WIDE_COUNTER_OFFSET,
+    bit_area_offset, word_area_offset, EDGE_SLOT_OFFSET, STL_BLOCK_ACTIVE_OFFSET, WIDE_COUNTER_OFFSET,
 };
 use ladder_runtime::special::{D_ERROR_CODE, D_ERROR_LINE, M_OPERATION_ERROR};
 use ladder_runtime::{BitArea, WordArea};
@@ -54,20 +53,13 @@ fn flags() -> MemFlagsData {
 
 /// Translates `func` into the builder, whose entry block takes the image
 /// pointer as its only parameter.
-pub fn translate(
-    func: &ir::Function,
-    builder: &mut FunctionBuilder,
-    helpers: &HelperRefs,
-    pointer: types::Type,
-) {
+pub fn translate(func: &ir::Function, builder: &mut FunctionBuilder, helpers: &HelperRefs, pointer: types::Type) {
     let blocks: Vec<_> = func.blocks.iter().map(|_| builder.create_block()).collect();
     let entry = blocks[0];
     builder.append_block_params_for_function_params(entry);
     builder.switch_to_block(entry);
     let mem = builder.block_params(entry)[0];
-    let locals: Vec<Variable> = (0..func.locals)
-        .map(|_| builder.declare_var(types::I8))
-        .collect();
+    let locals: Vec<Variable> = (0..func.locals).map(|_| builder.declare_var(types::I8)).collect();
     let mut values: Vec<Option<Value>> = vec![None; func.value_types.len()];
     let mut t = Translator {
         builder,
@@ -127,14 +119,7 @@ impl Translator<'_, '_> {
 
     /// The address of element `index` of an array at `base` with `len`
     /// elements of `size` bytes, as (pointer, constant offset).
-    fn element(
-        &mut self,
-        base: usize,
-        size: usize,
-        len: u32,
-        index: Index,
-        values: &[Option<Value>],
-    ) -> (Value, i32) {
+    fn element(&mut self, base: usize, size: usize, len: u32, index: Index, values: &[Option<Value>]) -> (Value, i32) {
         match index {
             Index::Fixed(n) => {
                 let n = n.min(len - 1) as usize;
@@ -152,21 +137,11 @@ impl Translator<'_, '_> {
         }
     }
 
-    fn bit_address(
-        &mut self,
-        area: BitArea,
-        index: Index,
-        values: &[Option<Value>],
-    ) -> (Value, i32) {
+    fn bit_address(&mut self, area: BitArea, index: Index, values: &[Option<Value>]) -> (Value, i32) {
         self.element(bit_area_offset(area), 1, area.count(), index, values)
     }
 
-    fn word_address(
-        &mut self,
-        area: WordArea,
-        index: Index,
-        values: &[Option<Value>],
-    ) -> (Value, i32) {
+    fn word_address(&mut self, area: WordArea, index: Index, values: &[Option<Value>]) -> (Value, i32) {
         self.element(word_area_offset(area), 2, area.count(), index, values)
     }
 
@@ -174,25 +149,17 @@ impl Translator<'_, '_> {
     fn wide_counter_address(&mut self, index: Index, values: &[Option<Value>]) -> (Value, i32) {
         match index {
             Index::Fixed(n) => {
-                let slot = n
-                    .saturating_sub(FIRST_WIDE_COUNTER)
-                    .min(WIDE_COUNTER_COUNT - 1);
+                let slot = n.saturating_sub(FIRST_WIDE_COUNTER).min(WIDE_COUNTER_COUNT - 1);
                 (self.mem, (WIDE_COUNTER_OFFSET + slot as usize * 4) as i32)
             }
             Index::Dynamic(v) => {
                 let number = values[v.0 as usize].expect("defined before use");
-                let slot = self
-                    .builder
-                    .ins()
-                    .iadd_imm_s(number, -i64::from(FIRST_WIDE_COUNTER));
+                let slot = self.builder.ins().iadd_imm_s(number, -i64::from(FIRST_WIDE_COUNTER));
                 let last = self.iconst(types::I32, i64::from(WIDE_COUNTER_COUNT - 1));
                 let clamped = self.builder.ins().umin(slot, last);
                 let wide = self.builder.ins().uextend(self.pointer, clamped);
                 let scaled = self.builder.ins().imul_imm_u(wide, 4);
-                (
-                    self.builder.ins().iadd(self.mem, scaled),
-                    WIDE_COUNTER_OFFSET as i32,
-                )
+                (self.builder.ins().iadd(self.mem, scaled), WIDE_COUNTER_OFFSET as i32)
             }
         }
     }
@@ -210,20 +177,14 @@ impl Translator<'_, '_> {
         const UNROLL: u32 = 16;
         if count <= UNROLL {
             for i in 0..count {
-                self.builder.ins().store(
-                    flags(),
-                    value,
-                    address,
-                    offset + (i as usize * size) as i32,
-                );
+                self.builder
+                    .ins()
+                    .store(flags(), value, address, offset + (i as usize * size) as i32);
             }
             return;
         }
         let start = self.builder.ins().iadd_imm_s(address, i64::from(offset));
-        let end = self
-            .builder
-            .ins()
-            .iadd_imm_s(start, (count as usize * size) as i64);
+        let end = self.builder.ins().iadd_imm_s(start, (count as usize * size) as i64);
         let header = self.builder.create_block();
         let body = self.builder.create_block();
         let done = self.builder.create_block();
@@ -231,10 +192,7 @@ impl Translator<'_, '_> {
         self.builder.ins().jump(header, &[start.into()]);
         self.builder.switch_to_block(header);
         let cursor = self.builder.block_params(header)[0];
-        let more = self
-            .builder
-            .ins()
-            .icmp(IntCC::UnsignedLessThan, cursor, end);
+        let more = self.builder.ins().icmp(IntCC::UnsignedLessThan, cursor, end);
         self.builder.ins().brif(more, body, &[], done, &[]);
         self.builder.switch_to_block(body);
         self.builder.ins().store(flags(), value, cursor, 0);
@@ -262,12 +220,7 @@ impl Translator<'_, '_> {
                 self.store_at(get(value), at);
                 return None;
             }
-            Inst::FillBits {
-                area,
-                start,
-                count,
-                on,
-            } => {
+            Inst::FillBits { area, start, count, on } => {
                 let at = self.bit_address(*area, *start, values);
                 let value = self.iconst(types::I8, i64::from(*on));
                 self.fill(at, 1, (*count).min(area.count()), value);
@@ -284,13 +237,7 @@ impl Translator<'_, '_> {
             }
             Inst::ClearWords { area, start, count } => {
                 let count = (*count).clamp(1, area.count());
-                let at = self.element(
-                    word_area_offset(*area),
-                    2,
-                    area.count() - count + 1,
-                    *start,
-                    values,
-                );
+                let at = self.element(word_area_offset(*area), 2, area.count() - count + 1, *start, values);
                 let zero = self.iconst(types::I16, 0);
                 self.fill(at, 2, count, zero);
                 return None;
@@ -304,15 +251,9 @@ impl Translator<'_, '_> {
                 self.store_at(get(value), at);
                 return None;
             }
-            Inst::LoadSlot { slot } => self.load_at(
-                types::I8,
-                (self.mem, (EDGE_SLOT_OFFSET + *slot as usize) as i32),
-            ),
+            Inst::LoadSlot { slot } => self.load_at(types::I8, (self.mem, (EDGE_SLOT_OFFSET + *slot as usize) as i32)),
             Inst::StoreSlot { slot, value } => {
-                self.store_at(
-                    get(value),
-                    (self.mem, (EDGE_SLOT_OFFSET + *slot as usize) as i32),
-                );
+                self.store_at(get(value), (self.mem, (EDGE_SLOT_OFFSET + *slot as usize) as i32));
                 return None;
             }
             Inst::LoadBlockActive { state } => self.load_at(
@@ -328,8 +269,7 @@ impl Translator<'_, '_> {
             }
             Inst::GetLocal { local } => self.builder.use_var(self.locals[local.0 as usize]),
             Inst::SetLocal { local, value } => {
-                self.builder
-                    .def_var(self.locals[local.0 as usize], get(value));
+                self.builder.def_var(self.locals[local.0 as usize], get(value));
                 return None;
             }
             Inst::Not { value } => self.builder.ins().bxor_imm_u(get(value), 1),
@@ -364,10 +304,7 @@ impl Translator<'_, '_> {
                 condition,
                 if_true,
                 if_false,
-            } => self
-                .builder
-                .ins()
-                .select(get(condition), get(if_true), get(if_false)),
+            } => self.builder.ins().select(get(condition), get(if_true), get(if_false)),
             Inst::RecordError { error, line } => {
                 let on = self.iconst(types::I8, 1);
                 self.store_at(
@@ -395,11 +332,7 @@ impl Translator<'_, '_> {
                 );
                 return None;
             }
-            Inst::TimerCoil {
-                timer,
-                coil,
-                preset,
-            }
+            Inst::TimerCoil { timer, coil, preset }
             | Inst::CounterCoil {
                 counter: timer,
                 coil,

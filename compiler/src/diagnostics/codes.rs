@@ -190,11 +190,7 @@ impl std::str::FromStr for Code {
     /// are spelled in full.
     fn from_str(text: &str) -> Result<Code, ()> {
         let wanted = text.trim().to_ascii_uppercase();
-        Code::ALL
-            .iter()
-            .copied()
-            .find(|code| code.as_str() == wanted)
-            .ok_or(())
+        Code::ALL.iter().copied().find(|code| code.as_str() == wanted).ok_or(())
     }
 }
 
@@ -210,15 +206,8 @@ mod tests {
             assert!(seen.insert(code.as_str()), "{code} twice");
             assert_eq!(code.as_str().parse::<Code>(), Ok(code));
             assert!(!code.explanation().is_empty());
-            let prefix = if code.severity() == Severity::Error {
-                'E'
-            } else {
-                'W'
-            };
-            assert!(
-                code.as_str().starts_with(prefix),
-                "{code} has the wrong letter"
-            );
+            let prefix = if code.severity() == Severity::Error { 'E' } else { 'W' };
+            assert!(code.as_str().starts_with(prefix), "{code} has the wrong letter");
         }
     }
 }

@@ -31,11 +31,7 @@ pub fn render(file: &SourceFile, diagnostic: &Diagnostic) -> String {
         let (line, col) = file.line_col(diagnostic.span.start);
         format!(
             "{}[{}]: {}\n  --> {}:{line}:{col}\n",
-            if diagnostic.is_error() {
-                "error"
-            } else {
-                "warning"
-            },
+            if diagnostic.is_error() { "error" } else { "warning" },
             diagnostic.code,
             diagnostic.message,
             file.name

@@ -80,9 +80,7 @@ pub fn write_bit(mem: &mut Memory, bit: BitRef, on: bool, line: u32) {
 /// values of `wide` width (a MUL result is 2 units, BMOV n is n units).
 /// `None` when any of it is outside its area.
 pub fn resolve_word(mem: &Memory, word: WordRef, wide: bool, units: u32) -> Option<Place> {
-    let in_range = |index: i64, needed: u32, len: u32| {
-        index >= 0 && index + i64::from(needed) <= i64::from(len)
-    };
+    let in_range = |index: i64, needed: u32, len: u32| index >= 0 && index + i64::from(needed) <= i64::from(len);
     match word {
         WordRef::Constant(value) => Some(Place::Constant(value)),
         WordRef::Word(area, address) => {
@@ -117,10 +115,9 @@ pub fn clamp_word(mem: &Memory, word: WordRef, wide: bool) -> Place {
     };
     match word {
         WordRef::Constant(value) => Place::Constant(value),
-        WordRef::Word(area, address) => Place::Word(
-            area,
-            clamp_start(address, 0, if wide { 2 } else { 1 }, area.count()),
-        ),
+        WordRef::Word(area, address) => {
+            Place::Word(area, clamp_start(address, 0, if wide { 2 } else { 1 }, area.count()))
+        }
         WordRef::WideCounter(address) => Place::WideCounter(clamp_start(
             address,
             FIRST_WIDE_COUNTER,

@@ -31,32 +31,18 @@ fn bits(operand: &DataOperand) -> BitRef {
 }
 
 /// Resolves a source of `units` values.
-fn source(
-    mem: &Memory,
-    operand: &DataOperand,
-    wide: bool,
-    units: u32,
-) -> Result<Place, OperationError> {
+fn source(mem: &Memory, operand: &DataOperand, wide: bool, units: u32) -> Result<Place, OperationError> {
     resolve_word(mem, word(operand), wide, units).ok_or(OperationError::ReadOutOfRange)
 }
 
 /// Resolves a destination of `units` values.
-fn destination(
-    mem: &Memory,
-    operand: &DataOperand,
-    wide: bool,
-    units: u32,
-) -> Result<Place, OperationError> {
+fn destination(mem: &Memory, operand: &DataOperand, wide: bool, units: u32) -> Result<Place, OperationError> {
     resolve_word(mem, word(operand), wide, units).ok_or(OperationError::WriteOutOfRange)
 }
 
 /// A destination twice the width: two units, except a digit group, which
 /// holds only its own bits.
-fn double_destination(
-    mem: &Memory,
-    operand: &DataOperand,
-    wide: bool,
-) -> Result<Place, OperationError> {
+fn double_destination(mem: &Memory, operand: &DataOperand, wide: bool) -> Result<Place, OperationError> {
     let units = if matches!(word(operand), WordRef::Digits(..)) {
         1
     } else {
@@ -137,8 +123,7 @@ fn try_execute(mem: &mut Memory, data: &DataInstruction) -> Result<(), Operation
             // group holds only its own low bits.
             d.write(mem, wide, product);
             if !matches!(d, Place::Digits(..)) {
-                d.nth(1, wide)
-                    .write(mem, wide, product >> if wide { 32 } else { 16 });
+                d.nth(1, wide).write(mem, wide, product >> if wide { 32 } else { 16 });
             }
         }
         DataOp::Div => {

@@ -103,17 +103,13 @@ impl Run<'_> {
             Op::Read => self.result = self.branches.last().copied().unwrap_or(false),
             Op::Pop => self.result = self.branches.pop().unwrap_or(false),
             Op::Invert => self.result = !self.result,
-            Op::ResultEdge { falling, slot } => {
-                self.result = self.edge(*slot, self.result, *falling)
-            }
+            Op::ResultEdge { falling, slot } => self.result = self.edge(*slot, self.result, *falling),
             Op::Jump { target } => {
                 if self.result {
                     return *target;
                 }
             }
-            Op::StlBegin { block } => {
-                return self.enter_block(&self.program.stl_blocks[*block], pc)
-            }
+            Op::StlBegin { block } => return self.enter_block(&self.program.stl_blocks[*block], pc),
             Op::Label | Op::StlEnd => {}
             _ => self.output(&instruction.op, self.result, line),
         }
@@ -151,11 +147,7 @@ impl Run<'_> {
                     self.reset(*target, *count, line);
                 }
             }
-            Op::Pulse {
-                target,
-                sense,
-                slot,
-            } => {
+            Op::Pulse { target, sense, slot } => {
                 let pulse = self.edge(*slot, power, *sense == Sense::Falling);
                 write_bit(self.mem, *target, pulse, line);
             }
@@ -210,12 +202,7 @@ impl Run<'_> {
                 self.edge(slot, now, falling)
             }
             Contact::Constant(value) => value,
-            Contact::Compare {
-                op,
-                wide,
-                left,
-                right,
-            } => {
+            Contact::Compare { op, wide, left, right } => {
                 let left = self.compare_operand(left, wide, line);
                 let right = self.compare_operand(right, wide, line);
                 op.holds(left, right)
@@ -274,12 +261,8 @@ impl Run<'_> {
     fn reset(&mut self, target: ResetTarget, count: u32, line: u32) {
         match target {
             ResetTarget::Bit(bit) => self.write_bits(bit, count, false, line),
-            ResetTarget::Timer(first) => {
-                (first..first + count).for_each(|t| self.mem.reset_timer(t))
-            }
-            ResetTarget::Counter(first) => {
-                (first..first + count).for_each(|c| self.mem.reset_counter(c))
-            }
+            ResetTarget::Timer(first) => (first..first + count).for_each(|t| self.mem.reset_timer(t)),
+            ResetTarget::Counter(first) => (first..first + count).for_each(|c| self.mem.reset_counter(c)),
             ResetTarget::Word(area, address) => {
                 let start = access::effective_index(self.mem, address);
                 let clamped = start.clamp(0, i64::from(area.count() - count));

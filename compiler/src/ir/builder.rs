@@ -55,9 +55,7 @@ impl Builder {
 
     /// Appends an instruction that defines a value.
     pub fn push(&mut self, inst: Inst) -> Value {
-        let ty = self
-            .result_type(&inst)
-            .expect("instruction defines a value");
+        let ty = self.result_type(&inst).expect("instruction defines a value");
         let value = Value(self.func.value_types.len() as u32);
         self.func.value_types.push(ty);
         self.block_mut().insts.push((Some(value), inst));
@@ -66,10 +64,7 @@ impl Builder {
 
     /// Appends an instruction kept for its effect.
     pub fn effect(&mut self, inst: Inst) {
-        debug_assert!(
-            self.result_type(&inst).is_none(),
-            "{inst:?} defines a value"
-        );
+        debug_assert!(self.result_type(&inst).is_none(), "{inst:?} defines a value");
         self.block_mut().insts.push((None, inst));
     }
 
@@ -102,14 +97,8 @@ impl Builder {
     }
 
     pub fn finish(self, locals: u8) -> Function {
-        debug_assert!(
-            self.terminated.iter().all(|&t| t),
-            "every block ends in a terminator"
-        );
-        Function {
-            locals,
-            ..self.func
-        }
+        debug_assert!(self.terminated.iter().all(|&t| t), "every block ends in a terminator");
+        Function { locals, ..self.func }
     }
 
     fn block_mut(&mut self) -> &mut Block {
@@ -159,11 +148,7 @@ impl Builder {
     }
 
     pub fn binary(&mut self, op: BinOp, a: Value, b: Value) -> Value {
-        debug_assert_eq!(
-            self.value_type(a),
-            self.value_type(b),
-            "{op:?} of two types"
-        );
+        debug_assert_eq!(self.value_type(a), self.value_type(b), "{op:?} of two types");
         self.push(Inst::Binary { op, a, b })
     }
 

@@ -256,16 +256,12 @@ impl Inst {
             | Inst::ResetTimer { .. }
             | Inst::ResetCounter { .. }
             | Inst::ScheduleStateOff { .. } => vec![],
-            Inst::LoadBit { index: i, .. }
-            | Inst::LoadWord { index: i, .. }
-            | Inst::LoadWideCounter { index: i } => index(i),
+            Inst::LoadBit { index: i, .. } | Inst::LoadWord { index: i, .. } | Inst::LoadWideCounter { index: i } => {
+                index(i)
+            }
             Inst::FillBits { start, .. } | Inst::ClearWords { start, .. } => index(start),
-            Inst::StoreBit {
-                index: i, value, ..
-            }
-            | Inst::StoreWord {
-                index: i, value, ..
-            }
+            Inst::StoreBit { index: i, value, .. }
+            | Inst::StoreWord { index: i, value, .. }
             | Inst::StoreWideCounter { index: i, value } => [index(i), vec![*value]].concat(),
             Inst::StoreSlot { value, .. }
             | Inst::StoreBlockActive { value, .. }
@@ -273,10 +269,9 @@ impl Inst {
             | Inst::Not { value }
             | Inst::Extend { value, .. }
             | Inst::Truncate { value, .. } => vec![*value],
-            Inst::And { a, b }
-            | Inst::Or { a, b }
-            | Inst::Binary { a, b, .. }
-            | Inst::Compare { a, b, .. } => vec![*a, *b],
+            Inst::And { a, b } | Inst::Or { a, b } | Inst::Binary { a, b, .. } | Inst::Compare { a, b, .. } => {
+                vec![*a, *b]
+            }
             Inst::Select {
                 condition,
                 if_true,
@@ -290,12 +285,7 @@ impl Inst {
                 destination,
                 count,
                 ..
-            } => [
-                index(&source.index),
-                index(&destination.index),
-                vec![*count],
-            ]
-            .concat(),
+            } => [index(&source.index), index(&destination.index), vec![*count]].concat(),
         }
     }
 }
@@ -315,9 +305,7 @@ impl Terminator {
     pub fn successors(&self) -> Vec<BlockId> {
         match self {
             Terminator::Jump(b) => vec![*b],
-            Terminator::Branch {
-                then, otherwise, ..
-            } => vec![*then, *otherwise],
+            Terminator::Branch { then, otherwise, .. } => vec![*then, *otherwise],
             Terminator::Return => vec![],
         }
     }

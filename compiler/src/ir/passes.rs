@@ -30,9 +30,7 @@ pub fn thread_jumps(function: &mut Function) {
         .iter()
         .enumerate()
         .map(|(index, block)| match block.terminator {
-            Terminator::Jump(target)
-                if index != 0 && block.insts.is_empty() && target.0 as usize != index =>
-            {
+            Terminator::Jump(target) if index != 0 && block.insts.is_empty() && target.0 as usize != index => {
                 Some(target)
             }
             _ => None,
@@ -82,13 +80,7 @@ fn reverse_postorder(function: &Function) -> Vec<BlockId> {
             continue;
         }
         stack.push((block, true));
-        for successor in function
-            .block(block)
-            .terminator
-            .successors()
-            .into_iter()
-            .rev()
-        {
+        for successor in function.block(block).terminator.successors().into_iter().rev() {
             if !visited[successor.0 as usize] {
                 stack.push((successor, false));
             }
@@ -114,14 +106,10 @@ fn constant_relays(function: &Function) -> HashMap<(BitArea, u32), bool> {
         for (_, inst) in &block.insts {
             let written: Option<(BitArea, Index, u32)> = match inst {
                 Inst::StoreBit { area, index, .. } => Some((*area, *index, 1)),
-                Inst::FillBits {
-                    area, start, count, ..
-                } => Some((*area, *start, *count)),
+                Inst::FillBits { area, start, count, .. } => Some((*area, *start, *count)),
                 Inst::BlockMove { destination, .. } => {
                     // A digit-group destination writes bits of some area.
-                    let bits = destination
-                        .kind
-                        .checked_sub(ladder_runtime::place::PLACE_DIGITS);
+                    let bits = destination.kind.checked_sub(ladder_runtime::place::PLACE_DIGITS);
                     let area = BitArea::ALL.iter().find(|a| Some(**a as u32) == bits);
                     area.map(|&area| (area, Index::Dynamic(Value(0)), 0))
                 }
@@ -229,11 +217,7 @@ pub fn fold_constants(function: &mut Function) {
                 Inst::Binary { op, a, b } => match (op, known(a), known(b)) {
                     (_, Some(x), Some(y)) => fold_binary(*op, ty, x, y),
                     // x + 0, x - 0, x | 0, x << 0, x >> 0, x * 1
-                    (
-                        BinOp::Add | BinOp::Sub | BinOp::Or | BinOp::Shl | BinOp::Shr,
-                        None,
-                        Some(0),
-                    )
+                    (BinOp::Add | BinOp::Sub | BinOp::Or | BinOp::Shl | BinOp::Shr, None, Some(0))
                     | (BinOp::Mul, None, Some(1)) => {
                         replaced.insert(result, *a);
                         None
@@ -344,16 +328,12 @@ fn rewrite_operands(inst: &mut Inst, replaced: &HashMap<Value, Value>) {
         | Inst::ResetTimer { .. }
         | Inst::ResetCounter { .. }
         | Inst::ScheduleStateOff { .. } => {}
-        Inst::LoadBit { index: i, .. }
-        | Inst::LoadWord { index: i, .. }
-        | Inst::LoadWideCounter { index: i } => index(i),
+        Inst::LoadBit { index: i, .. } | Inst::LoadWord { index: i, .. } | Inst::LoadWideCounter { index: i } => {
+            index(i)
+        }
         Inst::FillBits { start, .. } | Inst::ClearWords { start, .. } => index(start),
-        Inst::StoreBit {
-            index: i, value, ..
-        }
-        | Inst::StoreWord {
-            index: i, value, ..
-        }
+        Inst::StoreBit { index: i, value, .. }
+        | Inst::StoreWord { index: i, value, .. }
         | Inst::StoreWideCounter { index: i, value } => {
             index(i);
             map(value);
@@ -364,10 +344,7 @@ fn rewrite_operands(inst: &mut Inst, replaced: &HashMap<Value, Value>) {
         | Inst::Not { value }
         | Inst::Extend { value, .. }
         | Inst::Truncate { value, .. } => map(value),
-        Inst::And { a, b }
-        | Inst::Or { a, b }
-        | Inst::Binary { a, b, .. }
-        | Inst::Compare { a, b, .. } => {
+        Inst::And { a, b } | Inst::Or { a, b } | Inst::Binary { a, b, .. } | Inst::Compare { a, b, .. } => {
             map(a);
             map(b);
         }
@@ -433,12 +410,8 @@ pub fn remove_unreachable(function: &mut Function) {
     for (new, old) in order.iter().enumerate() {
         renumber[old.0 as usize] = Some(BlockId(new as u32));
     }
-    let map =
-        |b: BlockId| renumber[b.0 as usize].expect("successor of a reachable block is reachable");
-    let mut old_blocks: Vec<Option<Block>> = std::mem::take(&mut function.blocks)
-        .into_iter()
-        .map(Some)
-        .collect();
+    let map = |b: BlockId| renumber[b.0 as usize].expect("successor of a reachable block is reachable");
+    let mut old_blocks: Vec<Option<Block>> = std::mem::take(&mut function.blocks).into_iter().map(Some).collect();
     function.blocks = order
         .iter()
         .map(|old| {
@@ -477,9 +450,7 @@ pub fn merge_blocks(function: &mut Function) {
             .enumerate()
             .find_map(|(index, block)| match block.terminator {
                 Terminator::Jump(target)
-                    if target.0 != 0
-                        && target.0 as usize != index
-                        && predecessors[target.0 as usize] == 1 =>
+                    if target.0 != 0 && target.0 as usize != index && predecessors[target.0 as usize] == 1 =>
                 {
                     Some((index, target.0 as usize))
                 }

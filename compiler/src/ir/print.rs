@@ -59,39 +59,20 @@ fn inst(func: &Function, inst: &Inst) -> String {
     use Inst::*;
     match inst {
         Const { ty, value } => format!("const.{ty} {value}"),
-        LoadBit { area, index: i } => format!(
-            "load.bit {}",
-            index(area.prefix(), |n| area.device_name(n), i)
-        ),
-        StoreBit {
-            area,
-            index: i,
-            value,
-        } => {
+        LoadBit { area, index: i } => format!("load.bit {}", index(area.prefix(), |n| area.device_name(n), i)),
+        StoreBit { area, index: i, value } => {
             format!(
                 "store.bit {}, {value}",
                 index(area.prefix(), |n| area.device_name(n), i)
             )
         }
-        FillBits {
-            area,
-            start,
-            count,
-            on,
-        } => format!(
+        FillBits { area, start, count, on } => format!(
             "fill.bit {} x{count}, {}",
             index(area.prefix(), |n| area.device_name(n), start),
             *on as u8
         ),
-        LoadWord { area, index: i } => format!(
-            "load.i16 {}",
-            index(area.prefix(), |n| area.device_name(n), i)
-        ),
-        StoreWord {
-            area,
-            index: i,
-            value,
-        } => {
+        LoadWord { area, index: i } => format!("load.i16 {}", index(area.prefix(), |n| area.device_name(n), i)),
+        StoreWord { area, index: i, value } => {
             format!(
                 "store.i16 {}, {value}",
                 index(area.prefix(), |n| area.device_name(n), i)
@@ -106,10 +87,7 @@ fn inst(func: &Function, inst: &Inst) -> String {
         LoadWideCounter { index: i } => {
             format!("load.i32 {}", index("CN", |n| format!("CN{n}"), i))
         }
-        StoreWideCounter { index: i, value } => format!(
-            "store.i32 {}, {value}",
-            index("CN", |n| format!("CN{n}"), i)
-        ),
+        StoreWideCounter { index: i, value } => format!("store.i32 {}, {value}", index("CN", |n| format!("CN{n}"), i)),
         LoadSlot { slot } => format!("load.slot #{slot}"),
         StoreSlot { slot, value } => format!("store.slot #{slot}, {value}"),
         LoadBlockActive { state } => format!("load.active S{state}"),
@@ -131,16 +109,8 @@ fn inst(func: &Function, inst: &Inst) -> String {
             if_false,
         } => format!("select {condition}, {if_true}, {if_false}"),
         RecordError { error, line } => format!("record.error {:04X}H, line {line}", error.code()),
-        TimerCoil {
-            timer,
-            coil,
-            preset,
-        } => format!("timer T{timer}, coil {coil}, preset {preset}"),
-        CounterCoil {
-            counter,
-            coil,
-            preset,
-        } => format!("counter C{counter}, coil {coil}, preset {preset}"),
+        TimerCoil { timer, coil, preset } => format!("timer T{timer}, coil {coil}, preset {preset}"),
+        CounterCoil { counter, coil, preset } => format!("counter C{counter}, coil {coil}, preset {preset}"),
         ResetTimer { timer } => format!("reset.timer T{timer}"),
         ResetCounter { counter } => format!("reset.counter C{counter}"),
         ScheduleStateOff { state } => format!("state.off.next.scan S{state}"),

@@ -7,12 +7,7 @@ use super::{Class, CompareOp, DataOp, InstrSpec, OperandKind, Role, Sense};
 use std::collections::HashMap;
 use std::sync::OnceLock;
 
-const fn bit(
-    name: &'static str,
-    class: Class,
-    operands: &'static [OperandKind],
-    required: usize,
-) -> InstrSpec {
+const fn bit(name: &'static str, class: Class, operands: &'static [OperandKind], required: usize) -> InstrSpec {
     InstrSpec {
         name,
         class,
@@ -24,73 +19,18 @@ const fn bit(
 }
 
 const BIT_INSTRUCTIONS: &[InstrSpec] = &[
-    bit(
-        "LD",
-        Class::Contact(Role::Load, Sense::Open),
-        &[BitSource],
-        1,
-    ),
-    bit(
-        "LDI",
-        Class::Contact(Role::Load, Sense::Closed),
-        &[BitSource],
-        1,
-    ),
-    bit(
-        "LDP",
-        Class::Contact(Role::Load, Sense::Rising),
-        &[BitSource],
-        1,
-    ),
-    bit(
-        "LDF",
-        Class::Contact(Role::Load, Sense::Falling),
-        &[BitSource],
-        1,
-    ),
-    bit(
-        "AND",
-        Class::Contact(Role::And, Sense::Open),
-        &[BitSource],
-        1,
-    ),
-    bit(
-        "ANI",
-        Class::Contact(Role::And, Sense::Closed),
-        &[BitSource],
-        1,
-    ),
-    bit(
-        "ANDP",
-        Class::Contact(Role::And, Sense::Rising),
-        &[BitSource],
-        1,
-    ),
-    bit(
-        "ANDF",
-        Class::Contact(Role::And, Sense::Falling),
-        &[BitSource],
-        1,
-    ),
+    bit("LD", Class::Contact(Role::Load, Sense::Open), &[BitSource], 1),
+    bit("LDI", Class::Contact(Role::Load, Sense::Closed), &[BitSource], 1),
+    bit("LDP", Class::Contact(Role::Load, Sense::Rising), &[BitSource], 1),
+    bit("LDF", Class::Contact(Role::Load, Sense::Falling), &[BitSource], 1),
+    bit("AND", Class::Contact(Role::And, Sense::Open), &[BitSource], 1),
+    bit("ANI", Class::Contact(Role::And, Sense::Closed), &[BitSource], 1),
+    bit("ANDP", Class::Contact(Role::And, Sense::Rising), &[BitSource], 1),
+    bit("ANDF", Class::Contact(Role::And, Sense::Falling), &[BitSource], 1),
     bit("OR", Class::Contact(Role::Or, Sense::Open), &[BitSource], 1),
-    bit(
-        "ORI",
-        Class::Contact(Role::Or, Sense::Closed),
-        &[BitSource],
-        1,
-    ),
-    bit(
-        "ORP",
-        Class::Contact(Role::Or, Sense::Rising),
-        &[BitSource],
-        1,
-    ),
-    bit(
-        "ORF",
-        Class::Contact(Role::Or, Sense::Falling),
-        &[BitSource],
-        1,
-    ),
+    bit("ORI", Class::Contact(Role::Or, Sense::Closed), &[BitSource], 1),
+    bit("ORP", Class::Contact(Role::Or, Sense::Rising), &[BitSource], 1),
+    bit("ORF", Class::Contact(Role::Or, Sense::Falling), &[BitSource], 1),
     bit("NOI", Class::AliasContact(Sense::Open), &[BitSource], 1),
     bit("NCI", Class::AliasContact(Sense::Closed), &[BitSource], 1),
     bit("PTI", Class::AliasContact(Sense::Rising), &[BitSource], 1),
@@ -125,23 +65,11 @@ const BIT_INSTRUCTIONS: &[InstrSpec] = &[
 ];
 
 /// (operation, 16-bit name, 32-bit name, has P forms, operands)
-type DataRow = (
-    DataOp,
-    &'static str,
-    &'static str,
-    bool,
-    &'static [OperandKind],
-);
+type DataRow = (DataOp, &'static str, &'static str, bool, &'static [OperandKind]);
 
 const DATA_INSTRUCTIONS: &[DataRow] = &[
     (DataOp::Mov, "MOV", "DMOV", true, &[Source, Destination]),
-    (
-        DataOp::BlockMov,
-        "BMOV",
-        "",
-        true,
-        &[Source, Destination, WordCount],
-    ),
+    (DataOp::BlockMov, "BMOV", "", true, &[Source, Destination, WordCount]),
     (
         DataOp::FillMov,
         "FMOV",
@@ -149,43 +77,13 @@ const DATA_INSTRUCTIONS: &[DataRow] = &[
         true,
         &[Source, Destination, WordCount],
     ),
-    (
-        DataOp::Add,
-        "ADD",
-        "DADD",
-        true,
-        &[Source, Source, Destination],
-    ),
-    (
-        DataOp::Sub,
-        "SUB",
-        "DSUB",
-        true,
-        &[Source, Source, Destination],
-    ),
-    (
-        DataOp::Mul,
-        "MUL",
-        "DMUL",
-        true,
-        &[Source, Source, WideDestination],
-    ),
-    (
-        DataOp::Div,
-        "DIV",
-        "DDIV",
-        true,
-        &[Source, Source, WideDestination],
-    ),
+    (DataOp::Add, "ADD", "DADD", true, &[Source, Source, Destination]),
+    (DataOp::Sub, "SUB", "DSUB", true, &[Source, Source, Destination]),
+    (DataOp::Mul, "MUL", "DMUL", true, &[Source, Source, WideDestination]),
+    (DataOp::Div, "DIV", "DDIV", true, &[Source, Source, WideDestination]),
     (DataOp::Inc, "INC", "DINC", true, &[Destination]),
     (DataOp::Dec, "DEC", "DDEC", true, &[Destination]),
-    (
-        DataOp::Cmp,
-        "CMP",
-        "DCMP",
-        true,
-        &[Source, Source, BitTriple],
-    ),
+    (DataOp::Cmp, "CMP", "DCMP", true, &[Source, Source, BitTriple]),
     (
         DataOp::ZoneCmp,
         "ZCP",

@@ -40,8 +40,7 @@ impl Lowering<'_> {
         let below = self.b.compare(CompareOp::Lt, index, low);
         let above = self.b.compare(CompareOp::Gt, index, high);
         let outside = self.b.or(below, above);
-        self.b
-            .if_then(outside, |b| b.effect(Inst::RecordError { error, line }));
+        self.b.if_then(outside, |b| b.effect(Inst::RecordError { error, line }));
         let upper = self.b.select(above, high, index);
         Index::Dynamic(self.b.select(below, low, upper))
     }
@@ -49,23 +48,11 @@ impl Lowering<'_> {
     pub(super) fn read_bit(&mut self, bit: BitRef, line: u32) -> Value {
         match bit {
             BitRef::Device(area, address) => {
-                let index = self.clamped_index(
-                    address,
-                    0,
-                    area.count() - 1,
-                    OperationError::ReadOutOfRange,
-                    line,
-                );
+                let index = self.clamped_index(address, 0, area.count() - 1, OperationError::ReadOutOfRange, line);
                 self.b.load_bit(area, index)
             }
             BitRef::WordBit(area, address, bit) => {
-                let index = self.clamped_index(
-                    address,
-                    0,
-                    area.count() - 1,
-                    OperationError::ReadOutOfRange,
-                    line,
-                );
+                let index = self.clamped_index(address, 0, area.count() - 1, OperationError::ReadOutOfRange, line);
                 let word = self.b.push(Inst::LoadWord { area, index });
                 let word = self.b.extend(word, Type::I32, true);
                 let mask = self.b.constant(Type::I32, 1 << bit);
@@ -79,23 +66,11 @@ impl Lowering<'_> {
     pub(super) fn write_bit(&mut self, bit: BitRef, value: Value, line: u32) {
         match bit {
             BitRef::Device(area, address) => {
-                let index = self.clamped_index(
-                    address,
-                    0,
-                    area.count() - 1,
-                    OperationError::WriteOutOfRange,
-                    line,
-                );
+                let index = self.clamped_index(address, 0, area.count() - 1, OperationError::WriteOutOfRange, line);
                 self.b.store_bit(area, index, value);
             }
             BitRef::WordBit(area, address, bit) => {
-                let index = self.clamped_index(
-                    address,
-                    0,
-                    area.count() - 1,
-                    OperationError::WriteOutOfRange,
-                    line,
-                );
+                let index = self.clamped_index(address, 0, area.count() - 1, OperationError::WriteOutOfRange, line);
                 let word = self.b.push(Inst::LoadWord { area, index });
                 let word = self.b.extend(word, Type::I32, true);
                 let keep = self.b.constant(Type::I32, !(1i64 << bit));
@@ -118,19 +93,8 @@ impl Lowering<'_> {
     pub(super) fn write_bits(&mut self, bit: BitRef, count: u32, on: bool, line: u32) {
         match bit {
             BitRef::Device(area, address) => {
-                let start = self.clamped_index(
-                    address,
-                    0,
-                    area.count() - count,
-                    OperationError::WriteOutOfRange,
-                    line,
-                );
-                self.b.effect(Inst::FillBits {
-                    area,
-                    start,
-                    count,
-                    on,
-                });
+                let start = self.clamped_index(address, 0, area.count() - count, OperationError::WriteOutOfRange, line);
+                self.b.effect(Inst::FillBits { area, start, count, on });
             }
             word_bit => {
                 let value = self.b.bit(on);
@@ -143,28 +107,28 @@ impl Lowering<'_> {
     /// nearest valid device and records 4085H, like any contact.
     pub(super) fn compare_operand(&mut self, word: WordRef, wide: bool, line: u32) -> Value {
         let error = OperationError::ReadOutOfRange;
-        let operand =
-            match word {
-                WordRef::Constant(value) => super::data::Operand::Constant(i64::from(value)),
-                WordRef::Word(area, address) => {
-                    let span = if wide { 2 } else { 1 };
-                    super::data::Operand::Word(
-                        area,
-                        self.clamped_index(address, 0, area.count() - span, error, line),
-                    )
-                }
-                WordRef::WideCounter(address) => super::data::Operand::WideCounter(
-                    self.clamped_index(address, FIRST_WIDE_COUNTER, COUNTER_COUNT - 1, error, line),
-                ),
-                WordRef::Digits(area, address, digits) => {
-                    let span = 4 * u32::from(digits);
-                    super::data::Operand::Digits(
-                        area,
-                        self.clamped_index(address, 0, area.count() - span, error, line),
-                        digits,
-                    )
-                }
-            };
+        let operand = match word {
+            WordRef::Constant(value) => super::data::Operand::Constant(i64::from(value)),
+            WordRef::Word(area, address) => {
+                let span = if wide { 2 } else { 1 };
+                super::data::Operand::Word(area, self.clamped_index(address, 0, area.count() - span, error, line))
+            }
+            WordRef::WideCounter(address) => super::data::Operand::WideCounter(self.clamped_index(
+                address,
+                FIRST_WIDE_COUNTER,
+                COUNTER_COUNT - 1,
+                error,
+                line,
+            )),
+            WordRef::Digits(area, address, digits) => {
+                let span = 4 * u32::from(digits);
+                super::data::Operand::Digits(
+                    area,
+                    self.clamped_index(address, 0, area.count() - span, error, line),
+                    digits,
+                )
+            }
+        };
         self.read(&operand, wide)
     }
 }

@@ -32,19 +32,12 @@ pub(super) enum Units {
 impl Lowering<'_> {
     /// Resolves a word operand: the operand, and an in-range test (a Bit)
     /// when the range is not known to hold at compile time.
-    pub(super) fn resolve(
-        &mut self,
-        word: WordRef,
-        wide: bool,
-        units: Units,
-    ) -> (Operand, Option<Value>) {
+    pub(super) fn resolve(&mut self, word: WordRef, wide: bool, units: Units) -> (Operand, Option<Value>) {
         let (address, first, len, per_unit) = match word {
             WordRef::Constant(value) => return (Operand::Constant(i64::from(value)), None),
             WordRef::Word(area, address) => (address, 0, area.count(), if wide { 2 } else { 1 }),
             WordRef::WideCounter(address) => (address, FIRST_WIDE_COUNTER, COUNTER_COUNT, 1),
-            WordRef::Digits(area, address, digits) => {
-                (address, 0, area.count(), 4 * u32::from(digits))
-            }
+            WordRef::Digits(area, address, digits) => (address, 0, area.count(), 4 * u32::from(digits)),
         };
         let statically_fine = address.offset.is_none() && matches!(units, Units::Checked(_));
         let (index, check) = if statically_fine {
@@ -93,27 +86,13 @@ impl Lowering<'_> {
         self.b.switch_to(pass);
     }
 
-    fn source(
-        &mut self,
-        operand: &DataOperand,
-        wide: bool,
-        units: Units,
-        line: u32,
-        after: BlockId,
-    ) -> Operand {
+    fn source(&mut self, operand: &DataOperand, wide: bool, units: Units, line: u32, after: BlockId) -> Operand {
         let (resolved, check) = self.resolve(word(operand), wide, units);
         self.require(check, OperationError::ReadOutOfRange, line, after);
         resolved
     }
 
-    fn destination(
-        &mut self,
-        operand: &DataOperand,
-        wide: bool,
-        units: Units,
-        line: u32,
-        after: BlockId,
-    ) -> Operand {
+    fn destination(&mut self, operand: &DataOperand, wide: bool, units: Units, line: u32, after: BlockId) -> Operand {
         let (resolved, check) = self.resolve(word(operand), wide, units);
         self.require(check, OperationError::WriteOutOfRange, line, after);
         resolved
@@ -121,13 +100,7 @@ impl Lowering<'_> {
 
     /// A destination twice the width: two units, but a digit group holds
     /// only its own bits.
-    fn double_destination(
-        &mut self,
-        operand: &DataOperand,
-        wide: bool,
-        line: u32,
-        after: BlockId,
-    ) -> Operand {
+    fn double_destination(&mut self, operand: &DataOperand, wide: bool, line: u32, after: BlockId) -> Operand {
         let units = if matches!(word(operand), WordRef::Digits(..)) {
             1
         } else {
@@ -195,11 +168,7 @@ impl Lowering<'_> {
                 let b = self.source(&ops[1], wide, one, line, after);
                 let d = self.destination(&ops[2], wide, one, line, after);
                 let (a, b) = (self.read(&a, wide), self.read(&b, wide));
-                let op = if data.op == DataOp::Add {
-                    BinOp::Add
-                } else {
-                    BinOp::Sub
-                };
+                let op = if data.op == DataOp::Add { BinOp::Add } else { BinOp::Sub };
                 let exact = self.b.binary(op, a, b);
                 let wrapped = self.wrap(exact, wide);
                 self.write(&d, wide, wrapped);
@@ -241,12 +210,7 @@ impl Lowering<'_> {
                 let (a, b) = (self.read(&a, wide), self.read(&b, wide));
                 let zero = self.b.constant(Type::I64, 0);
                 let divisor_ok = self.b.compare(CompareOp::Ne, b, zero);
-                self.require(
-                    Some(divisor_ok),
-                    OperationError::DataOutOfRange,
-                    line,
-                    after,
-                );
+                self.require(Some(divisor_ok), OperationError::DataOutOfRange, line, after);
                 let quotient = self.b.binary(BinOp::Div, a, b);
                 self.write(&d, wide, quotient);
                 if !matches!(d, Operand::Digits(..)) {
@@ -259,11 +223,7 @@ impl Lowering<'_> {
                 let d = self.destination(&ops[0], wide, one, line, after);
                 let value = self.read(&d, wide);
                 let step = self.b.constant(Type::I64, 1);
-                let op = if data.op == DataOp::Inc {
-                    BinOp::Add
-                } else {
-                    BinOp::Sub
-                };
+                let op = if data.op == DataOp::Inc { BinOp::Add } else { BinOp::Sub };
                 let stepped = self.b.binary(op, value, step);
                 self.write(&d, wide, stepped);
             }
@@ -272,8 +232,7 @@ impl Lowering<'_> {
                 let b = self.source(&ops[1], wide, one, line, after);
                 let (area, start) = self.bit_triple(&ops[2], line, after);
                 let (a, b) = (self.read(&a, wide), self.read(&b, wide));
-                let results = [CompareOp::Gt, CompareOp::Eq, CompareOp::Lt]
-                    .map(|op| self.b.compare(op, a, b));
+                let results = [CompareOp::Gt, CompareOp::Eq, CompareOp::Lt].map(|op| self.b.compare(op, a, b));
                 self.write_triple(area, start, results);
             }
             DataOp::ZoneCmp => {
@@ -281,11 +240,7 @@ impl Lowering<'_> {
                 let high = self.source(&ops[1], wide, one, line, after);
                 let s = self.source(&ops[2], wide, one, line, after);
                 let (area, start) = self.bit_triple(&ops[3], line, after);
-                let (low, high, s) = (
-                    self.read(&low, wide),
-                    self.read(&high, wide),
-                    self.read(&s, wide),
-                );
+                let (low, high, s) = (self.read(&low, wide), self.read(&high, wide), self.read(&s, wide));
                 // A reversed zone counts as the single value `low`.
                 let reversed = self.b.compare(CompareOp::Gt, low, high);
                 let high = self.b.select(reversed, low, high);
@@ -307,9 +262,7 @@ impl Lowering<'_> {
 
     /// `value` wrapped to the instruction's width, sign-extended again.
     fn wrap(&mut self, value: Value, wide: bool) -> Value {
-        let narrow = self
-            .b
-            .truncate(value, if wide { Type::I32 } else { Type::I16 });
+        let narrow = self.b.truncate(value, if wide { Type::I32 } else { Type::I16 });
         self.b.extend(narrow, Type::I64, true)
     }
 
@@ -328,16 +281,11 @@ impl Lowering<'_> {
     fn nth(&mut self, operand: &Operand, unit: u32, wide: bool) -> Operand {
         match *operand {
             Operand::Constant(_) => *operand,
-            Operand::Word(area, index) => Operand::Word(
-                area,
-                self.index_plus(index, unit * if wide { 2 } else { 1 }),
-            ),
+            Operand::Word(area, index) => Operand::Word(area, self.index_plus(index, unit * if wide { 2 } else { 1 })),
             Operand::WideCounter(index) => Operand::WideCounter(self.index_plus(index, unit)),
-            Operand::Digits(area, start, digits) => Operand::Digits(
-                area,
-                self.index_plus(start, unit * 4 * u32::from(digits)),
-                digits,
-            ),
+            Operand::Digits(area, start, digits) => {
+                Operand::Digits(area, self.index_plus(start, unit * 4 * u32::from(digits)), digits)
+            }
         }
     }
 

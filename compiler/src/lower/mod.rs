@@ -136,9 +136,7 @@ impl<'p> Lowering<'p> {
             Op::Read => self.result = self.branches.last().copied().unwrap_or(self.result),
             Op::Pop => self.result = self.branches.pop().unwrap_or(self.result),
             Op::Invert => self.result = self.b.not(self.result),
-            Op::ResultEdge { falling, slot } => {
-                self.result = self.edge(*slot, self.result, *falling)
-            }
+            Op::ResultEdge { falling, slot } => self.result = self.edge(*slot, self.result, *falling),
             Op::Jump { target } => {
                 let continue_at = self.b.create_block();
                 let taken = self.targets[target];
@@ -227,12 +225,7 @@ impl<'p> Lowering<'p> {
                 self.edge(slot, now, falling)
             }
             Contact::Constant(on) => self.b.bit(on),
-            Contact::Compare {
-                op,
-                wide,
-                left,
-                right,
-            } => {
+            Contact::Compare { op, wide, left, right } => {
                 let left = self.compare_operand(left, wide, line);
                 let right = self.compare_operand(right, wide, line);
                 self.b.compare(op, left, right)
@@ -285,21 +278,14 @@ impl<'p> Lowering<'p> {
                     this.b.effect(Inst::ScheduleStateOff { state: *state });
                 }
             }),
-            Op::Reset { target, count } => {
-                self.when(power, |this| this.reset(*target, *count, line))
-            }
-            Op::Pulse {
-                target,
-                sense,
-                slot,
-            } => {
+            Op::Reset { target, count } => self.when(power, |this| this.reset(*target, *count, line)),
+            Op::Pulse { target, sense, slot } => {
                 let pulse = self.edge(*slot, power, *sense == Sense::Falling);
                 self.write_bit(*target, pulse, line);
             }
             Op::StateJump { state } => self.when(power, |this| {
                 let on = this.b.bit(true);
-                this.b
-                    .store_bit(BitArea::S, crate::ir::Index::Fixed(*state), on);
+                this.b.store_bit(BitArea::S, crate::ir::Index::Fixed(*state), on);
             }),
             Op::MasterControl { level, relay } => {
                 self.b.effect(Inst::SetLocal {
@@ -356,13 +342,7 @@ impl<'p> Lowering<'p> {
                 }
             }
             ResetTarget::Word(area, address) => {
-                let start = self.clamped_index(
-                    address,
-                    0,
-                    area.count() - count,
-                    OperationError::WriteOutOfRange,
-                    line,
-                );
+                let start = self.clamped_index(address, 0, area.count() - count, OperationError::WriteOutOfRange, line);
                 self.b.effect(Inst::ClearWords { area, start, count });
             }
         }

@@ -87,9 +87,7 @@ impl<R: ProgramRunner> Engine for InProcess<R> {
     }
 
     fn force(&mut self, area: BitArea, index: u32, on: bool) -> Result<(), String> {
-        self.memory
-            .force(area, index, on)
-            .map_err(|e| e.to_string())
+        self.memory.force(area, index, on).map_err(|e| e.to_string())
     }
 
     fn unforce(&mut self, area: BitArea, index: u32) -> Result<(), String> {
@@ -98,26 +96,19 @@ impl<R: ProgramRunner> Engine for InProcess<R> {
 
     fn scan(&mut self, elapsed_ms: u32) -> Result<(), String> {
         let runner = &self.runner;
-        self.memory
-            .scan_with(elapsed_ms, |mem| runner.run_program(mem));
+        self.memory.scan_with(elapsed_ms, |mem| runner.run_program(mem));
         Ok(())
     }
 }
 
 /// Builds an engine for a checked program.
-pub fn instantiate<'p>(
-    kind: EngineKind,
-    program: &'p CheckedProgram,
-) -> Result<Box<dyn Engine + 'p>, EngineError> {
+pub fn instantiate<'p>(kind: EngineKind, program: &'p CheckedProgram) -> Result<Box<dyn Engine + 'p>, EngineError> {
     match kind {
         EngineKind::Interp => Ok(Box::new(InProcess::new(Interpreter::new(program)))),
         EngineKind::Jit => {
-            let compiled =
-                crate::pipeline::jit(program).map_err(|e| EngineError::Failed(e.to_string()))?;
+            let compiled = crate::pipeline::jit(program).map_err(|e| EngineError::Failed(e.to_string()))?;
             Ok(Box::new(InProcess::new(compiled)))
         }
-        EngineKind::Aot => Err(EngineError::Unavailable(
-            "the aot engine is not part of this build".into(),
-        )),
+        EngineKind::Aot => Ok(Box::new(crate::aot::AotEngine::start(program)?)),
     }
 }

@@ -87,9 +87,7 @@ pub fn parse_scenario(path: &Path, text: &str) -> Result<Scenario, ParseError> {
         };
         let keyword = keyword.to_ascii_lowercase();
         let directive = match (keyword.as_str(), args) {
-            ("program", _) if program.is_some() => {
-                return Err(error("a scenario has one program".into()))
-            }
+            ("program", _) if program.is_some() => return Err(error("a scenario has one program".into())),
             ("program", ["<<"]) => {
                 let first_line = line + 1;
                 let mut body = String::new();
@@ -103,10 +101,7 @@ pub fn parse_scenario(path: &Path, text: &str) -> Result<Scenario, ParseError> {
                     body.push_str(program_line);
                     body.push('\n');
                 }
-                program = Some(ProgramSource::Inline {
-                    text: body,
-                    first_line,
-                });
+                program = Some(ProgramSource::Inline { text: body, first_line });
                 continue;
             }
             ("program", [file]) => {
@@ -114,9 +109,7 @@ pub fn parse_scenario(path: &Path, text: &str) -> Result<Scenario, ParseError> {
                 program = Some(ProgramSource::File(base.join(file)));
                 continue;
             }
-            ("scan-ms", [ms]) => {
-                Directive::ScanMs(number(ms, 0, u32::MAX.into()).map_err(error)? as u32)
-            }
+            ("scan-ms", [ms]) => Directive::ScanMs(number(ms, 0, u32::MAX.into()).map_err(error)? as u32),
             ("scan", []) => Directive::Scan(1),
             ("scan", [n]) => Directive::Scan(number(n, 0, u32::MAX.into()).map_err(error)? as u32),
             ("set" | "set32", [device, value]) => {
@@ -129,11 +122,7 @@ pub fn parse_scenario(path: &Path, text: &str) -> Result<Scenario, ParseError> {
                 let on = match value.to_ascii_lowercase().as_str() {
                     "1" | "on" => true,
                     "0" | "off" => false,
-                    _ => {
-                        return Err(error(format!(
-                            "`{value}` is not a bit value (0, 1, on, off)"
-                        )))
-                    }
+                    _ => return Err(error(format!("`{value}` is not a bit value (0, 1, on, off)"))),
                 };
                 Directive::Force { area, index, on }
             }
@@ -141,18 +130,14 @@ pub fn parse_scenario(path: &Path, text: &str) -> Result<Scenario, ParseError> {
                 let (area, index) = forceable(device).map_err(error)?;
                 Directive::Unforce { area, index }
             }
-            ("expect", ["error", code]) => {
-                Directive::ExpectError(if code.eq_ignore_ascii_case("none") {
-                    None
-                } else {
-                    Some(error_code(code).map_err(error)?)
-                })
-            }
+            ("expect", ["error", code]) => Directive::ExpectError(if code.eq_ignore_ascii_case("none") {
+                None
+            } else {
+                Some(error_code(code).map_err(error)?)
+            }),
             ("expect", ["reject", program_line]) => {
                 rejecting = true;
-                Directive::ExpectReject(
-                    number(program_line, 1, u32::MAX.into()).map_err(error)? as u32
-                )
+                Directive::ExpectReject(number(program_line, 1, u32::MAX.into()).map_err(error)? as u32)
             }
             ("expect" | "expect32", [device, value]) => {
                 let parsed = parse_device(device, keyword == "expect32").map_err(error)?;
@@ -163,11 +148,7 @@ pub fn parse_scenario(path: &Path, text: &str) -> Result<Scenario, ParseError> {
                     value,
                 }
             }
-            (
-                known @ ("scan-ms" | "scan" | "set" | "set32" | "force" | "unforce" | "expect"
-                | "expect32"),
-                _,
-            ) => {
+            (known @ ("scan-ms" | "scan" | "set" | "set32" | "force" | "unforce" | "expect" | "expect32"), _) => {
                 return Err(error(format!("wrong arguments for `{known}`")));
             }
             _ => return Err(error(format!("unknown directive `{keyword}`"))),
@@ -206,11 +187,8 @@ fn error_code(text: &str) -> Result<u16, String> {
     let value = if text.starts_with(['K', 'k']) {
         parse_number(text)?
     } else {
-        let hex = text
-            .trim_start_matches(['H', 'h'])
-            .trim_end_matches(['H', 'h']);
-        i64::from_str_radix(hex, 16)
-            .map_err(|_| format!("`{text}` is not an error code such as 4085H"))?
+        let hex = text.trim_start_matches(['H', 'h']).trim_end_matches(['H', 'h']);
+        i64::from_str_radix(hex, 16).map_err(|_| format!("`{text}` is not an error code such as 4085H"))?
     };
     u16::try_from(value).map_err(|_| format!("`{text}` is not an error code"))
 }
@@ -218,11 +196,7 @@ fn error_code(text: &str) -> Result<u16, String> {
 fn forceable(text: &str) -> Result<(BitArea, u32), String> {
     match parse_device(text, false)?.device {
         ladder_runtime::Device::Bit(
-            area @ (BitArea::X
-            | BitArea::Y
-            | BitArea::M
-            | BitArea::TimerContact
-            | BitArea::CounterContact),
+            area @ (BitArea::X | BitArea::Y | BitArea::M | BitArea::TimerContact | BitArea::CounterContact),
             index,
         ) => Ok((area, index)),
         _ => Err(format!("`{text}` cannot be forced (X, Y, M, T and C can)")),
@@ -258,17 +232,12 @@ mod tests {
     #[test]
     fn program_files_are_relative_to_the_scenario() {
         let scenario = parse("program ../x.il\n").unwrap();
-        assert_eq!(
-            scenario.program,
-            ProgramSource::File(PathBuf::from("dir/../x.il"))
-        );
+        assert_eq!(scenario.program, ProgramSource::File(PathBuf::from("dir/../x.il")));
     }
 
     #[test]
     fn errors_and_rejects() {
-        let scenario =
-            parse("program p.il\nexpect error 4085H\nexpect error none\nexpect error K16517")
-                .unwrap();
+        let scenario = parse("program p.il\nexpect error 4085H\nexpect error none\nexpect error K16517").unwrap();
         let codes: Vec<_> = scenario.steps.iter().map(|s| s.directive.clone()).collect();
         assert_eq!(
             codes,
@@ -279,25 +248,15 @@ mod tests {
             ]
         );
         assert_eq!(
-            parse("program p.il\nexpect reject 3\n")
-                .unwrap()
-                .expected_reject(),
+            parse("program p.il\nexpect reject 3\n").unwrap().expected_reject(),
             Some((3, 2))
         );
-        assert_eq!(
-            parse("program p.il\nexpect reject 3\nscan\n")
-                .unwrap_err()
-                .line,
-            3
-        );
+        assert_eq!(parse("program p.il\nexpect reject 3\nscan\n").unwrap_err().line, 3);
     }
 
     #[test]
     fn bad_scenarios_say_where() {
-        assert_eq!(
-            parse("set X0 1\n").unwrap_err().message,
-            "no `program` directive"
-        );
+        assert_eq!(parse("set X0 1\n").unwrap_err().message, "no `program` directive");
         assert_eq!(parse("program p.il\nfrobnicate\n").unwrap_err().line, 2);
         assert_eq!(parse("program p.il\nforce D0 1\n").unwrap_err().line, 2);
         assert_eq!(parse("program <<\nLD X0\n").unwrap_err().line, 1);

@@ -77,8 +77,9 @@ pub fn collect_files(path: &Path) -> std::io::Result<Vec<PathBuf>> {
 /// Loads the scenario's program. `Err` means it cannot be read (exit 2).
 pub fn load_program(scenario: &Scenario) -> Result<SourceFile, String> {
     match &scenario.program {
-        ProgramSource::File(path) => SourceFile::read(path)
-            .map_err(|e| format!("cannot read program {}: {e}", path.display())),
+        ProgramSource::File(path) => {
+            SourceFile::read(path).map_err(|e| format!("cannot read program {}: {e}", path.display()))
+        }
         ProgramSource::Inline { text, .. } => Ok(SourceFile::new(
             format!("{} (program)", scenario.path.display()),
             text.clone(),
@@ -87,11 +88,7 @@ pub fn load_program(scenario: &Scenario) -> Result<SourceFile, String> {
 }
 
 /// Runs a scenario on `engines`; `source` is its loaded program.
-pub fn run_scenario(
-    scenario: &Scenario,
-    source: &SourceFile,
-    engines: &[EngineKind],
-) -> ScenarioOutcome {
+pub fn run_scenario(scenario: &Scenario, source: &SourceFile, engines: &[EngineKind]) -> ScenarioOutcome {
     let mut outcome = ScenarioOutcome::default();
     let (program, diagnostics) = compile_source(source);
     let fail = |outcome: &mut ScenarioOutcome, line: u32, engine: &str, message: String| {
@@ -109,14 +106,20 @@ pub fn run_scenario(
                 &mut outcome,
                 at,
                 "check",
-                format!(
-                    "expected the program to be rejected at line {expected_line}, but it compiled"
-                ),
+                format!("expected the program to be rejected at line {expected_line}, but it compiled"),
             ),
             Some(error) => {
                 let line = source.line_of(error.span.start);
                 if line != expected_line {
-                    fail(&mut outcome, at, "check", format!("expected the first error at program line {expected_line}, got line {line}: {} {}", error.code, error.message));
+                    fail(
+                        &mut outcome,
+                        at,
+                        "check",
+                        format!(
+                            "expected the first error at program line {expected_line}, got line {line}: {} {}",
+                            error.code, error.message
+                        ),
+                    );
                     outcome.details = render_all(source, &diagnostics);
                 }
             }
@@ -145,12 +148,7 @@ pub fn run_scenario(
             Err(EngineError::Unavailable(reason)) => outcome.skipped.push((kind, reason)),
             Err(EngineError::Failed(reason)) => {
                 outcome.ran.push(kind);
-                fail(
-                    &mut outcome,
-                    1,
-                    kind.name(),
-                    format!("the engine failed: {reason}"),
-                );
+                fail(&mut outcome, 1, kind.name(), format!("the engine failed: {reason}"));
             }
         }
     }
@@ -183,11 +181,7 @@ fn drive(scenario: &Scenario, engine: &mut dyn Engine) -> Vec<(u32, String)> {
                         engine.scan(scan_ms)?;
                     }
                 }
-                Directive::Expect {
-                    device,
-                    name,
-                    value,
-                } => {
+                Directive::Expect { device, name, value } => {
                     let actual = engine.read(*device)?;
                     if !same_bits(actual, *value, device.bits()) {
                         failures.push((
@@ -205,8 +199,7 @@ fn drive(scenario: &Scenario, engine: &mut dyn Engine) -> Vec<(u32, String)> {
                     let code = engine.read(ERROR_CODE)? as u16;
                     let actual = flag.then_some(code);
                     if actual != *expected {
-                        let show =
-                            |c: Option<u16>| c.map_or("none".to_string(), |c| format!("{c:04X}H"));
+                        let show = |c: Option<u16>| c.map_or("none".to_string(), |c| format!("{c:04X}H"));
                         failures.push((
                             step.line,
                             format!("expected error {}, got {}", show(*expected), show(actual)),

@@ -35,11 +35,7 @@ pub fn tokenize(text: &str) -> Vec<Token> {
             _ => {
                 let mut end = start + c.len_utf8();
                 while let Some(&(i, next)) = chars.peek() {
-                    if next.is_whitespace()
-                        || next == ','
-                        || next == ';'
-                        || text[i..].starts_with("//")
-                    {
+                    if next.is_whitespace() || next == ',' || next == ';' || text[i..].starts_with("//") {
                         break;
                     }
                     end = i + next.len_utf8();
@@ -85,10 +81,7 @@ mod tests {
 
     #[test]
     fn comments_are_dropped() {
-        assert_eq!(
-            words("LD X0 // start\nOUT Y0; done"),
-            ["LD", "X0", "\\n", "OUT", "Y0"]
-        );
+        assert_eq!(words("LD X0 // start\nOUT Y0; done"), ["LD", "X0", "\\n", "OUT", "Y0"]);
         assert_eq!(words("SET S1 K1//x"), ["SET", "S1", "K1"]);
     }
 

@@ -216,8 +216,7 @@ impl Cursor<'_> {
                     )
                     .with_label("H constants are H0..HFFFFFFFF"));
                 }
-                let value = i64::from_str_radix(if trimmed.is_empty() { "0" } else { trimmed }, 16)
-                    .unwrap_or(0);
+                let value = i64::from_str_radix(if trimmed.is_empty() { "0" } else { trimmed }, 16).unwrap_or(0);
                 Ok(OperandSyntax::Constant(Constant { value, hex: true }))
             }
             _ => self.device(None).map(OperandSyntax::Device),
@@ -227,11 +226,7 @@ impl Cursor<'_> {
     /// `Kn` followed by a bit device: a digit group.
     fn digit_group(&mut self, start: usize, n: u64) -> Result<OperandSyntax, Diagnostic> {
         if !(1..=8).contains(&n) {
-            return Err(self.error(
-                start,
-                format!("`K{n}` is not a digit count"),
-                "digit groups are K1..K8",
-            ));
+            return Err(self.error(start, format!("`K{n}` is not a digit count"), "digit groups are K1..K8"));
         }
         let device = self.device(Some(n as u8))?;
         if !matches!(device.prefix, Prefix::X | Prefix::Y | Prefix::M | Prefix::S) {
@@ -275,10 +270,7 @@ impl Cursor<'_> {
                 (Some(_), _) => {
                     return Err(self.error(
                         bit_start,
-                        format!(
-                            "`{}`: bit numbers apply to data registers (D) only",
-                            self.text
-                        ),
+                        format!("`{}`: bit numbers apply to data registers (D) only", self.text),
                         "bit of a non-D device",
                     ))
                 }
@@ -316,23 +308,17 @@ impl Cursor<'_> {
             if digits.contains(['8', '9']) {
                 return Err(self.error(
                     start,
-                    format!(
-                        "`{}`: {} numbers are octal (0-7)",
-                        self.text,
-                        prefix.as_str()
-                    ),
+                    format!("`{}`: {} numbers are octal (0-7)", self.text, prefix.as_str()),
                     "8 and 9 are not octal digits",
                 ));
             }
-            return Ok(
-                u32::from_str_radix(digits.trim_start_matches('0'), 8).unwrap_or(
-                    if digits.trim_start_matches('0').is_empty() {
-                        0
-                    } else {
-                        u32::MAX
-                    },
-                ),
-            );
+            return Ok(u32::from_str_radix(digits.trim_start_matches('0'), 8).unwrap_or(
+                if digits.trim_start_matches('0').is_empty() {
+                    0
+                } else {
+                    u32::MAX
+                },
+            ));
         }
         Ok(u32::try_from(value).unwrap_or(u32::MAX))
     }
@@ -341,18 +327,12 @@ impl Cursor<'_> {
         let open = self.pos;
         self.pos += 1; // '['
         let register_start = self.pos;
-        let is_d = self
-            .rest()
-            .get(..1)
-            .is_some_and(|p| p.eq_ignore_ascii_case("D"))
+        let is_d = self.rest().get(..1).is_some_and(|p| p.eq_ignore_ascii_case("D"))
             && self.rest()[1..].starts_with(|c: char| c.is_ascii_digit());
         if !is_d {
             return Err(self.error(
                 open,
-                format!(
-                    "`{}`: an offset is a data register, as in D10[D0]",
-                    self.text
-                ),
+                format!("`{}`: an offset is a data register, as in D10[D0]", self.text),
                 "expected [Dk]",
             ));
         }
@@ -360,11 +340,7 @@ impl Cursor<'_> {
         let (register, _) = self.decimal_digits();
         let register_span = Span::new(self.base + register_start, self.base + self.pos);
         if !self.eat(']') {
-            return Err(self.error(
-                open,
-                format!("`{}`: unclosed offset", self.text),
-                "expected `]`",
-            ));
+            return Err(self.error(open, format!("`{}`: unclosed offset", self.text), "expected `]`"));
         }
         Ok(OffsetSyntax {
             register: u32::try_from(register).unwrap_or(u32::MAX),
@@ -427,13 +403,7 @@ mod tests {
 
     #[test]
     fn constants() {
-        assert_eq!(
-            constant("K10"),
-            Constant {
-                value: 10,
-                hex: false
-            }
-        );
+        assert_eq!(constant("K10"), Constant { value: 10, hex: false });
         assert_eq!(constant("k-5").value, -5);
         assert_eq!(
             constant("HFFFF"),
@@ -452,10 +422,7 @@ mod tests {
     #[test]
     fn digit_groups_bits_and_offsets() {
         let group = device("K4M0");
-        assert_eq!(
-            (group.prefix, group.digits, group.number),
-            (Prefix::M, Some(4), 0)
-        );
+        assert_eq!((group.prefix, group.digits, group.number), (Prefix::M, Some(4), 0));
         assert_eq!(device("K2X10").number, 8);
         assert_eq!(error_code("K9M0"), Code::MalformedOperand);
         assert_eq!(error_code("K4D0"), Code::MalformedOperand);

@@ -19,11 +19,7 @@ pub fn parse(file: &SourceFile) -> (ParsedProgram, Diagnostics) {
     (ParsedProgram { statements }, diagnostics)
 }
 
-fn parse_line(
-    file: &SourceFile,
-    line: &[Token],
-    diagnostics: &mut Diagnostics,
-) -> Option<Statement> {
+fn parse_line(file: &SourceFile, line: &[Token], diagnostics: &mut Diagnostics) -> Option<Statement> {
     let text = |t: &Token| file.slice(t.span);
     let line_number = file.line_of(line[0].span.start);
     let mut rest = line;
@@ -32,12 +28,8 @@ fn parse_line(
     if rest[0].kind == TokenKind::Word && text(&rest[0]).bytes().all(|b| b.is_ascii_digit()) {
         if rest.len() == 1 {
             diagnostics.push(
-                Diagnostic::new(
-                    Code::MalformedLine,
-                    rest[0].span,
-                    "step number without an instruction",
-                )
-                .with_label("expected an instruction after the step number"),
+                Diagnostic::new(Code::MalformedLine, rest[0].span, "step number without an instruction")
+                    .with_label("expected an instruction after the step number"),
             );
             return None;
         }
@@ -129,8 +121,7 @@ fn label_number(word: &str) -> Option<u32> {
 }
 
 fn stray_comma(span: Span) -> Diagnostic {
-    Diagnostic::new(Code::MalformedLine, span, "unexpected `,`")
-        .with_label("commas only separate operands")
+    Diagnostic::new(Code::MalformedLine, span, "unexpected `,`").with_label("commas only separate operands")
 }
 
 #[cfg(test)]
@@ -157,15 +148,9 @@ mod tests {
     fn step_numbers_comments_and_labels() {
         let (program, errors) = parse_text("0 LD X000 // go\n\n1 out y0\nP3:\nP4\nNETWORK 001\n");
         assert!(errors.is_empty(), "{errors:?}");
-        assert_eq!(
-            mnemonics(&program),
-            ["LD", "OUT", "<label>", "<label>", "NETWORK"]
-        );
+        assert_eq!(mnemonics(&program), ["LD", "OUT", "<label>", "<label>", "NETWORK"]);
         assert_eq!(program.statements[1].line, 3);
-        assert_eq!(
-            program.statements[3].kind,
-            StatementKind::Label { number: 4 }
-        );
+        assert_eq!(program.statements[3].kind, StatementKind::Label { number: 4 });
     }
 
     #[test]
@@ -184,11 +169,7 @@ mod tests {
         let (program, errors) = parse_text("12\nP1 LD X0\nLD X9\nOUT Y0");
         assert_eq!(
             errors,
-            [
-                Code::MalformedLine,
-                Code::MalformedLine,
-                Code::MalformedOperand
-            ]
+            [Code::MalformedLine, Code::MalformedLine, Code::MalformedOperand]
         );
         assert_eq!(mnemonics(&program), ["<label>", "LD", "OUT"]);
         let StatementKind::Instruction(ld) = &program.statements[1].kind else {

@@ -60,11 +60,9 @@ fn emit_block(condition: &Condition, out: &mut Vec<String>) {
             emit_block(&parts[0], out);
             for part in &parts[1..] {
                 match part {
-                    Condition::Contact(kind, device) => out.push(contact_line(
-                        if series { "AND" } else { "OR" },
-                        kind,
-                        device,
-                    )),
+                    Condition::Contact(kind, device) => {
+                        out.push(contact_line(if series { "AND" } else { "OR" }, kind, device))
+                    }
                     _ => {
                         emit_block(part, out);
                         out.push(if series { "ANB" } else { "ORB" }.to_string());
@@ -151,11 +149,7 @@ pub fn program() -> impl Strategy<Value = String> {
         proptest::collection::vec(rung(), 0..3),
     )
         .prop_map(|(plain, in_mc, jumped, in_stl)| {
-            let mut out = vec![
-                "LD M8002".to_string(),
-                "SET S1".to_string(),
-                "MOV K1 D1".to_string(),
-            ];
+            let mut out = vec!["LD M8002".to_string(), "SET S1".to_string(), "MOV K1 D1".to_string()];
             for rung in &plain {
                 emit_rung(rung, &mut out);
             }

@@ -1,0 +1,177 @@
+//! A compiled program running in a host process, as a scenario engine.
+
+use super::toolchain;
+use crate::codegen::ObjectOptions;
+use crate::host_device::HostDevice;
+use crate::program::CheckedProgram;
+use crate::scenario::{Engine, EngineError};
+use ladder_runtime::host::{read_composite, write_composite, AccessError, Basic, BasicAccess};
+use ladder_runtime::{BitArea, WordArea};
+use std::io::{BufRead, BufReader, Write};
+use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
+
+const SCENARIO_HOST: &str = include_str!("scenario_host.c");
+
+/// A host process running the compiled program.
+pub struct AotEngine {
+    child: Child,
+    input: ChildStdin,
+    output: BufReader<ChildStdout>,
+    /// Holds the host executable until the engine is dropped.
+    _work: tempfile::TempDir,
+}
+
+impl AotEngine {
+    /// Compiles `program` to an object, links the scenario host and starts it.
+    pub fn start(program: &CheckedProgram) -> Result<AotEngine, EngineError> {
+        let compiler = toolchain::c_compiler().map_err(EngineError::Unavailable)?;
+        let runtime = toolchain::runtime_library().map_err(EngineError::Unavailable)?;
+        let failed = |e: String| EngineError::Failed(e);
+        let work = tempfile::tempdir().map_err(|e| failed(e.to_string()))?;
+        let options = ObjectOptions {
+            target: None,
+            prefix: crate::codegen::DEFAULT_PREFIX.to_string(),
+        };
+        let object = crate::pipeline::object(program, &options).map_err(|e| failed(e.to_string()))?;
+        let object_path = work.path().join("program.o");
+        let host_source = work.path().join("scenario_host.c");
+        let host = work.path().join("scenario_host");
+        std::fs::write(&object_path, object).map_err(|e| failed(e.to_string()))?;
+        std::fs::write(&host_source, SCENARIO_HOST).map_err(|e| failed(e.to_string()))?;
+        toolchain::link_host(&compiler, work.path(), &[host_source, object_path], &runtime, &host).map_err(failed)?;
+        let mut child = Command::new(&host)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::inherit())
+            .spawn()
+            .map_err(|e| failed(format!("cannot start the host: {e}")))?;
+        let input = child.stdin.take().expect("piped");
+        let output = BufReader::new(child.stdout.take().expect("piped"));
+        Ok(AotEngine {
+            child,
+            input,
+            output,
+            _work: work,
+        })
+    }
+
+    /// Sends one command and returns its one-line answer.
+    fn ask(&mut self, command: &str) -> Result<String, String> {
+        writeln!(self.input, "{command}")
+            .and_then(|()| self.input.flush())
+            .map_err(|e| self.gone(e))?;
+        let mut answer = String::new();
+        match self.output.read_line(&mut answer) {
+            Ok(0) => Err(self.gone("no answer")),
+            Ok(_) => Ok(answer.trim().to_string()),
+            Err(e) => Err(self.gone(e)),
+        }
+    }
+
+    fn gone(&mut self, why: impl std::fmt::Display) -> String {
+        let status = self.child.try_wait().ok().flatten();
+        format!("the host process stopped answering ({why}; exit status {status:?})")
+    }
+
+    /// A command answered by a LadderStatus.
+    fn status(&mut self, command: &str) -> Result<(), String> {
+        match self.ask(command)?.as_str() {
+            "0" => Ok(()),
+            "1" => Err("out of range".into()),
+            "2" => Err("not forceable".into()),
+            other => Err(format!("host answered `{other}`")),
+        }
+    }
+}
+
+/// The C API's device kind of a basic device.
+fn kind(device: Basic) -> (u32, u32) {
+    match device {
+        Basic::Bit(area, n) => {
+            let kind = match area {
+                BitArea::X => 0,
+                BitArea::Y => 1,
+                BitArea::M => 2,
+                BitArea::S => 3,
+                BitArea::Sm => 4,
+                BitArea::TimerContact => 5,
+                BitArea::CounterContact => 6,
+            };
+            (kind, n)
+        }
+        Basic::Word(area, n) => {
+            let kind = match area {
+                WordArea::D => 7,
+                WordArea::Sd => 8,
+                WordArea::R => 9,
+                WordArea::TimerValue => 10,
+                WordArea::CounterValue => 11,
+            };
+            (kind, n)
+        }
+        Basic::WideCounter(n) => (11, n),
+    }
+}
+
+impl BasicAccess for AotEngine {
+    fn read_basic(&mut self, device: Basic) -> Result<i32, AccessError> {
+        let (kind, number) = kind(device);
+        let answer = self
+            .ask(&format!("r {kind} {number}"))
+            .map_err(AccessError::Unreachable)?;
+        if answer.starts_with('E') {
+            return Err(AccessError::OutOfRange);
+        }
+        answer
+            .parse()
+            .map_err(|_| AccessError::Unreachable(format!("host answered `{answer}`")))
+    }
+
+    fn write_basic(&mut self, device: Basic, value: i32) -> Result<(), AccessError> {
+        let (kind, number) = kind(device);
+        self.status(&format!("w {kind} {number} {value}"))
+            .map_err(|e| match e.as_str() {
+                "out of range" => AccessError::OutOfRange,
+                _ => AccessError::Unreachable(e),
+            })
+    }
+}
+
+fn describe(error: AccessError, device: HostDevice) -> String {
+    match error {
+        AccessError::OutOfRange => format!("{:?} is out of range", device.device),
+        AccessError::Unreachable(why) => why,
+    }
+}
+
+impl Engine for AotEngine {
+    fn read(&mut self, device: HostDevice) -> Result<i32, String> {
+        read_composite(self, device.device, device.width).map_err(|e| describe(e, device))
+    }
+
+    fn write(&mut self, device: HostDevice, value: i32) -> Result<(), String> {
+        write_composite(self, device.device, device.width, value).map_err(|e| describe(e, device))
+    }
+
+    fn force(&mut self, area: BitArea, index: u32, on: bool) -> Result<(), String> {
+        let (kind, number) = kind(Basic::Bit(area, index));
+        self.status(&format!("f {kind} {number} {}", on as u8))
+    }
+
+    fn unforce(&mut self, area: BitArea, index: u32) -> Result<(), String> {
+        let (kind, number) = kind(Basic::Bit(area, index));
+        self.status(&format!("u {kind} {number}"))
+    }
+
+    fn scan(&mut self, elapsed_ms: u32) -> Result<(), String> {
+        self.status(&format!("s 1 {elapsed_ms}"))
+    }
+}
+
+impl Drop for AotEngine {
+    fn drop(&mut self) {
+        let _ = writeln!(self.input, "q");
+        let _ = self.input.flush();
+        let _ = self.child.wait();
+    }
+}
