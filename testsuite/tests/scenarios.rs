@@ -18,7 +18,10 @@ fn run(engines: &[EngineKind]) -> (u8, String) {
 
 fn summary(report: &str) -> (usize, usize) {
     let last = report.lines().last().expect("a summary line");
-    let numbers: Vec<usize> = last.split(|c: char| !c.is_ascii_digit()).filter_map(|w| w.parse().ok()).collect();
+    let numbers: Vec<usize> = last
+        .split(|c: char| !c.is_ascii_digit())
+        .filter_map(|w| w.parse().ok())
+        .collect();
     (numbers[0], numbers[1])
 }
 
@@ -32,9 +35,15 @@ fn every_scenario_passes_on_every_engine() {
     assert_eq!(status, 0, "ladderc test failed:\n{report}");
     let (passed, failed) = summary(&report);
     assert_eq!(failed, 0, "{report}");
-    assert!(passed >= 100, "expected the whole suite, found {passed} scenarios:\n{report}");
+    assert!(
+        passed >= 100,
+        "expected the whole suite, found {passed} scenarios:\n{report}"
+    );
     if c_compiler_present() {
-        assert!(report.contains("engines: interp, jit, aot\n"), "aot must run where a C compiler exists:\n{report}");
+        assert!(
+            report.contains("engines: interp, jit, aot\n"),
+            "aot must run where a C compiler exists:\n{report}"
+        );
     } else {
         // Not a silent pass: say it, as `ladderc test` does.
         assert!(report.contains("skipped aot:"), "{report}");

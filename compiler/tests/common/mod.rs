@@ -6,6 +6,8 @@
 
 #![allow(dead_code)]
 
+pub mod tools;
+
 use proptest::prelude::*;
 
 /// A rung's condition: a contact, or blocks in series or in parallel.

@@ -1,0 +1,105 @@
+//! External tools the native tests need, installed on demand.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// Whether `program --version` (or `args`) runs.
+pub fn runs(program: &str, args: &[&str]) -> bool {
+    Command::new(program)
+        .args(args)
+        .output()
+        .is_ok_and(|o| o.status.success())
+}
+
+/// Makes sure `program` runs, installing the Debian `packages` if needed
+/// (the machine allows apt-get as root). `Err` says why it could not, for a
+/// skip message.
+pub fn ensure(program: &str, version_args: &[&str], packages: &[&str]) -> Result<(), String> {
+    if runs(program, version_args) {
+        return Ok(());
+    }
+    if !runs("apt-get", &["--version"]) {
+        return Err(format!("{program} is not installed and apt-get is not available"));
+    }
+    // Serialise installs across test threads and processes.
+    let _guard = INSTALL.lock().unwrap_or_else(|e| e.into_inner());
+    if runs(program, version_args) {
+        return Ok(());
+    }
+    let update = Command::new("apt-get").args(["update", "-qq"]).output();
+    let install = Command::new("apt-get")
+        .args(["install", "-y", "-qq", "--no-install-recommends"])
+        .args(packages)
+        .env("DEBIAN_FRONTEND", "noninteractive")
+        .output();
+    if runs(program, version_args) {
+        return Ok(());
+    }
+    let why = match (update, install) {
+        (_, Ok(output)) => String::from_utf8_lossy(&output.stderr)
+            .lines()
+            .last()
+            .unwrap_or("")
+            .to_string(),
+        (_, Err(e)) => e.to_string(),
+    };
+    Err(format!(
+        "{program} could not be installed ({}): {why}",
+        packages.join(" ")
+    ))
+}
+
+static INSTALL: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+/// Prints a skip message the test output shows (never a silent pass).
+pub fn skip(test: &str, why: &str) {
+    eprintln!("SKIPPED {test}: {why}");
+    println!("SKIPPED {test}: {why}");
+}
+
+pub fn workspace() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("workspace root")
+        .to_path_buf()
+}
+
+/// A fresh directory for one test's files.
+pub fn scratch(name: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("ladderc-{name}-"))
+        .tempdir()
+        .expect("temp dir")
+}
+
+/// Runs `ladderc` with `args`; panics with its stderr when it fails.
+pub fn ladderc(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_ladderc"))
+        .args(args)
+        .output()
+        .expect("ladderc runs")
+}
+
+/// Links C sources and objects with the host's runtime library.
+pub fn link_host(sources: &[&Path], output: &Path) {
+    link_host_with(&[], sources, output);
+}
+
+/// `link_host` with extra compiler flags (`-DNAME`).
+pub fn link_host_with(flags: &[&str], sources: &[&Path], output: &Path) {
+    let compiler = ladderc::aot::toolchain::c_compiler().expect("a C compiler (gcc is part of every machine)");
+    let runtime = ladderc::aot::toolchain::runtime_library().expect("the runtime library cargo built");
+    let status = Command::new(compiler)
+        .args(["-std=c99", "-Wall", "-Wextra", "-Werror"])
+        .args(flags)
+        .arg("-I")
+        .arg(workspace().join("runtime/include"))
+        .args(sources)
+        .arg(runtime)
+        .args(ladderc::aot::toolchain::NATIVE_LIBS)
+        .arg("-o")
+        .arg(output)
+        .status()
+        .expect("cc runs");
+    assert!(status.success(), "linking {} failed", output.display());
+}

@@ -1,0 +1,187 @@
+//! The firmware-host flow end to end: `ladderc build`, link with the runtime
+//! library and a C host using the header, run; plus memory safety under
+//! valgrind and atomic output.
+
+mod common;
+
+use common::tools::{self, ladderc, link_host, link_host_with, scratch, workspace};
+use std::path::Path;
+use std::process::Command;
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+/// Builds `program` to an object in `dir` and links it with the example host.
+fn example_host(program: &Path, dir: &Path) -> std::path::PathBuf {
+    example_host_with(&[], program, dir)
+}
+
+fn example_host_with(flags: &[&str], program: &Path, dir: &Path) -> std::path::PathBuf {
+    let object = dir.join("program.o");
+    let output = ladderc(&["build", program.to_str().unwrap(), "-o", object.to_str().unwrap()]);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let host = dir.join("host");
+    link_host_with(flags, &[&workspace().join("examples/host/main.c"), &object], &host);
+    host
+}
+
+/// The interpreter's view of the same run, in the host's CSV format.
+fn interpreter_csv(program: &Path, scans: u32, scan_ms: u32, sets: &[&str]) -> String {
+    let (scans, scan_ms) = (scans.to_string(), scan_ms.to_string());
+    let mut args = vec![
+        "run",
+        program.to_str().unwrap(),
+        "--engine",
+        "interp",
+        "--format",
+        "csv",
+    ];
+    args.extend([
+        "--scans",
+        &scans,
+        "--scan-ms",
+        &scan_ms,
+        "--watch",
+        "Y0,Y1,Y2,Y3,Y4,Y5,Y6,Y7",
+    ]);
+    for set in sets {
+        args.extend(["--set", set]);
+    }
+    let output = ladderc(&args);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    text(&output.stdout)
+}
+
+#[test]
+fn example_host_runs_the_traffic_light_like_the_interpreter() {
+    let dir = scratch("host");
+    let program = workspace().join("examples/traffic_light.il");
+    let host = example_host(&program, dir.path());
+    let output = Command::new(&host).args(["80", "100"]).output().unwrap();
+    assert!(output.status.success());
+    assert_eq!(text(&output.stdout), interpreter_csv(&program, 80, 100, &[]));
+}
+
+#[test]
+fn example_host_passes_inputs() {
+    let dir = scratch("inputs");
+    let program = workspace().join("examples/motor_start_stop.il");
+    let host = example_host(&program, dir.path());
+    let output = Command::new(&host).args(["5", "10", "X1=1", "X3=1"]).output().unwrap();
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let csv = text(&output.stdout);
+    assert_eq!(csv, interpreter_csv(&program, 5, 10, &["X1=1", "X3=1"]));
+    assert!(
+        csv.lines().nth(1).unwrap().starts_with("1,1,0,1"),
+        "forward runs:\n{csv}"
+    );
+}
+
+#[test]
+fn prefixes_let_two_programs_share_one_firmware() {
+    let dir = scratch("prefix");
+    let d = dir.path();
+    for (name, prefix) in [("traffic_light", "traffic_"), ("motor_start_stop", "motor_")] {
+        let source = workspace().join(format!("examples/{name}.il"));
+        let object = d.join(format!("{name}.o"));
+        let output = ladderc(&[
+            "build",
+            source.to_str().unwrap(),
+            "-o",
+            object.to_str().unwrap(),
+            "--prefix",
+            prefix,
+        ]);
+        assert!(output.status.success(), "{}", text(&output.stderr));
+    }
+    let main = d.join("two.c");
+    std::fs::write(
+        &main,
+        r#"#include <stdio.h>
+#include "ladder_runtime.h"
+LADDER_DECLARE_PROGRAM(traffic_);
+LADDER_DECLARE_PROGRAM(motor_);
+static uint32_t a[LADDER_MEMORY_SIZE / 4 + 1], b[LADDER_MEMORY_SIZE / 4 + 1];
+int main(void) {
+    LadderMemory *traffic = ladder_init(a, sizeof a), *motor = ladder_init(b, sizeof b);
+    ladder_set_input(motor, 1, 1);
+    ladder_set_input(motor, 3, 1);
+    for (int i = 0; i < 3; i++) { traffic_scan(traffic, 100); motor_scan(motor, 100); }
+    printf("%d %d %d\n", ladder_get_output(traffic, 0), ladder_get_output(motor, 0), ladder_get_output(traffic, 2));
+    return 0;
+}
+"#,
+    )
+    .unwrap();
+    let host = d.join("two");
+    link_host(
+        &[&main, &d.join("traffic_light.o"), &d.join("motor_start_stop.o")],
+        &host,
+    );
+    let output = Command::new(&host).output().unwrap();
+    assert_eq!(text(&output.stdout), "1 1 0\n");
+}
+
+#[test]
+fn failed_build_leaves_no_object() {
+    let dir = scratch("atomic");
+    let bad = dir.path().join("bad.il");
+    std::fs::write(&bad, "LD X0\nOUT X1\n").unwrap();
+    let object = dir.path().join("bad.o");
+    std::fs::write(&object, b"stale").unwrap();
+    let output = ladderc(&["build", bad.to_str().unwrap(), "-o", object.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(text(&output.stderr).contains("E0003"));
+    assert!(!object.exists(), "a failed build must not leave an object behind");
+    let leftovers: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(leftovers.len(), 1, "no temporary files either: {leftovers:?}");
+}
+
+/// 300 scans sweep every offset register across its whole range.
+const SWEEP: [&str; 3] = ["300", "10", "X0=1"];
+
+#[test]
+fn host_under_valgrind_never_touches_memory_outside_the_image() {
+    if let Err(why) = tools::ensure("valgrind", &["--version"], &["valgrind"]) {
+        tools::skip("host_under_valgrind_never_touches_memory_outside_the_image", &why);
+        return;
+    }
+    let dir = scratch("valgrind");
+    let program = workspace().join("testsuite/programs/offsets_out_of_range.il");
+    // The image on the heap, exactly sized, with wide redzones around it.
+    let host = example_host_with(&["-DLADDER_HOST_HEAP"], &program, dir.path());
+    let output = Command::new("valgrind")
+        .args(["--error-exitcode=99", "--leak-check=no", "--redzone-size=4096"])
+        .arg(&host)
+        .args(SWEEP)
+        .output()
+        .unwrap();
+    let report = text(&output.stderr);
+    assert_eq!(output.status.code(), Some(0), "valgrind found errors:\n{report}");
+    assert!(report.contains("ERROR SUMMARY: 0 errors"), "{report}");
+    assert!(
+        report.contains("operation error 4085H"),
+        "the host saw the recorded errors:\n{report}"
+    );
+}
+
+#[test]
+fn guarded_host_never_touches_memory_outside_the_image() {
+    let dir = scratch("guarded");
+    let program = workspace().join("testsuite/programs/offsets_out_of_range.il");
+    let host = example_host_with(&["-DLADDER_HOST_GUARDED"], &program, dir.path());
+    let output = Command::new(&host).args(SWEEP).output().unwrap();
+    assert!(
+        output.status.success(),
+        "the host faulted ({:?}):\n{}",
+        output.status,
+        text(&output.stderr)
+    );
+    // Compiled code and interpreter agree on the whole sweep.
+    let interp = interpreter_csv(&program, 300, 10, &["X0=1"]);
+    assert_eq!(text(&output.stdout), interp);
+}
