@@ -78,9 +78,19 @@ mod names {
     pub const END_SCAN: &str = "ladder_end_scan";
 }
 
+/// A C signature. 32-bit arguments are sign-extended by the caller: the
+/// riscv64 psABI requires it (for unsigned ones too) and callees compiled by
+/// LLVM rely on it; elsewhere it is harmless.
 fn signature(isa: &dyn TargetIsa, params: &[types::Type]) -> Signature {
     let mut signature = Signature::new(isa.default_call_conv());
-    signature.params.extend(params.iter().map(|&ty| AbiParam::new(ty)));
+    signature.params.extend(params.iter().map(|&ty| {
+        let param = AbiParam::new(ty);
+        if ty == types::I32 {
+            param.sext()
+        } else {
+            param
+        }
+    }));
     signature
 }
 

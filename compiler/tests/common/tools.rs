@@ -26,8 +26,11 @@ pub fn ensure(program: &str, version_args: &[&str], packages: &[&str]) -> Result
     if runs(program, version_args) {
         return Ok(());
     }
-    let update = Command::new("apt-get").args(["update", "-qq"]).output();
+    // Wait for a package manager that another test process is running.
+    let lock = ["-o", "DPkg::Lock::Timeout=300"];
+    let update = Command::new("apt-get").args(lock).args(["update", "-qq"]).output();
     let install = Command::new("apt-get")
+        .args(lock)
         .args(["install", "-y", "-qq", "--no-install-recommends"])
         .args(packages)
         .env("DEBIAN_FRONTEND", "noninteractive")
