@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::tools::{self, ladderc, scratch, workspace};
+use common::tools::{self, interpreter_csv, ladderc, scratch, workspace};
 use ladder_runtime::layout;
 use ladder_runtime::Memory;
 use object::{Architecture, Object, ObjectSymbol};
@@ -143,23 +143,6 @@ fn interpreter_digests(program: &Path, scans: u32) -> String {
     out
 }
 
-/// `ladderc run --engine interp` over 60 scans of 10 ms, as the example host prints.
-fn interpreter_csv(program: &Path, sets: &[&str]) -> String {
-    let mut args = vec![
-        "run",
-        program.to_str().unwrap(),
-        "--engine",
-        "interp",
-        "--format",
-        "csv",
-    ];
-    args.extend(["--scans", "60", "--scan-ms", "10", "--watch", "Y0,Y1,Y2,Y3,Y4,Y5,Y6,Y7"]);
-    for set in sets {
-        args.extend(["--set", set]);
-    }
-    String::from_utf8_lossy(&ladderc(&args).stdout).into_owned()
-}
-
 #[test]
 fn generated_code_runs_under_emulation() {
     const SCANS: u32 = 200;
@@ -220,7 +203,7 @@ fn generated_code_runs_under_emulation() {
         );
         assert_eq!(
             String::from_utf8_lossy(&output.stdout),
-            interpreter_csv(&program, &["X0=1", "X5=1"]),
+            interpreter_csv(&program, 60, 10, &["X0=1", "X5=1"]),
             "{}: the example host under emulation",
             target.triple
         );

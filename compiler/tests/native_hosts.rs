@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::tools::{self, ladderc, link_host, link_host_with, scratch, workspace};
+use common::tools::{self, interpreter_csv, ladderc, link_host, link_host_with, scratch, workspace};
 use std::path::Path;
 use std::process::Command;
 
@@ -24,33 +24,6 @@ fn example_host_with(flags: &[&str], program: &Path, dir: &Path) -> std::path::P
     let host = dir.join("host");
     link_host_with(flags, &[&workspace().join("examples/host/main.c"), &object], &host);
     host
-}
-
-/// The interpreter's view of the same run, in the host's CSV format.
-fn interpreter_csv(program: &Path, scans: u32, scan_ms: u32, sets: &[&str]) -> String {
-    let (scans, scan_ms) = (scans.to_string(), scan_ms.to_string());
-    let mut args = vec![
-        "run",
-        program.to_str().unwrap(),
-        "--engine",
-        "interp",
-        "--format",
-        "csv",
-    ];
-    args.extend([
-        "--scans",
-        &scans,
-        "--scan-ms",
-        &scan_ms,
-        "--watch",
-        "Y0,Y1,Y2,Y3,Y4,Y5,Y6,Y7",
-    ]);
-    for set in sets {
-        args.extend(["--set", set]);
-    }
-    let output = ladderc(&args);
-    assert!(output.status.success(), "{}", text(&output.stderr));
-    text(&output.stdout)
 }
 
 #[test]

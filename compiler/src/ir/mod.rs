@@ -243,9 +243,17 @@ impl Inst {
 
     /// Values the instruction reads.
     pub fn operands(&self) -> Vec<Value> {
-        let index = |i: &Index| match i {
-            Index::Dynamic(v) => vec![*v],
-            Index::Fixed(_) => vec![],
+        let mut operands = Vec::new();
+        self.clone().for_each_operand_mut(|v| operands.push(*v));
+        operands
+    }
+
+    /// Visits every value the instruction reads, mutably (for rewriting).
+    pub fn for_each_operand_mut(&mut self, mut visit: impl FnMut(&mut Value)) {
+        let index = |i: &mut Index, visit: &mut dyn FnMut(&mut Value)| {
+            if let Index::Dynamic(v) = i {
+                visit(v);
+            }
         };
         match self {
             Inst::Const { .. }
@@ -255,37 +263,50 @@ impl Inst {
             | Inst::RecordError { .. }
             | Inst::ResetTimer { .. }
             | Inst::ResetCounter { .. }
-            | Inst::ScheduleStateOff { .. } => vec![],
+            | Inst::ScheduleStateOff { .. } => {}
             Inst::LoadBit { index: i, .. } | Inst::LoadWord { index: i, .. } | Inst::LoadWideCounter { index: i } => {
-                index(i)
+                index(i, &mut visit)
             }
-            Inst::FillBits { start, .. } | Inst::ClearWords { start, .. } => index(start),
+            Inst::FillBits { start, .. } | Inst::ClearWords { start, .. } => index(start, &mut visit),
             Inst::StoreBit { index: i, value, .. }
             | Inst::StoreWord { index: i, value, .. }
-            | Inst::StoreWideCounter { index: i, value } => [index(i), vec![*value]].concat(),
+            | Inst::StoreWideCounter { index: i, value } => {
+                index(i, &mut visit);
+                visit(value);
+            }
             Inst::StoreSlot { value, .. }
             | Inst::StoreBlockActive { value, .. }
             | Inst::SetLocal { value, .. }
             | Inst::Not { value }
             | Inst::Extend { value, .. }
-            | Inst::Truncate { value, .. } => vec![*value],
+            | Inst::Truncate { value, .. } => visit(value),
             Inst::And { a, b } | Inst::Or { a, b } | Inst::Binary { a, b, .. } | Inst::Compare { a, b, .. } => {
-                vec![*a, *b]
+                visit(a);
+                visit(b);
             }
             Inst::Select {
                 condition,
                 if_true,
                 if_false,
-            } => vec![*condition, *if_true, *if_false],
+            } => {
+                visit(condition);
+                visit(if_true);
+                visit(if_false);
+            }
             Inst::TimerCoil { coil, preset, .. } | Inst::CounterCoil { coil, preset, .. } => {
-                vec![*coil, *preset]
+                visit(coil);
+                visit(preset);
             }
             Inst::BlockMove {
                 source,
                 destination,
                 count,
                 ..
-            } => [index(&source.index), index(&destination.index), vec![*count]].concat(),
+            } => {
+                index(&mut source.index, &mut visit);
+                index(&mut destination.index, &mut visit);
+                visit(count);
+            }
         }
     }
 }

@@ -157,219 +157,129 @@ fn compare(op: CompareOp, a: i64, b: i64) -> bool {
     op.holds(a, b)
 }
 
-/// Folds instructions with constant operands to constants, and logic with one
-/// constant operand to the other operand.
+/// What an instruction folds to.
+enum Folded {
+    Constant(i64),
+    /// The instruction computes an existing value.
+    Same(Value),
+    Nothing,
+}
+
+/// AND (`absorbing` 0) or OR (`absorbing` 1) with known operands.
+fn fold_logic(a: Value, b: Value, known_a: Option<i64>, known_b: Option<i64>, absorbing: i64) -> Folded {
+    match (known_a, known_b) {
+        (Some(v), _) | (_, Some(v)) if v == absorbing => Folded::Constant(absorbing),
+        (Some(_), Some(_)) => Folded::Constant(1 - absorbing),
+        (Some(_), None) => Folded::Same(b),
+        (None, Some(_)) => Folded::Same(a),
+        (None, None) if a == b => Folded::Same(a),
+        (None, None) => Folded::Nothing,
+    }
+}
+
+/// Folds one instruction given the constants and extensions known so far.
+fn fold(
+    inst: &Inst,
+    ty: Type,
+    types: &[Type],
+    constants: &HashMap<Value, i64>,
+    extended_from: &HashMap<Value, Value>,
+    relays: &HashMap<(BitArea, u32), bool>,
+) -> Folded {
+    let known = |v: &Value| constants.get(v).copied();
+    let constant = |value: Option<i64>| value.map_or(Folded::Nothing, Folded::Constant);
+    match inst {
+        Inst::Const { value, .. } => Folded::Constant(*value),
+        Inst::LoadBit {
+            area,
+            index: Index::Fixed(n),
+        } => constant(relays.get(&(*area, *n)).map(|&on| on as i64)),
+        Inst::Not { value } => constant(known(value).map(|v| 1 - v)),
+        Inst::And { a, b } => fold_logic(*a, *b, known(a), known(b), 0),
+        Inst::Or { a, b } => fold_logic(*a, *b, known(a), known(b), 1),
+        Inst::Binary { op, a, b } => match (op, known(a), known(b)) {
+            (_, Some(x), Some(y)) => constant(fold_binary(*op, ty, x, y)),
+            // x + 0, x - 0, x | 0, x << 0, x >> 0, x * 1
+            (BinOp::Add | BinOp::Sub | BinOp::Or | BinOp::Shl | BinOp::Shr, None, Some(0))
+            | (BinOp::Mul, None, Some(1)) => Folded::Same(*a),
+            // 0 + x, 0 | x, 1 * x
+            (BinOp::Add | BinOp::Or, Some(0), None) | (BinOp::Mul, Some(1), None) => Folded::Same(*b),
+            _ => Folded::Nothing,
+        },
+        Inst::Compare { op, a, b } => match (known(a), known(b)) {
+            (Some(x), Some(y)) => Folded::Constant(compare(*op, x, y) as i64),
+            _ => Folded::Nothing,
+        },
+        Inst::Extend { value, signed, .. } => {
+            constant(known(value).map(|v| match (*signed, types[value.0 as usize]) {
+                (false, Type::I16) => i64::from(v as u16),
+                (false, Type::I32) => i64::from(v as u32),
+                _ => v,
+            }))
+        }
+        Inst::Truncate { value, to } => match (known(value), extended_from.get(value)) {
+            (Some(v), _) => Folded::Constant(wrap(*to, v)),
+            // trunc(ext(x)) back to x's own type is x.
+            (None, Some(&inner)) if types[inner.0 as usize] == *to => Folded::Same(inner),
+            _ => Folded::Nothing,
+        },
+        Inst::Select {
+            condition,
+            if_true,
+            if_false,
+        } => match known(condition) {
+            Some(c) => {
+                let chosen = if c != 0 { *if_true } else { *if_false };
+                known(&chosen).map_or(Folded::Same(chosen), Folded::Constant)
+            }
+            None if if_true == if_false => Folded::Same(*if_true),
+            None => Folded::Nothing,
+        },
+        _ => Folded::Nothing,
+    }
+}
+
+/// Folds instructions with constant operands to constants, and instructions
+/// that compute an existing value (`x AND 1`, `x + 0`) to that value.
 pub fn fold_constants(function: &mut Function) {
     let relays = constant_relays(function);
     let mut constants: HashMap<Value, i64> = HashMap::new();
     let mut replaced: HashMap<Value, Value> = HashMap::new();
     // Value defined by an Extend -> the value it extended.
     let mut extended_from: HashMap<Value, Value> = HashMap::new();
+    let types = function.value_types.clone();
     for block in reverse_postorder(function) {
-        let types = function.value_types.clone();
-        let insts = &mut function.blocks[block.0 as usize].insts;
-        for (result, inst) in insts.iter_mut() {
-            rewrite_operands(inst, &replaced);
+        let block = &mut function.blocks[block.0 as usize];
+        for (result, inst) in block.insts.iter_mut() {
+            inst.for_each_operand_mut(|v| {
+                // Definitions come first in this order, so one step suffices.
+                if let Some(&other) = replaced.get(v) {
+                    *v = other;
+                }
+            });
             let Some(result) = *result else { continue };
             let ty = types[result.0 as usize];
-            let known = |v: &Value| constants.get(v).copied();
-            let folded: Option<i64> = match &*inst {
-                Inst::Const { value, .. } => Some(*value),
-                Inst::LoadBit {
-                    area,
-                    index: Index::Fixed(n),
-                } => relays.get(&(*area, *n)).map(|&on| on as i64),
-                Inst::Not { value } => known(value).map(|v| 1 - v),
-                Inst::And { a, b } => match (known(a), known(b)) {
-                    (Some(0), _) | (_, Some(0)) => Some(0),
-                    (Some(x), Some(y)) => Some(x & y),
-                    (Some(_), None) => {
-                        replaced.insert(result, *b);
-                        None
-                    }
-                    (None, Some(_)) => {
-                        replaced.insert(result, *a);
-                        None
-                    }
-                    (None, None) if a == b => {
-                        replaced.insert(result, *a);
-                        None
-                    }
-                    _ => None,
-                },
-                Inst::Or { a, b } => match (known(a), known(b)) {
-                    (Some(1), _) | (_, Some(1)) => Some(1),
-                    (Some(x), Some(y)) => Some(x | y),
-                    (Some(_), None) => {
-                        replaced.insert(result, *b);
-                        None
-                    }
-                    (None, Some(_)) => {
-                        replaced.insert(result, *a);
-                        None
-                    }
-                    (None, None) if a == b => {
-                        replaced.insert(result, *a);
-                        None
-                    }
-                    _ => None,
-                },
-                Inst::Binary { op, a, b } => match (op, known(a), known(b)) {
-                    (_, Some(x), Some(y)) => fold_binary(*op, ty, x, y),
-                    // x + 0, x - 0, x | 0, x << 0, x >> 0, x * 1
-                    (BinOp::Add | BinOp::Sub | BinOp::Or | BinOp::Shl | BinOp::Shr, None, Some(0))
-                    | (BinOp::Mul, None, Some(1)) => {
-                        replaced.insert(result, *a);
-                        None
-                    }
-                    // 0 + x, 0 | x, 1 * x
-                    (BinOp::Add | BinOp::Or, Some(0), None) | (BinOp::Mul, Some(1), None) => {
-                        replaced.insert(result, *b);
-                        None
-                    }
-                    _ => None,
-                },
-                Inst::Compare { op, a, b } => match (known(a), known(b)) {
-                    (Some(x), Some(y)) => Some(compare(*op, x, y) as i64),
-                    _ => None,
-                },
-                Inst::Extend { value, signed, .. } => known(value).map(|v| {
-                    let from = types[value.0 as usize];
-                    if *signed || from == Type::Bit {
-                        v
-                    } else {
-                        match from {
-                            Type::I16 => i64::from(v as u16),
-                            Type::I32 => i64::from(v as u32),
-                            _ => v,
-                        }
-                    }
-                }),
-                Inst::Truncate { value, to } => match (known(value), extended_from.get(value)) {
-                    (Some(v), _) => Some(wrap(*to, v)),
-                    // trunc(ext(x)) back to x's own type is x.
-                    (None, Some(&inner)) if types[inner.0 as usize] == *to => {
-                        replaced.insert(result, inner);
-                        None
-                    }
-                    _ => None,
-                },
-                Inst::Select {
-                    condition,
-                    if_true,
-                    if_false,
-                } => match known(condition) {
-                    Some(c) => {
-                        let chosen = if c != 0 { *if_true } else { *if_false };
-                        match known(&chosen) {
-                            Some(v) => Some(v),
-                            None => {
-                                replaced.insert(result, chosen);
-                                None
-                            }
-                        }
-                    }
-                    None if if_true == if_false => {
-                        replaced.insert(result, *if_true);
-                        None
-                    }
-                    None => None,
-                },
-                _ => None,
-            };
-            if let Inst::Extend { value, .. } = &*inst {
+            if let Inst::Extend { value, .. } = inst {
                 extended_from.insert(result, *value);
             }
-            if let Some(value) = folded {
-                let value = wrap(ty, value);
-                constants.insert(result, value);
-                *inst = Inst::Const { ty, value };
-            }
-        }
-        let terminator = &mut function.blocks[block.0 as usize].terminator;
-        if let Terminator::Branch { condition, .. } = terminator {
-            if let Some(&other) = replaced.get(condition) {
-                *condition = other;
+            match fold(inst, ty, &types, &constants, &extended_from, &relays) {
+                Folded::Constant(value) => {
+                    let value = wrap(ty, value);
+                    constants.insert(result, value);
+                    *inst = Inst::Const { ty, value };
+                }
+                Folded::Same(other) => {
+                    replaced.insert(result, other);
+                }
+                Folded::Nothing => {}
             }
         }
     }
-    // Terminators of blocks visited before a replacement was known.
     for block in &mut function.blocks {
         if let Terminator::Branch { condition, .. } = &mut block.terminator {
             if let Some(&other) = replaced.get(condition) {
                 *condition = other;
             }
-        }
-    }
-}
-
-/// Replaces operands by the values they were folded to.
-fn rewrite_operands(inst: &mut Inst, replaced: &HashMap<Value, Value>) {
-    if replaced.is_empty() {
-        return;
-    }
-    let map = |v: &mut Value| {
-        // Chains are resolved in definition order, so one step suffices.
-        if let Some(&other) = replaced.get(v) {
-            *v = other;
-        }
-    };
-    let index = |i: &mut Index| {
-        if let Index::Dynamic(v) = i {
-            map(v);
-        }
-    };
-    match inst {
-        Inst::Const { .. }
-        | Inst::LoadSlot { .. }
-        | Inst::LoadBlockActive { .. }
-        | Inst::GetLocal { .. }
-        | Inst::RecordError { .. }
-        | Inst::ResetTimer { .. }
-        | Inst::ResetCounter { .. }
-        | Inst::ScheduleStateOff { .. } => {}
-        Inst::LoadBit { index: i, .. } | Inst::LoadWord { index: i, .. } | Inst::LoadWideCounter { index: i } => {
-            index(i)
-        }
-        Inst::FillBits { start, .. } | Inst::ClearWords { start, .. } => index(start),
-        Inst::StoreBit { index: i, value, .. }
-        | Inst::StoreWord { index: i, value, .. }
-        | Inst::StoreWideCounter { index: i, value } => {
-            index(i);
-            map(value);
-        }
-        Inst::StoreSlot { value, .. }
-        | Inst::StoreBlockActive { value, .. }
-        | Inst::SetLocal { value, .. }
-        | Inst::Not { value }
-        | Inst::Extend { value, .. }
-        | Inst::Truncate { value, .. } => map(value),
-        Inst::And { a, b } | Inst::Or { a, b } | Inst::Binary { a, b, .. } | Inst::Compare { a, b, .. } => {
-            map(a);
-            map(b);
-        }
-        Inst::Select {
-            condition,
-            if_true,
-            if_false,
-        } => {
-            map(condition);
-            map(if_true);
-            map(if_false);
-        }
-        Inst::TimerCoil { coil, preset, .. } | Inst::CounterCoil { coil, preset, .. } => {
-            map(coil);
-            map(preset);
-        }
-        Inst::BlockMove {
-            source,
-            destination,
-            count,
-            ..
-        } => {
-            index(&mut source.index);
-            index(&mut destination.index);
-            map(count);
         }
     }
 }
@@ -435,64 +345,71 @@ pub fn remove_unreachable(function: &mut Function) {
 }
 
 /// Appends a block to its predecessor when the predecessor jumps to it and
-/// nothing else does.
+/// nothing else does. Merging keeps every other block's predecessor count, so
+/// one sweep with counts taken once is enough.
 pub fn merge_blocks(function: &mut Function) {
-    loop {
-        let mut predecessors = vec![0usize; function.blocks.len()];
-        for block in &function.blocks {
-            for successor in block.terminator.successors() {
-                predecessors[successor.0 as usize] += 1;
-            }
+    let mut predecessors = vec![0usize; function.blocks.len()];
+    for block in &function.blocks {
+        for successor in block.terminator.successors() {
+            predecessors[successor.0 as usize] += 1;
         }
-        let candidate = function
-            .blocks
-            .iter()
-            .enumerate()
-            .find_map(|(index, block)| match block.terminator {
-                Terminator::Jump(target)
-                    if target.0 != 0 && target.0 as usize != index && predecessors[target.0 as usize] == 1 =>
-                {
-                    Some((index, target.0 as usize))
-                }
-                _ => None,
-            });
-        let Some((into, from)) = candidate else { break };
-        let moved = std::mem::replace(
-            &mut function.blocks[from],
-            Block {
-                insts: Vec::new(),
-                terminator: Terminator::Return,
-            },
-        );
-        let target = &mut function.blocks[into];
-        target.insts.extend(moved.insts);
-        target.terminator = moved.terminator;
-        // The emptied block is now unreachable.
-        remove_unreachable(function);
     }
+    for into in 0..function.blocks.len() {
+        while let Terminator::Jump(target) = function.blocks[into].terminator {
+            let from = target.0 as usize;
+            if from == 0 || from == into || predecessors[from] != 1 {
+                break;
+            }
+            let moved = std::mem::replace(
+                &mut function.blocks[from],
+                Block {
+                    insts: Vec::new(),
+                    terminator: Terminator::Return,
+                },
+            );
+            predecessors[from] = 0;
+            let target = &mut function.blocks[into];
+            target.insts.extend(moved.insts);
+            target.terminator = moved.terminator;
+        }
+    }
+    // The emptied blocks are unreachable now.
+    remove_unreachable(function);
 }
 
-/// Removes pure instructions whose values nothing uses.
+/// Removes pure instructions whose values nothing uses, following chains:
+/// removing a use may make its operands dead in turn.
 pub fn remove_dead_values(function: &mut Function) {
-    loop {
-        let mut used = vec![false; function.value_types.len()];
-        for block in &function.blocks {
-            for (_, inst) in &block.insts {
-                for value in inst.operands() {
-                    used[value.0 as usize] = true;
-                }
-            }
-            if let Terminator::Branch { condition, .. } = block.terminator {
-                used[condition.0 as usize] = true;
+    let mut uses = vec![0u32; function.value_types.len()];
+    for block in &function.blocks {
+        for (_, inst) in &block.insts {
+            for value in inst.operands() {
+                uses[value.0 as usize] += 1;
             }
         }
+        if let Terminator::Branch { condition, .. } = block.terminator {
+            uses[condition.0 as usize] += 1;
+        }
+    }
+    // Walk each block backwards so a dead use is removed before its operands
+    // are judged; repeat while a sweep removes something in an earlier block.
+    loop {
         let mut removed = false;
-        for block in &mut function.blocks {
-            block.insts.retain(|(result, inst)| {
-                let dead = matches!(result, Some(v) if !used[v.0 as usize]) && inst.is_pure();
-                removed |= dead;
-                !dead
-            });
+        for block in function.blocks.iter_mut().rev() {
+            let mut kept = Vec::with_capacity(block.insts.len());
+            for (result, inst) in block.insts.drain(..).rev() {
+                let dead = inst.is_pure() && matches!(result, Some(v) if uses[v.0 as usize] == 0);
+                if dead {
+                    removed = true;
+                    for operand in inst.operands() {
+                        uses[operand.0 as usize] -= 1;
+                    }
+                } else {
+                    kept.push((result, inst));
+                }
+            }
+            kept.reverse();
+            block.insts = kept;
         }
         if !removed {
             break;

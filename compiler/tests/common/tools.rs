@@ -106,3 +106,31 @@ pub fn link_host_with(flags: &[&str], sources: &[&Path], output: &Path) {
         .expect("cc runs");
     assert!(status.success(), "linking {} failed", output.display());
 }
+
+/// `ladderc run --engine interp` in the CSV the example host prints
+/// (`scan,Y0,...,Y7`), with `--set` for each of `sets`.
+pub fn interpreter_csv(program: &Path, scans: u32, scan_ms: u32, sets: &[&str]) -> String {
+    let (scans, scan_ms) = (scans.to_string(), scan_ms.to_string());
+    let mut args = vec![
+        "run",
+        program.to_str().unwrap(),
+        "--engine",
+        "interp",
+        "--format",
+        "csv",
+    ];
+    args.extend([
+        "--scans",
+        &scans,
+        "--scan-ms",
+        &scan_ms,
+        "--watch",
+        "Y0,Y1,Y2,Y3,Y4,Y5,Y6,Y7",
+    ]);
+    for set in sets {
+        args.extend(["--set", set]);
+    }
+    let output = ladderc(&args);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    String::from_utf8_lossy(&output.stdout).into_owned()
+}

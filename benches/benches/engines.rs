@@ -1,0 +1,96 @@
+//! Scan time of the reference interpreter against the JIT on the same
+//! programs, and the cost of compiling. Read ratios within one run: absolute
+//! times drift on shared machines.
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use ladder_runtime::Memory;
+use ladderc::check::compile_source;
+use ladderc::interp::Interpreter;
+use ladderc::program::CheckedProgram;
+use ladderc::source::SourceFile;
+use std::hint::black_box;
+use std::path::Path;
+
+fn checked(name: &str, text: &str) -> CheckedProgram {
+    let (program, diagnostics) = compile_source(&SourceFile::new(name, text));
+    program.unwrap_or_else(|| panic!("{name}: {diagnostics:?}"))
+}
+
+fn workspace_file(relative: &str) -> String {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).parent().expect("workspace");
+    std::fs::read_to_string(root.join(relative)).expect("program file")
+}
+
+fn programs() -> Vec<(String, CheckedProgram)> {
+    vec![
+        (
+            "traffic_light".into(),
+            checked("traffic", &workspace_file("examples/traffic_light.il")),
+        ),
+        (
+            "motor".into(),
+            checked("motor", &workspace_file("examples/motor_start_stop.il")),
+        ),
+        (
+            "offsets".into(),
+            checked("offsets", &workspace_file("testsuite/programs/offsets_out_of_range.il")),
+        ),
+        ("plant_100_units".into(), checked("plant", &ladderc_benches::plant(100))),
+    ]
+}
+
+/// Inputs X0..X37 change every scan, so edges and seal-ins do real work.
+fn stimulate(mem: &mut Memory, scan: u32) {
+    let pattern = scan.wrapping_mul(2654435761) >> 4;
+    for (i, input) in mem.input_image.iter_mut().take(32).enumerate() {
+        *input = ((pattern >> i) & 1) as u8;
+    }
+}
+
+fn scan_time(c: &mut Criterion) {
+    let mut group = c.benchmark_group("scan");
+    for (name, program) in programs() {
+        let interpreter = Interpreter::new(&program);
+        let jit = ladderc::pipeline::jit(&program).expect("compiles");
+        let mut mem = Memory::new_boxed();
+        let mut scan = 0u32;
+        group.bench_function(BenchmarkId::new("interp", &name), |b| {
+            b.iter(|| {
+                scan = scan.wrapping_add(1);
+                stimulate(&mut mem, scan);
+                interpreter.scan(black_box(&mut mem), 10);
+            })
+        });
+        let mut mem = Memory::new_boxed();
+        group.bench_function(BenchmarkId::new("jit", &name), |b| {
+            b.iter(|| {
+                scan = scan.wrapping_add(1);
+                stimulate(&mut mem, scan);
+                mem.scan_with(10, |m| jit.run(black_box(m)));
+            })
+        });
+    }
+    group.finish();
+}
+
+fn compile_time(c: &mut Criterion) {
+    let text = ladderc_benches::plant(100);
+    let program = checked("plant", &text);
+    let mut group = c.benchmark_group("compile_plant_100_units");
+    group.sample_size(10);
+    group.bench_function("check", |b| b.iter(|| checked("plant", black_box(&text))));
+    group.bench_function("lower_and_optimise", |b| {
+        b.iter(|| ladderc::pipeline::ir(black_box(&program)))
+    });
+    group.bench_function("jit", |b| {
+        b.iter(|| ladderc::pipeline::jit(black_box(&program)).expect("compiles"))
+    });
+    group.finish();
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().warm_up_time(std::time::Duration::from_secs(1)).measurement_time(std::time::Duration::from_secs(3));
+    targets = scan_time, compile_time
+}
+criterion_main!(benches);
