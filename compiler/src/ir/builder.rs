@@ -106,23 +106,7 @@ impl Builder {
     }
 
     fn result_type(&self, inst: &Inst) -> Option<Type> {
-        Some(match inst {
-            Inst::Const { ty, .. } => *ty,
-            Inst::LoadBit { .. }
-            | Inst::LoadSlot { .. }
-            | Inst::LoadBlockActive { .. }
-            | Inst::GetLocal { .. }
-            | Inst::Not { .. }
-            | Inst::And { .. }
-            | Inst::Or { .. }
-            | Inst::Compare { .. } => Type::Bit,
-            Inst::LoadWord { .. } => Type::I16,
-            Inst::LoadWideCounter { .. } => Type::I32,
-            Inst::Binary { a, .. } => self.value_type(*a),
-            Inst::Extend { to, .. } | Inst::Truncate { to, .. } => *to,
-            Inst::Select { if_true, .. } => self.value_type(*if_true),
-            _ => return None,
-        })
+        inst.result_type(|v| self.value_type(v))
     }
 
     // ---- shorthands ----

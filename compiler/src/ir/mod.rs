@@ -219,26 +219,33 @@ pub enum Inst {
 }
 
 impl Inst {
-    /// Has no effect besides its result: may be removed when unused.
+    /// The type of the value the instruction defines, if it defines one;
+    /// `value_type` gives the types of its operands.
+    pub fn result_type(&self, value_type: impl Fn(Value) -> Type) -> Option<Type> {
+        Some(match self {
+            Inst::Const { ty, .. } => *ty,
+            Inst::LoadBit { .. }
+            | Inst::LoadSlot { .. }
+            | Inst::LoadBlockActive { .. }
+            | Inst::GetLocal { .. }
+            | Inst::Not { .. }
+            | Inst::And { .. }
+            | Inst::Or { .. }
+            | Inst::Compare { .. } => Type::Bit,
+            Inst::LoadWord { .. } => Type::I16,
+            Inst::LoadWideCounter { .. } => Type::I32,
+            Inst::Binary { a, .. } => value_type(*a),
+            Inst::Extend { to, .. } | Inst::Truncate { to, .. } => *to,
+            Inst::Select { if_true, .. } => value_type(*if_true),
+            _ => return None,
+        })
+    }
+
+    /// Has no effect besides its result, so it may be removed when unused. In
+    /// this IR that is every instruction that defines a value (loads of the
+    /// image included); instructions with effects define nothing.
     pub fn is_pure(&self) -> bool {
-        matches!(
-            self,
-            Inst::Const { .. }
-                | Inst::LoadBit { .. }
-                | Inst::LoadWord { .. }
-                | Inst::LoadWideCounter { .. }
-                | Inst::LoadSlot { .. }
-                | Inst::LoadBlockActive { .. }
-                | Inst::GetLocal { .. }
-                | Inst::Not { .. }
-                | Inst::And { .. }
-                | Inst::Or { .. }
-                | Inst::Binary { .. }
-                | Inst::Compare { .. }
-                | Inst::Extend { .. }
-                | Inst::Truncate { .. }
-                | Inst::Select { .. }
-        )
+        self.result_type(|_| Type::Bit).is_some()
     }
 
     /// Values the instruction reads.
@@ -323,6 +330,23 @@ pub enum Terminator {
 }
 
 impl Terminator {
+    /// The same terminator with every target passed through `map`.
+    pub fn map_targets(&self, map: impl Fn(BlockId) -> BlockId) -> Terminator {
+        match *self {
+            Terminator::Jump(target) => Terminator::Jump(map(target)),
+            Terminator::Branch {
+                condition,
+                then,
+                otherwise,
+            } => Terminator::Branch {
+                condition,
+                then: map(then),
+                otherwise: map(otherwise),
+            },
+            Terminator::Return => Terminator::Return,
+        }
+    }
+
     pub fn successors(&self) -> Vec<BlockId> {
         match self {
             Terminator::Jump(b) => vec![*b],

@@ -47,19 +47,7 @@ pub fn thread_jumps(function: &mut Function) {
         block
     };
     for block in &mut function.blocks {
-        block.terminator = match block.terminator {
-            Terminator::Jump(target) => Terminator::Jump(resolve(target)),
-            Terminator::Branch {
-                condition,
-                then,
-                otherwise,
-            } => Terminator::Branch {
-                condition,
-                then: resolve(then),
-                otherwise: resolve(otherwise),
-            },
-            Terminator::Return => Terminator::Return,
-        };
+        block.terminator = block.terminator.map_targets(resolve);
     }
     fold_branches(function);
     remove_unreachable(function);
@@ -326,19 +314,7 @@ pub fn remove_unreachable(function: &mut Function) {
         .iter()
         .map(|old| {
             let mut block = old_blocks[old.0 as usize].take().expect("each block once");
-            block.terminator = match block.terminator {
-                Terminator::Jump(target) => Terminator::Jump(map(target)),
-                Terminator::Branch {
-                    condition,
-                    then,
-                    otherwise,
-                } => Terminator::Branch {
-                    condition,
-                    then: map(then),
-                    otherwise: map(otherwise),
-                },
-                Terminator::Return => Terminator::Return,
-            };
+            block.terminator = block.terminator.map_targets(map);
             block
         })
         .collect();
