@@ -79,25 +79,64 @@ fn image_mut<'a>(mem: *mut LadderMemory) -> Option<&'a mut Memory> {
     unsafe { mem.cast::<Memory>().as_mut() }
 }
 
-fn device(kind: u32, number: u32) -> Option<Basic> {
-    let bit = |area| Basic::Bit(area, number);
-    let word = |area| Basic::Word(area, number);
-    Some(match kind {
-        0 => bit(BitArea::X),
-        1 => bit(BitArea::Y),
-        2 => bit(BitArea::M),
-        3 => bit(BitArea::S),
-        4 => bit(BitArea::Sm),
-        5 => bit(BitArea::TimerContact),
-        6 => bit(BitArea::CounterContact),
-        7 => word(WordArea::D),
-        8 => word(WordArea::Sd),
-        9 => word(WordArea::R),
-        10 => word(WordArea::TimerValue),
-        11 if number >= FIRST_WIDE_COUNTER => Basic::WideCounter(number),
-        11 => word(WordArea::CounterValue),
-        _ => return None,
+/// Kind of each bit area, in `LadderDevice` numbering.
+const BIT_KINDS: [(BitArea, LadderDevice); 7] = [
+    (BitArea::X, LadderDevice::X),
+    (BitArea::Y, LadderDevice::Y),
+    (BitArea::M, LadderDevice::M),
+    (BitArea::S, LadderDevice::S),
+    (BitArea::Sm, LadderDevice::Sm),
+    (BitArea::TimerContact, LadderDevice::Ts),
+    (BitArea::CounterContact, LadderDevice::Cs),
+];
+
+/// Kind of each word area.
+const WORD_KINDS: [(WordArea, LadderDevice); 5] = [
+    (WordArea::D, LadderDevice::D),
+    (WordArea::Sd, LadderDevice::Sd),
+    (WordArea::R, LadderDevice::R),
+    (WordArea::TimerValue, LadderDevice::Tn),
+    (WordArea::CounterValue, LadderDevice::Cn),
+];
+
+/// The basic device a C API (kind, number) names.
+pub fn basic_device(kind: u32, number: u32) -> Option<Basic> {
+    if kind == LadderDevice::Cn as u32 && number >= FIRST_WIDE_COUNTER {
+        return Some(Basic::WideCounter(number));
+    }
+    let bit = BIT_KINDS
+        .iter()
+        .find(|(_, k)| *k as u32 == kind)
+        .map(|&(area, _)| Basic::Bit(area, number));
+    bit.or_else(|| {
+        WORD_KINDS
+            .iter()
+            .find(|(_, k)| *k as u32 == kind)
+            .map(|&(area, _)| Basic::Word(area, number))
     })
+}
+
+/// The C API (kind, number) of a basic device: the inverse of `basic_device`.
+pub fn c_device(device: Basic) -> (LadderDevice, u32) {
+    match device {
+        Basic::Bit(area, n) => (
+            BIT_KINDS
+                .iter()
+                .find(|(a, _)| *a == area)
+                .expect("every bit area has a kind")
+                .1,
+            n,
+        ),
+        Basic::Word(area, n) => (
+            WORD_KINDS
+                .iter()
+                .find(|(a, _)| *a == area)
+                .expect("every word area has a kind")
+                .1,
+            n,
+        ),
+        Basic::WideCounter(n) => (LadderDevice::Cn, n),
+    }
 }
 
 /// Initialises a device image in `storage` (all devices OFF/0, no forces,
@@ -144,7 +183,7 @@ pub unsafe extern "C" fn ladder_read(
     number: u32,
     value: *mut i32,
 ) -> LadderStatus {
-    let (Some(mem), Some(device)) = (image(mem), device(kind, number)) else {
+    let (Some(mem), Some(device)) = (image(mem), basic_device(kind, number)) else {
         return LadderStatus::BadArgument;
     };
     // SAFETY: the caller passes null or a writable i32.
@@ -164,7 +203,7 @@ pub unsafe extern "C" fn ladder_read(
 /// input image.
 #[no_mangle]
 pub extern "C" fn ladder_write(mem: *mut LadderMemory, kind: u32, number: u32, value: i32) -> LadderStatus {
-    let (Some(mem), Some(device)) = (image_mut(mem), device(kind, number)) else {
+    let (Some(mem), Some(device)) = (image_mut(mem), basic_device(kind, number)) else {
         return LadderStatus::BadArgument;
     };
     match mem.write_basic(device, value) {
@@ -174,7 +213,7 @@ pub extern "C" fn ladder_write(mem: *mut LadderMemory, kind: u32, number: u32, v
 }
 
 fn force_area(kind: u32) -> Option<BitArea> {
-    match device(kind, 0)? {
+    match basic_device(kind, 0)? {
         Basic::Bit(area, _) => Some(area),
         _ => None,
     }
@@ -264,6 +303,20 @@ pub extern "C" fn ladder_scan_count(mem: *const LadderMemory) -> u32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn device_kinds_round_trip() {
+        for kind in 0..12 {
+            for number in [0, 199, 200, 255] {
+                let Some(device) = basic_device(kind, number) else {
+                    panic!("kind {kind}")
+                };
+                assert_eq!(c_device(device), (c_device(device).0, number));
+                assert_eq!(c_device(device).0 as u32, kind);
+            }
+        }
+        assert_eq!(basic_device(12, 0), None);
+    }
 
     #[test]
     fn init_checks_storage() {

@@ -6,7 +6,7 @@ use crate::host_device::HostDevice;
 use crate::program::CheckedProgram;
 use crate::scenario::{Engine, EngineError};
 use ladder_runtime::host::{read_composite, write_composite, AccessError, Basic, BasicAccess};
-use ladder_runtime::{BitArea, WordArea};
+use ladder_runtime::BitArea;
 use std::io::{BufRead, BufReader, Write};
 use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
 
@@ -84,33 +84,10 @@ impl AotEngine {
     }
 }
 
-/// The C API's device kind of a basic device.
+/// The C API's (kind, number) of a basic device.
 fn kind(device: Basic) -> (u32, u32) {
-    match device {
-        Basic::Bit(area, n) => {
-            let kind = match area {
-                BitArea::X => 0,
-                BitArea::Y => 1,
-                BitArea::M => 2,
-                BitArea::S => 3,
-                BitArea::Sm => 4,
-                BitArea::TimerContact => 5,
-                BitArea::CounterContact => 6,
-            };
-            (kind, n)
-        }
-        Basic::Word(area, n) => {
-            let kind = match area {
-                WordArea::D => 7,
-                WordArea::Sd => 8,
-                WordArea::R => 9,
-                WordArea::TimerValue => 10,
-                WordArea::CounterValue => 11,
-            };
-            (kind, n)
-        }
-        Basic::WideCounter(n) => (11, n),
-    }
+    let (kind, number) = ladder_runtime::capi::c_device(device);
+    (kind as u32, number)
 }
 
 impl BasicAccess for AotEngine {
