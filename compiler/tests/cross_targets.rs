@@ -189,37 +189,27 @@ fn generated_code_runs_under_emulation() {
         let example = d.join("example_host");
         cross_compile(&workspace().join("examples/host/main.c"), &example);
 
+        // Runs a cross-compiled program under qemu; its standard output.
+        let emulate = |program: &Path, args: &[&str]| {
+            let output = Command::new(target.qemu).arg(program).args(args).output().unwrap();
+            assert!(
+                output.status.success(),
+                "{}: {}",
+                target.triple,
+                String::from_utf8_lossy(&output.stderr)
+            );
+            String::from_utf8_lossy(&output.stdout).into_owned()
+        };
+
         // The example host, as a firmware integrator would run it.
-        let output = Command::new(target.qemu)
-            .arg(&example)
-            .args(["60", "10", "X0=1", "X5=1"])
-            .output()
-            .unwrap();
-        assert!(
-            output.status.success(),
-            "{}: {}",
-            target.triple,
-            String::from_utf8_lossy(&output.stderr)
-        );
         assert_eq!(
-            String::from_utf8_lossy(&output.stdout),
+            emulate(&example, &["60", "10", "X0=1", "X5=1"]),
             interpreter_csv(&program, 60, 10, &["X0=1", "X5=1"]),
             "{}: the example host under emulation",
             target.triple
         );
 
-        let output = Command::new(target.qemu)
-            .arg(&host)
-            .arg(SCANS.to_string())
-            .output()
-            .unwrap();
-        assert!(
-            output.status.success(),
-            "{}: {}",
-            target.triple,
-            String::from_utf8_lossy(&output.stderr)
-        );
-        let actual = String::from_utf8_lossy(&output.stdout);
+        let actual = emulate(&host, &[&SCANS.to_string()]);
         let first_difference = expected.lines().zip(actual.lines()).find(|(e, a)| e != a);
         assert!(
             first_difference.is_none() && expected.lines().count() == actual.lines().count(),

@@ -88,16 +88,6 @@ impl Memory {
         }
     }
 
-    /// Removes every force.
-    pub fn unforce_all(&mut self) {
-        for area in BitArea::ALL {
-            if let Some(table) = self.force_table_mut(area) {
-                table.fill(FORCE_NONE);
-            }
-        }
-        self.forced_count = 0;
-    }
-
     /// Step 1: forced X, and forced T/C contacts, before the program runs.
     pub(crate) fn apply_forced_inputs(&mut self) {
         apply(&self.force_x, &mut self.x);

@@ -82,11 +82,6 @@ impl Memory {
         bytemuck::zeroed_box()
     }
 
-    /// Back to the power-on state: all devices, forces and bookkeeping cleared.
-    pub fn reset(&mut self) {
-        bytemuck::bytes_of_mut(self).fill(0);
-    }
-
     pub fn bits(&self, area: BitArea) -> &[u8] {
         match area {
             BitArea::X => &self.x,

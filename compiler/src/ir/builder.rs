@@ -45,10 +45,6 @@ impl Builder {
         self.current = block;
     }
 
-    pub fn current(&self) -> BlockId {
-        self.current
-    }
-
     pub fn value_type(&self, value: Value) -> Type {
         self.func.value_type(value)
     }

@@ -130,24 +130,6 @@ pub enum Class {
     Data(DataOp),
 }
 
-impl Class {
-    /// Instructions that take the rung result and end the contact part of a
-    /// rung: after one of these an LD-type instruction may start a new rung.
-    pub fn is_output(self) -> bool {
-        matches!(
-            self,
-            Class::Out
-                | Class::Set
-                | Class::Reset
-                | Class::Pulse(_)
-                | Class::StateJump
-                | Class::MasterControl
-                | Class::Jump
-                | Class::Data(_)
-        )
-    }
-}
-
 /// What an operand position accepts.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum OperandKind {
@@ -193,15 +175,4 @@ pub struct InstrSpec {
     pub wide: bool,
     /// The pulse (P-suffixed) form: runs once per rising edge of its condition.
     pub pulse: bool,
-}
-
-impl InstrSpec {
-    /// Width in bits of the instruction's word operands.
-    pub fn width_bits(&self) -> u32 {
-        if self.wide {
-            32
-        } else {
-            16
-        }
-    }
 }

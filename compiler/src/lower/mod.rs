@@ -272,18 +272,18 @@ impl<'p> Lowering<'p> {
                 target,
                 count,
                 transfer_from,
-            } => self.when(power, |this| {
+            } => self.when(power, |this, _| {
                 this.write_bits(*target, *count, true, line);
                 if let Some(state) = transfer_from {
                     this.b.effect(Inst::ScheduleStateOff { state: *state });
                 }
             }),
-            Op::Reset { target, count } => self.when(power, |this| this.reset(*target, *count, line)),
+            Op::Reset { target, count } => self.when(power, |this, _| this.reset(*target, *count, line)),
             Op::Pulse { target, sense, slot } => {
                 let pulse = self.edge(*slot, power, *sense == Sense::Falling);
                 self.write_bit(*target, pulse, line);
             }
-            Op::StateJump { state } => self.when(power, |this| {
+            Op::StateJump { state } => self.when(power, |this, _| {
                 let on = this.b.bit(true);
                 this.b.store_bit(BitArea::S, crate::ir::Index::Fixed(*state), on);
             }),
@@ -299,23 +299,16 @@ impl<'p> Lowering<'p> {
                     Some(slot) => self.edge(slot, power, false),
                     None => power,
                 };
-                let after = self.b.create_block();
-                let body = self.b.create_block();
-                self.b.terminate(Terminator::Branch {
-                    condition: run,
-                    then: body,
-                    otherwise: after,
-                });
-                self.b.switch_to(body);
-                self.data(data, line, after);
-                self.b.jump_to(after);
+                // A failed operand check leaves the body early, to `after`.
+                self.when(run, |this, after| this.data(data, line, after));
             }
             other => unreachable!("not an output: {other:?}"),
         }
     }
 
-    /// Runs `then` only while `condition` is ON.
-    fn when(&mut self, condition: Value, then: impl FnOnce(&mut Self)) {
+    /// Runs `then` only while `condition` is ON; `then` gets the block where
+    /// execution continues afterwards.
+    fn when(&mut self, condition: Value, then: impl FnOnce(&mut Self, crate::ir::BlockId)) {
         let body = self.b.create_block();
         let after = self.b.create_block();
         self.b.terminate(Terminator::Branch {
@@ -324,7 +317,7 @@ impl<'p> Lowering<'p> {
             otherwise: after,
         });
         self.b.switch_to(body);
-        then(self);
+        then(self, after);
         self.b.jump_to(after);
     }
 

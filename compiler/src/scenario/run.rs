@@ -46,12 +46,6 @@ pub struct ScenarioOutcome {
     pub details: String,
 }
 
-impl ScenarioOutcome {
-    pub fn passed(&self) -> bool {
-        self.failures.is_empty()
-    }
-}
-
 /// Every `*.scn` under `path` (recursively, sorted), or `path` itself.
 pub fn collect_files(path: &Path) -> std::io::Result<Vec<PathBuf>> {
     if !path.is_dir() {
