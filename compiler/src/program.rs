@@ -3,21 +3,38 @@
 //! target, every STL block its extent. The interpreter executes this list
 //! directly; the IR lowering starts from it.
 
-use crate::isa::{CompareOp, DataOp, Sense};
+use crate::isa::{AppArgs, CompareOp, Sense};
 use crate::source::Span;
-use ladder_runtime::{BitArea, WordArea};
+use ladder_runtime::{BitArea, Width, WordArea};
 
-/// A device number, possibly offset at run time by the value of a D register.
+/// The register whose value modifies a device number at run time: `Dk` in
+/// `DEV[Dk]`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct IndexRegister {
+    pub area: WordArea,
+    pub number: u32,
+}
+
+/// A device number, possibly modified at run time by an index register.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Address {
+    /// The number as written (octal already converted for X/Y).
     pub index: u32,
-    /// `DEV[Dk]`: the register k whose value is added at run time.
-    pub offset: Option<u32>,
+    /// `DEV[Dk]`: the register whose current (signed) value is added.
+    pub index_register: Option<IndexRegister>,
 }
 
 impl Address {
     pub fn fixed(index: u32) -> Address {
-        Address { index, offset: None }
+        Address {
+            index,
+            index_register: None,
+        }
+    }
+
+    /// The number is known at compile time.
+    pub fn is_fixed(self) -> bool {
+        self.index_register.is_none()
     }
 }
 
@@ -52,10 +69,10 @@ pub enum Contact {
     Edge { bit: BitRef, falling: bool, slot: u32 },
     /// ATI (true) / AFI (false).
     Constant(bool),
-    /// `LD= S1 S2` and friends; `wide` for the D forms.
+    /// `LD= S1 S2` and friends; `Width::Double` for the D forms.
     Compare {
         op: CompareOp,
-        wide: bool,
+        width: Width,
         left: WordRef,
         right: WordRef,
     },
@@ -73,12 +90,45 @@ pub enum ResetTarget {
     Word(WordArea, Address),
 }
 
-/// An operand of an application instruction.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum DataOperand {
-    Word(WordRef),
-    /// The first of consecutive bits (CMP/ZCP results).
+/// The start of a run of bits or words, or one end of a device range:
+/// where an operand may be either (ENCO S, DECO D, ZRST d1/d2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Element {
+    /// Bit devices, one bit per unit.
     Bits(BitRef),
+    /// Word devices, 16 bits per unit.
+    Word(WordRef),
+    /// Timers (value and contact), for ZRST.
+    Timer(Address),
+    /// Counters (value and contact), for ZRST.
+    Counter(Address),
+}
+
+/// A checked operand of an application instruction, before it takes the
+/// type of its kind in `AppArgs`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AppOperand {
+    Word(WordRef),
+    Bit(BitRef),
+    Element(Element),
+}
+
+impl From<WordRef> for AppOperand {
+    fn from(word: WordRef) -> Self {
+        AppOperand::Word(word)
+    }
+}
+
+impl From<BitRef> for AppOperand {
+    fn from(bit: BitRef) -> Self {
+        AppOperand::Bit(bit)
+    }
+}
+
+impl From<Element> for AppOperand {
+    fn from(element: Element) -> Self {
+        AppOperand::Element(element)
+    }
 }
 
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -95,9 +145,12 @@ pub enum Op {
     Or(Contact),
     AndBlock,
     OrBlock,
-    Push,
-    Read,
-    Pop,
+    /// MPS.
+    BranchPush,
+    /// MRD.
+    BranchRead,
+    /// MPP.
+    BranchPop,
     Invert,
     /// MEP/MEF: edge of the result so far.
     ResultEdge {
@@ -148,14 +201,59 @@ pub enum Op {
         block: usize,
     },
     StlEnd,
-    Data(DataInstruction),
+    App(AppInstruction),
 }
 
+impl Op {
+    /// The bits the instruction may write at fixed or indexed addresses (the
+    /// first of a run for SET/RST with a count and for bit ranges).
+    pub fn written_bits(&self) -> Vec<BitRef> {
+        match self {
+            Op::Out(bit) | Op::Set { target: bit, .. } | Op::Pulse { target: bit, .. } => vec![*bit],
+            Op::Reset { target, .. } => match target {
+                ResetTarget::Bit(bit) => vec![*bit],
+                ResetTarget::Timer(_) | ResetTarget::Counter(_) | ResetTarget::Word(..) => Vec::new(),
+            },
+            Op::MasterControl { relay, .. } => vec![*relay],
+            Op::StateJump { state } => vec![BitRef::Device(BitArea::S, Address::fixed(*state))],
+            Op::App(app) => app
+                .args
+                .operands()
+                .into_iter()
+                .zip(app.args.op().spec().operands)
+                .filter(|(_, decl)| decl.kind.writes_bits())
+                .filter_map(|(operand, _)| match operand {
+                    AppOperand::Bit(bit) | AppOperand::Element(Element::Bits(bit)) => Some(bit),
+                    AppOperand::Word(_)
+                    | AppOperand::Element(Element::Word(_) | Element::Timer(_) | Element::Counter(_)) => None,
+                })
+                .collect(),
+            Op::Load { .. }
+            | Op::And(_)
+            | Op::Or(_)
+            | Op::AndBlock
+            | Op::OrBlock
+            | Op::BranchPush
+            | Op::BranchRead
+            | Op::BranchPop
+            | Op::Invert
+            | Op::ResultEdge { .. }
+            | Op::OutTimer { .. }
+            | Op::OutCounter { .. }
+            | Op::Jump { .. }
+            | Op::Label
+            | Op::StlBegin { .. }
+            | Op::StlEnd => Vec::new(),
+        }
+    }
+}
+
+/// An application instruction with its checked operands.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub struct DataInstruction {
-    pub op: DataOp,
-    pub wide: bool,
-    pub operands: Vec<DataOperand>,
+pub struct AppInstruction {
+    /// 16-bit (`MOV`) or 32-bit (`DMOV`) form.
+    pub width: Width,
+    pub args: AppArgs,
     /// The P form's previous-scan slot (the condition at its last execution).
     pub pulse_slot: Option<u32>,
 }

@@ -45,7 +45,7 @@ fn operand() -> impl Strategy<Value = String> {
 }
 
 fn line() -> impl Strategy<Value = String> {
-    let mnemonics: Vec<String> = ladderc::isa::mnemonics().map(str::to_string).collect();
+    let mnemonics: Vec<String> = ladderc::isa::mnemonics().into_iter().map(str::to_string).collect();
     let mnemonic = prop_oneof![
         4 => proptest::sample::select(mnemonics),
         1 => "[A-Z]{1,5}",

@@ -95,7 +95,11 @@ pub unsafe extern "C" fn ladder_rt_block_move(
             source,
             destination,
             n,
-            flags & BLOCK_MOVE_WIDE != 0,
+            if flags & BLOCK_MOVE_WIDE != 0 {
+                crate::host::Width::Double
+            } else {
+                crate::host::Width::Single
+            },
             flags & BLOCK_MOVE_FILL != 0,
         );
     }

@@ -23,12 +23,27 @@ pub enum Device {
 }
 
 /// How many bits a host access covers.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Width {
     /// One bit, or one 16-bit word.
     Single,
     /// A 32-bit pair (n+1, n) of words, or a 32-bit device.
     Double,
+}
+
+impl Width {
+    /// 16-bit words in a value of this width.
+    pub const fn words(self) -> u32 {
+        match self {
+            Width::Single => 1,
+            Width::Double => 2,
+        }
+    }
+
+    /// Bits in a word value of this width.
+    pub const fn bits(self) -> u32 {
+        16 * self.words()
+    }
 }
 
 impl Device {

@@ -4,6 +4,7 @@
 //! the same for all of them.
 
 use crate::device::{BitArea, WordArea};
+use crate::host::Width;
 use crate::memory::Memory;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -19,10 +20,10 @@ pub enum Place {
 
 impl Place {
     /// The `unit`-th value from this place (BMOV/FMOV walk their operands).
-    pub fn nth(self, unit: u32, wide: bool) -> Place {
+    pub fn nth(self, unit: u32, width: Width) -> Place {
         match self {
             Place::Constant(_) => self,
-            Place::Word(area, index) => Place::Word(area, index + unit * if wide { 2 } else { 1 }),
+            Place::Word(area, index) => Place::Word(area, index + unit * width.words()),
             Place::WideCounter(index) => Place::WideCounter(index + unit),
             Place::Digits(area, start, digits) => Place::Digits(area, start + unit * 4 * u32::from(digits), digits),
         }
@@ -31,18 +32,17 @@ impl Place {
     /// The value at the instruction's width: 16-bit words sign-extended,
     /// digit groups narrower than the width zero-extended. A place outside
     /// the image reads 0.
-    pub fn read(self, mem: &Memory, wide: bool) -> i32 {
-        match self {
-            Place::Constant(value) => value,
-            Place::Word(area, index) if wide => mem.word_pair(area, index).unwrap_or(0),
-            Place::Word(area, index) => mem.word(area, index).map_or(0, i32::from),
-            Place::WideCounter(index) => mem.wide_counter(index).unwrap_or(0),
-            Place::Digits(area, start, digits) => {
+    pub fn read(self, mem: &Memory, width: Width) -> i32 {
+        match (self, width) {
+            (Place::Constant(value), _) => value,
+            (Place::Word(area, index), Width::Double) => mem.word_pair(area, index).unwrap_or(0),
+            (Place::Word(area, index), Width::Single) => mem.word(area, index).map_or(0, i32::from),
+            (Place::WideCounter(index), _) => mem.wide_counter(index).unwrap_or(0),
+            (Place::Digits(area, start, digits), _) => {
                 let bits = mem.digits(area, start, u32::from(digits)).unwrap_or(0);
-                if wide {
-                    bits
-                } else {
-                    i32::from(bits as i16)
+                match width {
+                    Width::Double => bits,
+                    Width::Single => i32::from(bits as i16),
                 }
             }
         }
@@ -50,19 +50,19 @@ impl Place {
 
     /// Writes the low bits of `value` that the place holds. A place outside
     /// the image is not written.
-    pub fn write(self, mem: &mut Memory, wide: bool, value: i64) {
-        match self {
-            Place::Constant(_) => {}
-            Place::Word(area, index) if wide => {
+    pub fn write(self, mem: &mut Memory, width: Width, value: i64) {
+        match (self, width) {
+            (Place::Constant(_), _) => {}
+            (Place::Word(area, index), Width::Double) => {
                 mem.set_word_pair(area, index, value as i32);
             }
-            Place::Word(area, index) => {
+            (Place::Word(area, index), Width::Single) => {
                 mem.set_word(area, index, value as i16);
             }
-            Place::WideCounter(index) => {
+            (Place::WideCounter(index), _) => {
                 mem.set_wide_counter(index, value as i32);
             }
-            Place::Digits(area, start, digits) => {
+            (Place::Digits(area, start, digits), _) => {
                 mem.set_digits(area, start, u32::from(digits), value as i32);
             }
         }
@@ -107,14 +107,16 @@ impl Memory {
     /// BMOV (`fill` false) or FMOV (`fill` true) of `n` units, after the
     /// caller checked that both places hold `n` units. Overlapping blocks move
     /// as a whole; nothing is allocated.
-    pub fn block_move(&mut self, source: Place, destination: Place, n: u32, wide: bool, fill: bool) {
+    pub fn block_move(&mut self, source: Place, destination: Place, n: u32, width: Width, fill: bool) {
         let n = n.min(MAX_BLOCK_UNITS);
         let mut values = [0i32; MAX_BLOCK_UNITS as usize];
         for (unit, value) in values.iter_mut().enumerate().take(n as usize) {
-            *value = source.nth(if fill { 0 } else { unit as u32 }, wide).read(self, wide);
+            *value = source.nth(if fill { 0 } else { unit as u32 }, width).read(self, width);
         }
         for (unit, value) in values.iter().enumerate().take(n as usize) {
-            destination.nth(unit as u32, wide).write(self, wide, i64::from(*value));
+            destination
+                .nth(unit as u32, width)
+                .write(self, width, i64::from(*value));
         }
     }
 }
@@ -146,11 +148,17 @@ mod tests {
             Place::Word(WordArea::D, 0),
             Place::Word(WordArea::D, 1),
             3,
-            false,
+            Width::Single,
             false,
         );
         assert_eq!(&mem.d[..4], &[1, 1, 2, 3]);
-        mem.block_move(Place::Constant(7), Place::Digits(BitArea::M, 0, 1), 2, false, true);
+        mem.block_move(
+            Place::Constant(7),
+            Place::Digits(BitArea::M, 0, 1),
+            2,
+            Width::Single,
+            true,
+        );
         assert_eq!(mem.digits(BitArea::M, 0, 2), Some(0x77));
     }
 }

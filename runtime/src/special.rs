@@ -1,5 +1,56 @@
 //! Special relays, special registers and operation-error codes with fixed meaning.
 
+use crate::device::BitArea;
+
+/// A special relay with a fixed meaning: an instruction flag or a mode bit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct SpecialBit {
+    pub area: BitArea,
+    pub number: u32,
+}
+
+impl SpecialBit {
+    const fn m(number: u32) -> SpecialBit {
+        SpecialBit {
+            area: BitArea::M,
+            number,
+        }
+    }
+
+    const fn sm(number: u32) -> SpecialBit {
+        SpecialBit {
+            area: BitArea::Sm,
+            number,
+        }
+    }
+
+    /// How a programmer writes it (`M8020`, `SM152`).
+    pub fn name(self) -> String {
+        self.area.device_name(self.number)
+    }
+}
+
+/// M8020: the latest ADD/SUB gave 0.
+pub const ZERO_FLAG: SpecialBit = SpecialBit::m(M_ZERO);
+/// M8021: the latest ADD/SUB went below the smallest value.
+pub const BORROW_FLAG: SpecialBit = SpecialBit::m(M_BORROW);
+/// M8022: the latest ADD/SUB went above the largest value.
+pub const CARRY_FLAG: SpecialBit = SpecialBit::m(M_CARRY);
+/// SM152: SQR/DSQR dropped a fraction.
+pub const SM_BORROW_FLAG: SpecialBit = SpecialBit::sm(152);
+/// SM153: the result of SQR/DSQR, or the source of SUM/DSUM, is 0.
+pub const SM_ZERO_FLAG: SpecialBit = SpecialBit::sm(153);
+/// SM161: BCC and CRC work on the low byte of each word only (8-bit mode).
+pub const SM_EIGHT_BIT_MODE: SpecialBit = SpecialBit::sm(161);
+/// SM165: SORT2/DSORT2 sort in descending order.
+pub const SM_DESCENDING: SpecialBit = SpecialBit::sm(165);
+/// SM229: a SORT/SORT2/DSORT2 has completed.
+pub const SM_SORT_DONE: SpecialBit = SpecialBit::sm(229);
+/// SM248: some alarm state S900-S999 is ON (while SM249 is ON).
+pub const SM_ALARM_ACTIVE: SpecialBit = SpecialBit::sm(248);
+/// SM249: alarm monitoring enabled (SM248 and SD249 follow S900-S999).
+pub const SM_ALARM_MONITOR: SpecialBit = SpecialBit::sm(249);
+
 /// SM0: always ON while running.
 pub const SM_ALWAYS_ON: u32 = 0;
 /// SM1: always OFF.

@@ -2,7 +2,7 @@
 //! that the runtime rewrites every scan.
 
 use crate::diagnostics::{Code, Diagnostic, Diagnostics};
-use crate::program::{BitRef, Op, ResetTarget};
+use crate::program::{BitRef, Op};
 use crate::source::Span;
 use ladder_runtime::special::{is_system_m, is_system_sm};
 use ladder_runtime::BitArea;
@@ -26,10 +26,29 @@ impl Lints {
     /// Looks at one emitted instruction.
     pub fn observe(&mut self, op: &Op, span: Span, in_stl_block: bool) {
         let coil = match op {
-            Op::Out(bit) if is_fixed(bit) => Some(CoilKey::Bit(*bit)),
+            Op::Out(bit) => is_fixed(bit).then_some(CoilKey::Bit(*bit)),
             Op::OutTimer { timer, .. } => Some(CoilKey::Timer(*timer)),
             Op::OutCounter { counter, .. } => Some(CoilKey::Counter(*counter)),
-            _ => None,
+            Op::Load { .. }
+            | Op::And(_)
+            | Op::Or(_)
+            | Op::AndBlock
+            | Op::OrBlock
+            | Op::BranchPush
+            | Op::BranchRead
+            | Op::BranchPop
+            | Op::Invert
+            | Op::ResultEdge { .. }
+            | Op::Set { .. }
+            | Op::Reset { .. }
+            | Op::Pulse { .. }
+            | Op::StateJump { .. }
+            | Op::MasterControl { .. }
+            | Op::Jump { .. }
+            | Op::Label
+            | Op::StlBegin { .. }
+            | Op::StlEnd
+            | Op::App(_) => None,
         };
         if let (Some(key), false) = (coil, in_stl_block) {
             match self.first_coil.get(&key) {
@@ -43,22 +62,16 @@ impl Lints {
                 }
             }
         }
-        let written = match op {
-            Op::Out(bit) | Op::Set { target: bit, .. } | Op::Pulse { target: bit, .. } => Some(bit),
-            Op::Reset {
-                target: ResetTarget::Bit(bit),
-                ..
-            } => Some(bit),
-            Op::MasterControl { relay, .. } => Some(relay),
-            _ => None,
-        };
-        if let Some(BitRef::Device(area, address)) = written {
+        for bit in op.written_bits() {
+            let BitRef::Device(area, address) = bit else {
+                continue;
+            };
             let system = match area {
                 BitArea::M => is_system_m(address.index),
                 BitArea::Sm => is_system_sm(address.index),
-                _ => false,
+                BitArea::X | BitArea::Y | BitArea::S | BitArea::TimerContact | BitArea::CounterContact => false,
             };
-            if system && address.offset.is_none() {
+            if system && address.is_fixed() {
                 self.findings.push(
                     Diagnostic::new(
                         Code::SystemRelayWrite,
@@ -83,6 +96,6 @@ impl Lints {
 
 fn is_fixed(bit: &BitRef) -> bool {
     match bit {
-        BitRef::Device(_, address) | BitRef::WordBit(_, address, _) => address.offset.is_none(),
+        BitRef::Device(_, address) | BitRef::WordBit(_, address, _) => address.is_fixed(),
     }
 }

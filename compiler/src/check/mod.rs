@@ -4,19 +4,20 @@
 //! independent error in one run. An instruction whose operands are bad still
 //! takes part in the rung structure, so one typo gives one error.
 
+mod app;
 mod blocks;
 mod lints;
 pub mod operands;
 mod rung;
 
 use crate::diagnostics::{Code, Diagnostic, Diagnostics};
-use crate::isa::{self, Class, InstrSpec, OperandKind, Role, Sense};
+use crate::isa::{self, AppArgs, AppForm, BitClass, BitSpec, Mnemonic, Role, Sense};
 use crate::program::*;
 use crate::source::{SourceFile, Span};
 use crate::syntax::{self, InstructionSyntax, ParsedProgram, Statement, StatementKind};
 use blocks::{BlockTracker, PendingJump};
 use ladder_runtime::device::EDGE_SLOT_COUNT;
-use ladder_runtime::BitArea;
+use ladder_runtime::{BitArea, Width};
 use operands::{Coil, Resolved};
 use rung::RungTracker;
 use std::collections::HashMap;
@@ -101,7 +102,8 @@ impl Checker {
         match &statement.kind {
             StatementKind::Label { number } => self.label(*number, position, &site),
             StatementKind::Instruction(syntax) => match isa::lookup(&syntax.mnemonic) {
-                Some(spec) => self.instruction(spec, syntax, position, &site),
+                Some(Mnemonic::Bit(spec)) => self.instruction(spec, syntax, position, &site),
+                Some(Mnemonic::App(form)) => self.app(form, syntax, &site),
                 None => {
                     self.report(
                         Diagnostic::new(
@@ -150,10 +152,28 @@ impl Checker {
                     block.reset_outputs.push(index);
                     block.reset_slots.push(*slot);
                 }
-                Op::Data(DataInstruction {
+                Op::App(AppInstruction {
                     pulse_slot: Some(slot), ..
                 }) => block.reset_slots.push(*slot),
-                _ => {}
+                Op::Load { .. }
+                | Op::And(_)
+                | Op::Or(_)
+                | Op::AndBlock
+                | Op::OrBlock
+                | Op::BranchPush
+                | Op::BranchRead
+                | Op::BranchPop
+                | Op::Invert
+                | Op::ResultEdge { .. }
+                | Op::Set { .. }
+                | Op::Reset { .. }
+                | Op::StateJump { .. }
+                | Op::MasterControl { .. }
+                | Op::Jump { .. }
+                | Op::Label
+                | Op::StlBegin { .. }
+                | Op::StlEnd
+                | Op::App(_) => {}
             }
         }
         self.lints.observe(&op, site.span, in_block.is_some());
@@ -178,14 +198,23 @@ impl Checker {
         slot.min(EDGE_SLOT_COUNT - 1)
     }
 
-    fn instruction(&mut self, spec: &'static InstrSpec, syntax: &InstructionSyntax, position: usize, site: &Site) {
+    /// The operands when there are `required..=most` of them and all could
+    /// be read; otherwise reports a wrong count and gives None (the
+    /// instruction still shapes the rung).
+    fn counted_operands<'s>(
+        &mut self,
+        syntax: &'s InstructionSyntax,
+        required: usize,
+        most: usize,
+        site: &Site,
+    ) -> Option<&'s [syntax::Operand]> {
         let count = syntax.operands.len();
-        let counts_ok = (spec.required..=spec.operands.len()).contains(&count);
+        let counts_ok = (required..=most).contains(&count);
         if !counts_ok && !syntax.malformed {
-            let expected = if spec.required == spec.operands.len() {
-                format!("{}", spec.required)
+            let expected = if required == most {
+                format!("{required}")
             } else {
-                format!("{} to {}", spec.required, spec.operands.len())
+                format!("{required} to {most}")
             };
             self.report(
                 Diagnostic::new(
@@ -200,16 +229,15 @@ impl Checker {
                 .with_label("wrong number of operands"),
             );
         }
-        // With bad operands the instruction still shapes the rung.
-        let operands = if counts_ok && !syntax.malformed {
-            Some(syntax.operands.as_slice())
-        } else {
-            None
-        };
+        (counts_ok && !syntax.malformed).then_some(syntax.operands.as_slice())
+    }
+
+    fn instruction(&mut self, spec: &'static BitSpec, syntax: &InstructionSyntax, position: usize, site: &Site) {
+        let operands = self.counted_operands(syntax, spec.required, spec.most, site);
         let span = site.span;
         match spec.class {
-            Class::Contact(role, sense) => self.contact(role, sense, operands, site),
-            Class::AliasContact(sense) => {
+            BitClass::Contact(role, sense) => self.contact(role, sense, operands, site),
+            BitClass::AliasContact(sense) => {
                 let role = if self.rung.at_rung_start() {
                     Role::Load
                 } else {
@@ -217,7 +245,7 @@ impl Checker {
                 };
                 self.contact(role, sense, operands, site);
             }
-            Class::AliasConstant(value) => {
+            BitClass::AliasConstant(value) => {
                 let role = if self.rung.at_rung_start() {
                     Role::Load
                 } else {
@@ -229,42 +257,42 @@ impl Checker {
                 }
                 self.emit_contact(role, new_rung, Contact::Constant(value), site);
             }
-            Class::Compare(role, op) => {
+            BitClass::Compare(role, op) => {
                 let new_rung = self.structure_contact(role, span);
-                let wide = spec.wide;
+                let width = spec.width;
                 if let Some([left, right]) = operands {
-                    let left = self.ok(operands::word_source(left, wide));
-                    let right = self.ok(operands::word_source(right, wide));
+                    let left = self.ok(operands::word_source(left, width));
+                    let right = self.ok(operands::word_source(right, width));
                     if let (Some(left), Some(right)) = (left, right) {
-                        self.emit_contact(role, new_rung, Contact::Compare { op, wide, left, right }, site);
+                        self.emit_contact(role, new_rung, Contact::Compare { op, width, left, right }, site);
                     }
                 }
             }
-            Class::BlockAnd | Class::BlockOr => {
+            BitClass::BlockAnd => {
                 self.rung.combine(span, &mut self.diagnostics);
-                self.emit(
-                    if spec.class == Class::BlockAnd {
-                        Op::AndBlock
-                    } else {
-                        Op::OrBlock
-                    },
-                    site,
-                );
+                self.emit(Op::AndBlock, site);
             }
-            Class::Push => {
+            BitClass::BlockOr => {
+                self.rung.combine(span, &mut self.diagnostics);
+                self.emit(Op::OrBlock, site);
+            }
+            BitClass::BranchPush => {
                 self.rung.push(span, &mut self.diagnostics);
-                self.emit(Op::Push, site);
+                self.emit(Op::BranchPush, site);
             }
-            Class::Read | Class::Pop => {
-                let pop = spec.class == Class::Pop;
-                self.rung.read(span, pop, &mut self.diagnostics);
-                self.emit(if pop { Op::Pop } else { Op::Read }, site);
+            BitClass::BranchRead => {
+                self.rung.read(span, false, &mut self.diagnostics);
+                self.emit(Op::BranchRead, site);
             }
-            Class::Invert => {
+            BitClass::BranchPop => {
+                self.rung.read(span, true, &mut self.diagnostics);
+                self.emit(Op::BranchPop, site);
+            }
+            BitClass::Invert => {
                 self.rung.series(span, &mut self.diagnostics);
                 self.emit(Op::Invert, site);
             }
-            Class::ResultEdge(sense) => {
+            BitClass::ResultEdge(sense) => {
                 self.rung.series(span, &mut self.diagnostics);
                 let slot = self.slot(span);
                 self.emit(
@@ -275,25 +303,25 @@ impl Checker {
                     site,
                 );
             }
-            Class::Out => {
+            BitClass::Out => {
                 self.rung.output(span, &mut self.diagnostics);
                 if let Some(operands) = operands {
                     self.out(operands, site);
                 }
             }
-            Class::Set => {
+            BitClass::Set => {
                 self.rung.output(span, &mut self.diagnostics);
                 if let Some(operands) = operands {
                     self.set(operands, site);
                 }
             }
-            Class::Reset => {
+            BitClass::Reset => {
                 self.rung.output(span, &mut self.diagnostics);
                 if let Some(operands) = operands {
                     self.reset(operands, site);
                 }
             }
-            Class::Pulse(sense) => {
+            BitClass::Pulse(sense) => {
                 self.rung.output(span, &mut self.diagnostics);
                 if let Some([target]) = operands {
                     if let Some(target) = self.ok(operands::bit_target(target)) {
@@ -302,7 +330,7 @@ impl Checker {
                     }
                 }
             }
-            Class::StateJump => {
+            BitClass::StateJump => {
                 self.rung.output(span, &mut self.diagnostics);
                 if let Some([state]) = operands {
                     if let Some(state) = self.ok(operands::state(state)) {
@@ -310,7 +338,7 @@ impl Checker {
                     }
                 }
             }
-            Class::MasterControl => {
+            BitClass::MasterControl => {
                 self.rung.output(span, &mut self.diagnostics);
                 if let Some([level, relay]) = operands {
                     let level = self.ok(operands::nest_level(level));
@@ -323,7 +351,7 @@ impl Checker {
                     }
                 }
             }
-            Class::MasterControlReset => {
+            BitClass::MasterControlReset => {
                 self.rung.close(span, &mut self.diagnostics);
                 if let Some([level]) = operands {
                     if let Some(level) = self.ok(operands::nest_level(level)) {
@@ -331,7 +359,7 @@ impl Checker {
                     }
                 }
             }
-            Class::Jump => {
+            BitClass::Jump => {
                 self.rung.output(span, &mut self.diagnostics);
                 if let Some([label]) = operands {
                     if let Some(label) = self.ok(operands::label(label)) {
@@ -348,9 +376,12 @@ impl Checker {
                     }
                 }
             }
-            Class::Stl => {
+            BitClass::Stl => {
                 self.rung.close(span, &mut self.diagnostics);
-                let state = operands.and_then(|ops| self.ok(operands::state(&ops[0])));
+                let state = match operands {
+                    Some([state]) => self.ok(operands::state(state)),
+                    _ => None,
+                };
                 let id = self.blocks.stl(state, span, &mut self.diagnostics);
                 let begin = self.instructions.len();
                 if self
@@ -372,7 +403,7 @@ impl Checker {
                     });
                 }
             }
-            Class::StlEnd => {
+            BitClass::StlEnd => {
                 self.rung.close(span, &mut self.diagnostics);
                 let end = self.instructions.len();
                 let closed = self
@@ -386,19 +417,41 @@ impl Checker {
                     }
                 }
             }
-            Class::Network | Class::RungEnd => self.rung.close(span, &mut self.diagnostics),
-            Class::End => {
+            BitClass::Network | BitClass::RungEnd => self.rung.close(span, &mut self.diagnostics),
+            BitClass::End => {
                 self.rung.close(span, &mut self.diagnostics);
                 self.blocks.close(&mut self.diagnostics);
                 self.ended = true;
             }
-            Class::Data(op) => {
-                self.rung.output(span, &mut self.diagnostics);
-                if let Some(operands) = operands {
-                    self.data(spec, op, operands, site);
-                }
-            }
         }
+    }
+
+    /// An application instruction: it takes the rung result like an output.
+    fn app(&mut self, form: AppForm, syntax: &InstructionSyntax, site: &Site) {
+        self.rung.output(site.span, &mut self.diagnostics);
+        let spec = form.op.spec();
+        let count = spec.operands.len();
+        let Some(operands) = self.counted_operands(syntax, count, count, site) else {
+            return;
+        };
+        let mut resolver = app::AppResolver {
+            mnemonic: &syntax.mnemonic,
+            operands: operands.iter(),
+            width: form.width,
+            diagnostics: &mut self.diagnostics,
+        };
+        let Some(args) = AppArgs::resolve(form.op, &mut resolver) else {
+            return;
+        };
+        let pulse_slot = form.pulse.then(|| self.slot(site.span));
+        self.emit(
+            Op::App(AppInstruction {
+                width: form.width,
+                args,
+                pulse_slot,
+            }),
+            site,
+        );
     }
 
     /// Feeds a contact to the rung tracker; returns true when it starts a rung.
@@ -448,10 +501,13 @@ impl Checker {
     }
 
     fn out(&mut self, operands: &[syntax::Operand], site: &Site) {
-        let Some(coil) = self.ok(operands::coil(&operands[0])) else {
+        let Some((coil, preset)) = operands.split_first() else {
             return;
         };
-        let preset = operands.get(1);
+        let Some(coil) = self.ok(operands::coil(coil)) else {
+            return;
+        };
+        let preset = preset.first();
         let op = match (coil, preset) {
             (Coil::Bit(target), None) => Op::Out(target),
             (Coil::Bit(_), Some(extra)) => {
@@ -473,14 +529,18 @@ impl Checker {
                 return;
             }
             (Coil::Timer(timer), Some(preset)) => {
-                let Some(preset) = self.ok(operands::preset(preset, false)) else {
+                let Some(preset) = self.ok(operands::preset(preset, Width::Single)) else {
                     return;
                 };
                 Op::OutTimer { timer, preset }
             }
             (Coil::Counter(counter), Some(preset)) => {
-                let wide = ladder_runtime::device::is_wide_counter(counter);
-                let Some(preset) = self.ok(operands::preset(preset, wide)) else {
+                let width = if ladder_runtime::device::is_wide_counter(counter) {
+                    Width::Double
+                } else {
+                    Width::Single
+                };
+                let Some(preset) = self.ok(operands::preset(preset, width)) else {
                     return;
                 };
                 Op::OutCounter { counter, preset }
@@ -497,7 +557,10 @@ impl Checker {
     }
 
     fn set(&mut self, operands: &[syntax::Operand], site: &Site) {
-        let Some(target) = self.ok(operands::bit_target(&operands[0])) else {
+        let Some(first) = operands.first() else {
+            return;
+        };
+        let Some(target) = self.ok(operands::bit_target(first)) else {
             return;
         };
         let Some(count) = self.counted_bits(target, operands) else {
@@ -505,8 +568,7 @@ impl Checker {
         };
         let transfer_from = match (self.blocks.current_state(), target) {
             (Some(source), BitRef::Device(BitArea::S, address)) => {
-                let covers_source =
-                    address.offset.is_none() && (address.index..address.index + count).contains(&source);
+                let covers_source = address.is_fixed() && (address.index..address.index + count).contains(&source);
                 (!covers_source).then_some(source)
             }
             _ => None,
@@ -540,7 +602,9 @@ impl Checker {
 
     fn reset(&mut self, operands: &[syntax::Operand], site: &Site) {
         use syntax::{OperandSyntax, Prefix};
-        let first = &operands[0];
+        let Some(first) = operands.first() else {
+            return;
+        };
         let target = match &first.syntax {
             OperandSyntax::Device(d) if d.digits.is_none() && d.bit.is_none() => match d.prefix {
                 Prefix::T | Prefix::Ts | Prefix::C | Prefix::Cs => {
@@ -571,7 +635,8 @@ impl Checker {
                     return;
                 }
                 Prefix::D | Prefix::Sd | Prefix::R => {
-                    let Some(WordRef::Word(area, address)) = self.ok(operands::word_destination(first, false, 1))
+                    let Some(WordRef::Word(area, address)) =
+                        self.ok(operands::word_destination(first, Width::Single, 1))
                     else {
                         return;
                     };
@@ -600,39 +665,6 @@ impl Checker {
                 target: ResetTarget::Bit(target),
                 count,
             },
-            site,
-        );
-    }
-
-    fn data(&mut self, spec: &InstrSpec, op: isa::DataOp, operands: &[syntax::Operand], site: &Site) {
-        let wide = spec.wide;
-        let resolved: Vec<Option<DataOperand>> = spec
-            .operands
-            .iter()
-            .zip(operands)
-            .map(|(kind, operand)| {
-                let result = match kind {
-                    OperandKind::Source => operands::word_source(operand, wide).map(DataOperand::Word),
-                    OperandKind::Destination => operands::word_destination(operand, wide, 1).map(DataOperand::Word),
-                    OperandKind::WideDestination => operands::word_destination(operand, wide, 2).map(DataOperand::Word),
-                    OperandKind::BitTriple => operands::bit_triple(operand).map(DataOperand::Bits),
-                    OperandKind::WordCount => operands::word_count(operand).map(DataOperand::Word),
-                    other => unreachable!("data instructions do not take {other:?}"),
-                };
-                self.ok(result)
-            })
-            .collect();
-        let Some(operands) = resolved.into_iter().collect::<Option<Vec<_>>>() else {
-            return;
-        };
-        let pulse_slot = spec.pulse.then(|| self.slot(site.span));
-        self.emit(
-            Op::Data(DataInstruction {
-                op,
-                wide,
-                operands,
-                pulse_slot,
-            }),
             site,
         );
     }

@@ -2,10 +2,10 @@
 //! accepts, to the devices of the runtime's areas.
 
 use crate::diagnostics::{Code, Diagnostic};
-use crate::program::{Address, BitRef, WordRef};
+use crate::program::{Address, BitRef, Element, IndexRegister, WordRef};
 use crate::syntax::{Constant, DeviceSyntax, Operand, OperandSyntax, Prefix};
 use ladder_runtime::device::{FIRST_WIDE_COUNTER, TIMER_COUNT};
-use ladder_runtime::{BitArea, WordArea};
+use ladder_runtime::{BitArea, Width, WordArea};
 
 pub type Resolved<T> = Result<T, Diagnostic>;
 
@@ -96,11 +96,14 @@ fn area_text_words(area: WordArea) -> String {
     )
 }
 
-/// The offset register must be a D in range.
-fn offset(d: &DeviceSyntax) -> Resolved<Option<u32>> {
+/// The index register must be a D in range.
+fn index_register(d: &DeviceSyntax) -> Resolved<Option<IndexRegister>> {
     match d.offset {
         None => Ok(None),
-        Some(o) if o.register < WordArea::D.count() => Ok(Some(o.register)),
+        Some(o) if o.register < WordArea::D.count() => Ok(Some(IndexRegister {
+            area: WordArea::D,
+            number: o.register,
+        })),
         Some(o) => Err(Diagnostic::new(
             Code::DeviceRange,
             o.span,
@@ -129,7 +132,7 @@ pub fn bit_source(operand: &Operand) -> Resolved<BitRef> {
     }
     let address = Address {
         index: d.number,
-        offset: offset(d)?,
+        index_register: index_register(d)?,
     };
     if let Some(bit) = d.bit {
         check_extent(
@@ -224,11 +227,11 @@ pub fn coil(operand: &Operand) -> Resolved<Coil> {
 
 /// The preset of `OUT Tn`/`OUT Cn`: a K constant or a D register (a pair for
 /// the 32-bit counters).
-pub fn preset(operand: &Operand, wide: bool) -> Resolved<WordRef> {
+pub fn preset(operand: &Operand, width: Width) -> Resolved<WordRef> {
     match &operand.syntax {
         OperandSyntax::Constant(c) => {
-            let value = constant(operand, c, wide)?;
-            if !wide && value < 0 {
+            let value = constant(operand, c, width)?;
+            if width == Width::Single && value < 0 {
                 return Err(
                     Diagnostic::new(Code::ConstantRange, operand.span, "a preset cannot be negative")
                         .with_label("presets are K0..K32767"),
@@ -243,7 +246,7 @@ pub fn preset(operand: &Operand, wide: bool) -> Resolved<WordRef> {
                 operand,
                 &text_of(d),
                 d.number,
-                if wide { 2 } else { 1 },
+                width.words(),
                 WordArea::D.count(),
                 &area_text_words(WordArea::D),
             )?;
@@ -258,30 +261,28 @@ pub fn preset(operand: &Operand, wide: bool) -> Resolved<WordRef> {
 }
 
 /// A constant at the instruction's width: K must fit signed, H unsigned.
-pub fn constant(operand: &Operand, c: &Constant, wide: bool) -> Resolved<i32> {
-    let fits = match (wide, c.hex) {
-        (false, false) => (-32768..=32767).contains(&c.value),
-        (false, true) => (0..=0xFFFF).contains(&c.value),
-        (true, false) => (i64::from(i32::MIN)..=i64::from(i32::MAX)).contains(&c.value),
-        (true, true) => (0..=0xFFFF_FFFF).contains(&c.value),
+pub fn constant(operand: &Operand, c: &Constant, width: Width) -> Resolved<i32> {
+    let fits = match (width, c.hex) {
+        (Width::Single, false) => (-32768..=32767).contains(&c.value),
+        (Width::Single, true) => (0..=0xFFFF).contains(&c.value),
+        (Width::Double, false) => (i64::from(i32::MIN)..=i64::from(i32::MAX)).contains(&c.value),
+        (Width::Double, true) => (0..=0xFFFF_FFFF).contains(&c.value),
     };
     if !fits {
-        let range = if wide {
-            "K-2147483648..K2147483647 or H0..HFFFFFFFF"
-        } else {
-            "K-32768..K32767 or H0..HFFFF"
+        let range = match width {
+            Width::Double => "K-2147483648..K2147483647 or H0..HFFFFFFFF",
+            Width::Single => "K-32768..K32767 or H0..HFFFF",
         };
         return Err(Diagnostic::new(
             Code::ConstantRange,
             operand.span,
             "constant out of range for this instruction",
         )
-        .with_label(format!("{}-bit operands take {range}", if wide { 32 } else { 16 })));
+        .with_label(format!("{}-bit operands take {range}", width.bits())));
     }
-    Ok(if wide {
-        c.value as u32 as i32
-    } else {
-        i32::from(c.value as u16 as i16)
+    Ok(match width {
+        Width::Double => c.value as u32 as i32,
+        Width::Single => i32::from(c.value as u16 as i16),
     })
 }
 
@@ -349,24 +350,36 @@ pub fn label(operand: &Operand) -> Resolved<u32> {
     numbered(operand, Prefix::P, LAST_LABEL, "label")
 }
 
-/// A word the instruction reads, `units` words wide at 16 bits (doubled at 32).
-pub fn word_source(operand: &Operand, wide: bool) -> Resolved<WordRef> {
+/// A value the instruction reads at `width`: a constant or a word device.
+pub fn word_source(operand: &Operand, width: Width) -> Resolved<WordRef> {
     match &operand.syntax {
-        OperandSyntax::Constant(c) => Ok(WordRef::Constant(constant(operand, c, wide)?)),
-        OperandSyntax::Device(_) => word_device(operand, wide, 1),
+        OperandSyntax::Constant(c) => Ok(WordRef::Constant(constant(operand, c, width)?)),
+        OperandSyntax::Device(d) => word_device(operand, d, width, 1),
+    }
+}
+
+/// A word device the instruction reads (no constant): the start of a block.
+pub fn word_device_source(operand: &Operand, width: Width) -> Resolved<WordRef> {
+    match &operand.syntax {
+        OperandSyntax::Constant(_) => Err(kind_error(
+            operand,
+            "this operand is a device, not a constant",
+            "constant here",
+        )),
+        OperandSyntax::Device(d) => word_device(operand, d, width, 1),
     }
 }
 
 /// A word the instruction writes; `multiple` = 2 for MUL/DIV results.
-pub fn word_destination(operand: &Operand, wide: bool, multiple: u32) -> Resolved<WordRef> {
-    if let OperandSyntax::Constant(_) = operand.syntax {
+pub fn word_destination(operand: &Operand, width: Width, multiple: u32) -> Resolved<WordRef> {
+    let OperandSyntax::Device(d) = &operand.syntax else {
         return Err(kind_error(
             operand,
             "a constant cannot be a destination",
             "constant as destination",
         ));
-    }
-    let word = word_device(operand, wide, multiple)?;
+    };
+    let word = word_device(operand, d, width, multiple)?;
     if let WordRef::Digits(BitArea::X, ..) = word {
         return Err(kind_error(
             operand,
@@ -389,23 +402,23 @@ pub fn word_destination(operand: &Operand, wide: bool, multiple: u32) -> Resolve
     Ok(word)
 }
 
-fn word_device(operand: &Operand, wide: bool, multiple: u32) -> Resolved<WordRef> {
-    let d = device(operand).expect("constants handled by callers");
+fn word_device(operand: &Operand, d: &DeviceSyntax, width: Width, multiple: u32) -> Resolved<WordRef> {
     let address = Address {
         index: d.number,
-        offset: offset(d)?,
+        index_register: index_register(d)?,
     };
     let name = text_of(d);
-    let words = if wide { 2 * multiple } else { multiple };
+    let wide = width == Width::Double;
+    let words = width.words() * multiple;
     if let Some(n) = d.digits {
-        let limit = if wide { 8 } else { 4 };
+        let limit = 4 * width.words();
         if u32::from(n) > limit {
             return Err(kind_error(
                 operand,
                 format!(
-                    "K{n}{name} has {} bits; this instruction takes {} bits",
+                    "K{n}{name} has {} bits; this operand is {} bits (K1..K{limit})",
                     4 * u32::from(n),
-                    16 * words
+                    width.bits(),
                 ),
                 "too many digits",
             ));
@@ -538,18 +551,70 @@ pub fn bit_triple(operand: &Operand) -> Resolved<BitRef> {
     }
 }
 
-/// A count of words (BMOV/FMOV n): K1.. or a 16-bit source.
-pub fn word_count(operand: &Operand) -> Resolved<WordRef> {
-    let count = word_source(operand, false)?;
-    if let WordRef::Constant(n) = count {
-        if n < 1 {
-            return Err(
-                Diagnostic::new(Code::ConstantRange, operand.span, "the word count must be at least 1")
-                    .with_label("count is K1..K32767"),
-            );
+/// The start of a run of bits or words (ENCO S, DECO D): a bit device is
+/// bits, a word device or digit group words (16 bits each), and for a
+/// source a constant is one word.
+pub fn element(operand: &Operand, written: bool) -> Resolved<Element> {
+    let d = match &operand.syntax {
+        OperandSyntax::Constant(_) if written => {
+            return Err(kind_error(
+                operand,
+                "a constant cannot be a destination",
+                "constant as destination",
+            ))
         }
+        OperandSyntax::Constant(_) => return Ok(Element::Word(word_source(operand, Width::Single)?)),
+        OperandSyntax::Device(d) => d,
+    };
+    let is_bit = d.digits.is_none()
+        && (d.bit.is_some()
+            || matches!(
+                d.prefix,
+                Prefix::X | Prefix::Y | Prefix::M | Prefix::S | Prefix::Sm | Prefix::Ts | Prefix::Cs
+            ));
+    match (is_bit, written) {
+        (true, true) => Ok(Element::Bits(bit_target(operand)?)),
+        (true, false) => Ok(Element::Bits(bit_source(operand)?)),
+        (false, true) => Ok(Element::Word(word_destination(operand, Width::Single, 1)?)),
+        (false, false) => Ok(Element::Word(word_device(operand, d, Width::Single, 1)?)),
     }
-    Ok(count)
+}
+
+/// One end of a device range that ZRST/ZSET write: Y M S SM bits, timers,
+/// counters, or D R SD words.
+pub fn range_end(operand: &Operand) -> Resolved<Element> {
+    let Some(d) = device(operand) else {
+        return Err(kind_error(
+            operand,
+            "a range end is a device, not a constant",
+            "constant here",
+        ));
+    };
+    if d.digits.is_some() {
+        return Err(kind_error(
+            operand,
+            "a range end is one device, not a digit group",
+            "digit group here",
+        ));
+    }
+    let address = Address {
+        index: d.number,
+        index_register: index_register(d)?,
+    };
+    let numbered = |area: BitArea| -> Resolved<Address> {
+        check_extent(operand, &text_of(d), d.number, 1, area.count(), &area_text_bits(area))?;
+        Ok(address)
+    };
+    match d.prefix {
+        Prefix::T | Prefix::Ts | Prefix::Tn if d.bit.is_none() => Ok(Element::Timer(numbered(BitArea::TimerContact)?)),
+        Prefix::C | Prefix::Cs | Prefix::Cn if d.bit.is_none() => {
+            Ok(Element::Counter(numbered(BitArea::CounterContact)?))
+        }
+        Prefix::D | Prefix::Sd | Prefix::R if d.bit.is_none() => {
+            Ok(Element::Word(word_destination(operand, Width::Single, 1)?))
+        }
+        _ => Ok(Element::Bits(bit_target(operand)?)),
+    }
 }
 
 #[cfg(test)]
@@ -593,29 +658,44 @@ mod tests {
 
     #[test]
     fn word_widths() {
-        assert_eq!(word_source(&op("K-1"), false), Ok(WordRef::Constant(-1)));
-        assert_eq!(word_source(&op("HFFFF"), false), Ok(WordRef::Constant(-1)));
-        assert_eq!(word_source(&op("K40000"), false).unwrap_err().code, Code::ConstantRange);
-        assert_eq!(word_source(&op("K40000"), true), Ok(WordRef::Constant(40000)));
-        assert_eq!(word_source(&op("HFFFFFFFF"), true), Ok(WordRef::Constant(-1)));
-        assert_eq!(word_source(&op("D8511"), true).unwrap_err().code, Code::DeviceRange);
-        assert_eq!(word_source(&op("K8M0"), false).unwrap_err().code, Code::OperandKind);
-        assert_eq!(word_source(&op("C200"), false).unwrap_err().code, Code::OperandKind);
+        assert_eq!(word_source(&op("K-1"), Width::Single), Ok(WordRef::Constant(-1)));
+        assert_eq!(word_source(&op("HFFFF"), Width::Single), Ok(WordRef::Constant(-1)));
         assert_eq!(
-            word_source(&op("C200"), true),
+            word_source(&op("K40000"), Width::Single).unwrap_err().code,
+            Code::ConstantRange
+        );
+        assert_eq!(word_source(&op("K40000"), Width::Double), Ok(WordRef::Constant(40000)));
+        assert_eq!(word_source(&op("HFFFFFFFF"), Width::Double), Ok(WordRef::Constant(-1)));
+        assert_eq!(
+            word_source(&op("D8511"), Width::Double).unwrap_err().code,
+            Code::DeviceRange
+        );
+        assert_eq!(
+            word_source(&op("K8M0"), Width::Single).unwrap_err().code,
+            Code::OperandKind
+        );
+        assert_eq!(
+            word_source(&op("C200"), Width::Single).unwrap_err().code,
+            Code::OperandKind
+        );
+        assert_eq!(
+            word_source(&op("C200"), Width::Double),
             Ok(WordRef::WideCounter(Address::fixed(200)))
         );
-        assert_eq!(word_source(&op("T0"), true).unwrap_err().code, Code::OperandKind);
         assert_eq!(
-            word_destination(&op("K1"), false, 1).unwrap_err().code,
+            word_source(&op("T0"), Width::Double).unwrap_err().code,
             Code::OperandKind
         );
         assert_eq!(
-            word_destination(&op("K4X0"), false, 1).unwrap_err().code,
+            word_destination(&op("K1"), Width::Single, 1).unwrap_err().code,
             Code::OperandKind
         );
         assert_eq!(
-            word_destination(&op("D8510"), true, 2).unwrap_err().code,
+            word_destination(&op("K4X0"), Width::Single, 1).unwrap_err().code,
+            Code::OperandKind
+        );
+        assert_eq!(
+            word_destination(&op("D8510"), Width::Double, 2).unwrap_err().code,
             Code::DeviceRange
         );
     }

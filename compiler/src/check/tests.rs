@@ -87,7 +87,7 @@ fn edge_instructions_get_their_own_slots() {
             }
             | Op::And(Contact::Edge { slot, .. }) => Some(*slot),
             Op::ResultEdge { slot, .. } | Op::Pulse { slot, .. } => Some(*slot),
-            Op::Data(data) => data.pulse_slot,
+            Op::App(app) => app.pulse_slot,
             _ => None,
         })
         .collect();

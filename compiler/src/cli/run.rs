@@ -112,7 +112,7 @@ fn driven_outputs(program: &CheckedProgram) -> Vec<String> {
             _ => None,
         })
         .filter_map(|bit| match bit {
-            BitRef::Device(BitArea::Y, address) if address.offset.is_none() => Some(address.index),
+            BitRef::Device(BitArea::Y, address) if address.is_fixed() => Some(address.index),
             _ => None,
         })
         .collect();

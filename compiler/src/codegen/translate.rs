@@ -367,7 +367,7 @@ impl Translator<'_, '_> {
                 source,
                 destination,
                 count,
-                wide,
+                width,
                 fill,
             } => {
                 let mut args = Vec::new();
@@ -380,7 +380,8 @@ impl Translator<'_, '_> {
                     let digits = self.iconst(types::I32, i64::from(place.digits));
                     args.extend([kind, index, digits]);
                 }
-                let flags = (ladder_runtime::helpers::BLOCK_MOVE_WIDE * u32::from(*wide))
+                let flags = (ladder_runtime::helpers::BLOCK_MOVE_WIDE
+                    * u32::from(*width == ladder_runtime::Width::Double))
                     | (ladder_runtime::helpers::BLOCK_MOVE_FILL * u32::from(*fill));
                 let flags = self.iconst(types::I32, i64::from(flags));
                 args.extend([get(count), flags]);

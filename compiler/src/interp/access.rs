@@ -5,12 +5,14 @@
 
 use crate::program::{Address, BitRef, WordRef};
 use ladder_runtime::device::FIRST_WIDE_COUNTER;
-use ladder_runtime::{BitArea, Memory, OperationError, Place, WordArea};
+use ladder_runtime::{BitArea, Memory, OperationError, Place, Width, WordArea};
 
 /// The device number an address names now: base plus the offset register's
 /// current (signed) value.
 pub fn effective_index(mem: &Memory, address: Address) -> i64 {
-    let offset = address.offset.map_or(0, |k| i64::from(mem.d[k as usize]));
+    let offset = address.index_register.map_or(0, |register| {
+        i64::from(mem.word(register.area, register.number).unwrap_or(0))
+    });
     i64::from(address.index) + offset
 }
 
@@ -77,16 +79,15 @@ pub fn write_bit(mem: &mut Memory, bit: BitRef, on: bool, line: u32) {
 }
 
 /// Resolves a word operand of an application instruction covering `units`
-/// values of `wide` width (a MUL result is 2 units, BMOV n is n units).
+/// values of `width` (a MUL result is 2 units, BMOV n is n units).
 /// `None` when any of it is outside its area.
-pub fn resolve_word(mem: &Memory, word: WordRef, wide: bool, units: u32) -> Option<Place> {
+pub fn resolve_word(mem: &Memory, word: WordRef, width: Width, units: u32) -> Option<Place> {
     let in_range = |index: i64, needed: u32, len: u32| index >= 0 && index + i64::from(needed) <= i64::from(len);
     match word {
         WordRef::Constant(value) => Some(Place::Constant(value)),
         WordRef::Word(area, address) => {
             let index = effective_index(mem, address);
-            let words = if wide { 2 * units } else { units };
-            in_range(index, words, area.count()).then_some(Place::Word(area, index as u32))
+            in_range(index, width.words() * units, area.count()).then_some(Place::Word(area, index as u32))
         }
         WordRef::WideCounter(address) => {
             let index = effective_index(mem, address);
@@ -108,16 +109,14 @@ pub fn resolve_word(mem: &Memory, word: WordRef, wide: bool, units: u32) -> Opti
 
 /// A comparison contact's word operand clamped into its area (the contact
 /// rule), for when `resolve_word` refused it.
-pub fn clamp_word(mem: &Memory, word: WordRef, wide: bool) -> Place {
+pub fn clamp_word(mem: &Memory, word: WordRef, width: Width) -> Place {
     let clamp_start = |address: Address, first: u32, span: u32, len: u32| {
         let last = i64::from(len) - i64::from(span);
         effective_index(mem, address).clamp(i64::from(first), last) as u32
     };
     match word {
         WordRef::Constant(value) => Place::Constant(value),
-        WordRef::Word(area, address) => {
-            Place::Word(area, clamp_start(address, 0, if wide { 2 } else { 1 }, area.count()))
-        }
+        WordRef::Word(area, address) => Place::Word(area, clamp_start(address, 0, width.words(), area.count())),
         WordRef::WideCounter(address) => Place::WideCounter(clamp_start(
             address,
             FIRST_WIDE_COUNTER,

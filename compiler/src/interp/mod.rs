@@ -5,12 +5,12 @@
 //! native engines are tested against it.
 
 mod access;
-mod data;
+mod app;
 
 use crate::isa::Sense;
-use crate::program::{CheckedProgram, Contact, Instruction, Op, ResetTarget, StlBlock, WordRef};
+use crate::program::{BitRef, CheckedProgram, Contact, Instruction, Op, ResetTarget, StlBlock, WordRef};
 use access::{read_bit, resolve_word, write_bit};
-use ladder_runtime::{Memory, OperationError};
+use ladder_runtime::{Memory, OperationError, Width};
 
 /// Runs a checked program against device memory.
 pub struct Interpreter<'p> {
@@ -99,9 +99,9 @@ impl Run<'_> {
                 let earlier = self.blocks.pop().unwrap_or(false);
                 self.result = earlier || self.result;
             }
-            Op::Push => self.branches.push(self.result),
-            Op::Read => self.result = self.branches.last().copied().unwrap_or(false),
-            Op::Pop => self.result = self.branches.pop().unwrap_or(false),
+            Op::BranchPush => self.branches.push(self.result),
+            Op::BranchRead => self.result = self.branches.last().copied().unwrap_or(false),
+            Op::BranchPop => self.result = self.branches.pop().unwrap_or(false),
             Op::Invert => self.result = !self.result,
             Op::ResultEdge { falling, slot } => self.result = self.edge(*slot, self.result, *falling),
             Op::Jump { target } => {
@@ -111,7 +111,15 @@ impl Run<'_> {
             }
             Op::StlBegin { block } => return self.enter_block(&self.program.stl_blocks[*block], pc),
             Op::Label | Op::StlEnd => {}
-            _ => self.output(&instruction.op, self.result, line),
+            Op::Out(_)
+            | Op::OutTimer { .. }
+            | Op::OutCounter { .. }
+            | Op::Set { .. }
+            | Op::Reset { .. }
+            | Op::Pulse { .. }
+            | Op::StateJump { .. }
+            | Op::MasterControl { .. }
+            | Op::App(_) => self.output(&instruction.op, self.result, line),
         }
         pc + 1
     }
@@ -122,12 +130,16 @@ impl Run<'_> {
         match op {
             Op::Out(bit) => write_bit(self.mem, *bit, power, line),
             Op::OutTimer { timer, preset } => {
-                let preset = self.preset(*preset, false);
+                let preset = self.preset(*preset, Width::Single);
                 self.mem.timer_coil(*timer, power, preset);
             }
             Op::OutCounter { counter, preset } => {
-                let wide = ladder_runtime::device::is_wide_counter(*counter);
-                let preset = self.preset(*preset, wide);
+                let width = if ladder_runtime::device::is_wide_counter(*counter) {
+                    Width::Double
+                } else {
+                    Width::Single
+                };
+                let preset = self.preset(*preset, width);
                 self.mem.counter_coil(*counter, power, preset);
             }
             Op::Set {
@@ -160,16 +172,31 @@ impl Run<'_> {
                 self.mc_power[*level as usize] = power;
                 write_bit(self.mem, *relay, power, line);
             }
-            Op::Data(data) => {
-                let run = match data.pulse_slot {
+            Op::App(app) => {
+                let run = match app.pulse_slot {
                     Some(slot) => self.edge(slot, power, false),
                     None => power,
                 };
                 if run {
-                    data::execute(self.mem, data, line);
+                    app::execute(self.mem, app, line);
                 }
             }
-            _ => unreachable!("not an output: {op:?}"),
+            // Not outputs: `step` handles them, and an STL block's reset list
+            // holds outputs only.
+            Op::Load { .. }
+            | Op::And(_)
+            | Op::Or(_)
+            | Op::AndBlock
+            | Op::OrBlock
+            | Op::BranchPush
+            | Op::BranchRead
+            | Op::BranchPop
+            | Op::Invert
+            | Op::ResultEdge { .. }
+            | Op::Jump { .. }
+            | Op::Label
+            | Op::StlBegin { .. }
+            | Op::StlEnd => {}
         }
     }
 
@@ -202,9 +229,9 @@ impl Run<'_> {
                 self.edge(slot, now, falling)
             }
             Contact::Constant(value) => value,
-            Contact::Compare { op, wide, left, right } => {
-                let left = self.compare_operand(left, wide, line);
-                let right = self.compare_operand(right, wide, line);
+            Contact::Compare { op, width, left, right } => {
+                let left = self.compare_operand(left, width, line);
+                let right = self.compare_operand(right, width, line);
                 op.holds(left, right)
             }
         }
@@ -225,26 +252,26 @@ impl Run<'_> {
 
     /// A comparison contact's operand: out of range, it reads the nearest
     /// valid device and records 4085H, like any contact.
-    fn compare_operand(&mut self, word: WordRef, wide: bool, line: u32) -> i32 {
-        match resolve_word(self.mem, word, wide, 1) {
-            Some(place) => place.read(self.mem, wide),
+    fn compare_operand(&mut self, word: WordRef, width: Width, line: u32) -> i32 {
+        match resolve_word(self.mem, word, width, 1) {
+            Some(place) => place.read(self.mem, width),
             None => {
                 self.mem.record_error(OperationError::ReadOutOfRange, line);
-                let clamped = access::clamp_word(self.mem, word, wide);
-                clamped.read(self.mem, wide)
+                let clamped = access::clamp_word(self.mem, word, width);
+                clamped.read(self.mem, width)
             }
         }
     }
 
-    fn preset(&self, preset: WordRef, wide: bool) -> i32 {
-        resolve_word(self.mem, preset, wide, 1).map_or(0, |place| place.read(self.mem, wide))
+    fn preset(&self, preset: WordRef, width: Width) -> i32 {
+        resolve_word(self.mem, preset, width, 1).map_or(0, |place| place.read(self.mem, width))
     }
 
     /// SET/RST of `count` bits from `target`; an offset start is clamped so
     /// the whole run fits.
-    fn write_bits(&mut self, target: crate::program::BitRef, count: u32, on: bool, line: u32) {
+    fn write_bits(&mut self, target: BitRef, count: u32, on: bool, line: u32) {
         match target {
-            crate::program::BitRef::Device(area, address) => {
+            BitRef::Device(area, address) => {
                 let start = access::effective_index(self.mem, address);
                 let last_start = i64::from(area.count() - count);
                 let clamped = start.clamp(0, last_start);
@@ -254,7 +281,7 @@ impl Run<'_> {
                 let start = clamped as usize;
                 self.mem.bits_mut(area)[start..start + count as usize].fill(on as u8);
             }
-            word_bit => write_bit(self.mem, word_bit, on, line),
+            BitRef::WordBit(..) => write_bit(self.mem, target, on, line),
         }
     }
 

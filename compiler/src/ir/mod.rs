@@ -20,7 +20,7 @@ mod print;
 pub use builder::Builder;
 
 use crate::isa::CompareOp;
-use ladder_runtime::{BitArea, OperationError, WordArea};
+use ladder_runtime::{BitArea, OperationError, Width, WordArea};
 
 /// An SSA value.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -213,7 +213,7 @@ pub enum Inst {
         source: PlaceArg,
         destination: PlaceArg,
         count: Value,
-        wide: bool,
+        width: Width,
         fill: bool,
     },
 }

@@ -118,12 +118,15 @@ fn inst(func: &Function, inst: &Inst) -> String {
             source,
             destination,
             count,
-            wide,
+            width,
             fill,
         } => format!(
             "{}{} {} -> {}, count {count}",
             if *fill { "fill" } else { "move" },
-            if *wide { ".i32" } else { ".i16" },
+            match width {
+                ladder_runtime::Width::Double => ".i32",
+                ladder_runtime::Width::Single => ".i16",
+            },
             place(source),
             place(destination)
         ),

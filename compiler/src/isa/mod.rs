@@ -1,11 +1,25 @@
-//! The instruction set: one table from mnemonic to what the instruction is,
-//! which operands it takes, its width and whether it is a pulse (P) form.
-//! Adding an instruction is one entry here plus its semantics in the
-//! interpreter and the lowering.
+//! The instruction set, declared once.
+//!
+//! - `bits`: the bit instructions (contacts, coils, rung structure, program
+//!   control), one row each;
+//! - `app`: the application instructions, one declaration each (names, D and
+//!   P forms, operands with their kinds and device tables, flags);
+//! - `operand`: operand kinds and device tables;
+//! - `table`: the mnemonic lookup built from both.
+//!
+//! Adding an application instruction: its declaration in `app.rs`, its
+//! kernel in `interp/app/` and in `lower/app/`, its section in
+//! docs/language.md and a scenario. See docs/architecture.md.
 
+pub mod app;
+pub mod bits;
+pub mod operand;
 mod table;
 
-pub use table::{lookup, mnemonics};
+pub use app::{AppArgs, AppOp, AppSpec, Family, OperandDecl};
+pub use bits::BitSpec;
+pub use operand::{DeviceClass, Devices, OperandKind};
+pub use table::{lookup, mnemonics, AppForm, Mnemonic};
 
 /// How a contact looks at its device.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -42,6 +56,15 @@ pub enum CompareOp {
 }
 
 impl CompareOp {
+    pub const ALL: [CompareOp; 6] = [
+        CompareOp::Eq,
+        CompareOp::Ne,
+        CompareOp::Gt,
+        CompareOp::Lt,
+        CompareOp::Ge,
+        CompareOp::Le,
+    ];
+
     pub fn holds<T: Ord>(self, left: T, right: T) -> bool {
         match self {
             CompareOp::Eq => left == right,
@@ -65,37 +88,9 @@ impl CompareOp {
     }
 }
 
-/// Application (data) instructions. The 16/32-bit width and the pulse form
-/// are properties of the table entry, not of the operation.
+/// What a bit instruction does, as far as the checker and engines care.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum DataOp {
-    /// MOV S D
-    Mov,
-    /// BMOV S D n: n words from S to D.
-    BlockMov,
-    /// FMOV S D n: S into n words from D.
-    FillMov,
-    /// ADD S1 S2 D
-    Add,
-    /// SUB S1 S2 D
-    Sub,
-    /// MUL S1 S2 D: product to a double-width D.
-    Mul,
-    /// DIV S1 S2 D: quotient to D, remainder to the next unit.
-    Div,
-    /// INC D
-    Inc,
-    /// DEC D
-    Dec,
-    /// CMP S1 S2 D: D, D+1, D+2 = S1>S2, S1=S2, S1<S2.
-    Cmp,
-    /// ZCP S1 S2 S D: D, D+1, D+2 = S<S1, S1<=S<=S2, S>S2.
-    ZoneCmp,
-}
-
-/// What an instruction does, as far as the checker and engines care.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Class {
+pub enum BitClass {
     Contact(Role, Sense),
     /// NOI/NCI/PTI/NTI: a contact whose role depends on its position.
     AliasContact(Sense),
@@ -103,11 +98,16 @@ pub enum Class {
     AliasConstant(bool),
     /// `LD=`, `ANDD>`, ...
     Compare(Role, CompareOp),
+    /// ANB.
     BlockAnd,
+    /// ORB.
     BlockOr,
-    Push,
-    Read,
-    Pop,
+    /// MPS: stores the power flow at a branch point.
+    BranchPush,
+    /// MRD: reads the branch point back.
+    BranchRead,
+    /// MPP: reads the branch point back and drops it.
+    BranchPop,
     Invert,
     /// MEP/MEF: rising/falling edge of the result so far.
     ResultEdge(Sense),
@@ -124,55 +124,7 @@ pub enum Class {
     Stl,
     StlEnd,
     Network,
-    /// POP: ends the current rung.
+    /// POP: ends the current rung (not MPP, which pops a branch point).
     RungEnd,
     End,
-    Data(DataOp),
-}
-
-/// What an operand position accepts.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum OperandKind {
-    /// A bit read by a contact: X Y M S SM T C, Dn.b.
-    BitSource,
-    /// A coil of OUT: Y M S SM Dn.b, or a timer/counter (then a preset follows).
-    Coil,
-    /// The preset of a timer or counter coil: K or D.
-    Preset,
-    /// A bit written by SET/PLS/PLF: Y M S SM Dn.b.
-    BitTarget,
-    /// What RST clears: a bit target, T, C, or a word (D R SD).
-    ResetTarget,
-    /// Number of consecutive devices for SET/RST: K1..
-    DeviceCount,
-    /// A state Sn.
-    State,
-    /// A master-control level N0..N7.
-    NestLevel,
-    /// A jump label Pn.
-    Label,
-    /// A word value read by the instruction (constants allowed).
-    Source,
-    /// A word written by the instruction.
-    Destination,
-    /// A destination twice the instruction's width (MUL/DIV results).
-    WideDestination,
-    /// The first of three bits written (CMP/ZCP results): Y M S.
-    BitTriple,
-    /// A word count: K or a word source (BMOV/FMOV n).
-    WordCount,
-}
-
-/// One row of the instruction table.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct InstrSpec {
-    pub name: &'static str,
-    pub class: Class,
-    pub operands: &'static [OperandKind],
-    /// `operands[..required]` must be present; the rest are optional.
-    pub required: usize,
-    /// The 32-bit (D-prefixed) form.
-    pub wide: bool,
-    /// The pulse (P-suffixed) form: runs once per rising edge of its condition.
-    pub pulse: bool,
 }

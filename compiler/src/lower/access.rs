@@ -2,19 +2,20 @@
 //! contacts and coils: an out-of-range `DEV[Dk]` uses the nearest valid
 //! device and records an operation error.
 
+use super::operand::Operand;
 use super::Lowering;
 use crate::ir::{BinOp, Index, Inst, Type, Value};
 use crate::isa::CompareOp;
-use crate::program::{Address, BitRef, WordRef};
+use crate::program::{Address, BitRef, IndexRegister, WordRef};
 use ladder_runtime::device::{COUNTER_COUNT, FIRST_WIDE_COUNTER};
-use ladder_runtime::{OperationError, WordArea};
+use ladder_runtime::{OperationError, Width, WordArea};
 
 impl Lowering<'_> {
-    /// `index + D[k]` as an I32 (the register is signed).
-    pub(super) fn offset_index(&mut self, base: u32, register: u32) -> Value {
+    /// `base` plus the index register's signed value, as an I32.
+    pub(super) fn indexed(&mut self, base: u32, register: IndexRegister) -> Value {
         let offset = self.b.push(Inst::LoadWord {
-            area: WordArea::D,
-            index: Index::Fixed(register),
+            area: register.area,
+            index: Index::Fixed(register.number),
         });
         let offset = self.b.extend(offset, Type::I32, true);
         let base = self.b.constant(Type::I32, i64::from(base));
@@ -31,10 +32,10 @@ impl Lowering<'_> {
         error: OperationError,
         line: u32,
     ) -> Index {
-        let Some(register) = address.offset else {
+        let Some(register) = address.index_register else {
             return Index::Fixed(address.index);
         };
-        let index = self.offset_index(address.index, register);
+        let index = self.indexed(address.index, register);
         let low = self.b.constant(Type::I32, i64::from(first));
         let high = self.b.constant(Type::I32, i64::from(last));
         let below = self.b.compare(CompareOp::Lt, index, low);
@@ -71,22 +72,27 @@ impl Lowering<'_> {
             }
             BitRef::WordBit(area, address, bit) => {
                 let index = self.clamped_index(address, 0, area.count() - 1, OperationError::WriteOutOfRange, line);
-                let word = self.b.push(Inst::LoadWord { area, index });
-                let word = self.b.extend(word, Type::I32, true);
-                let keep = self.b.constant(Type::I32, !(1i64 << bit));
-                let cleared = self.b.binary(BinOp::And, word, keep);
-                let mask = self.b.constant(Type::I32, 1 << bit);
-                let zero = self.b.constant(Type::I32, 0);
-                let set = self.b.select(value, mask, zero);
-                let updated = self.b.binary(BinOp::Or, cleared, set);
-                let updated = self.b.truncate(updated, Type::I16);
-                self.b.effect(Inst::StoreWord {
-                    area,
-                    index,
-                    value: updated,
-                });
+                self.store_word_bit(area, index, bit, value);
             }
         }
+    }
+
+    /// Sets bit `bit` of a word to the Bit `value`, keeping the other bits.
+    pub(super) fn store_word_bit(&mut self, area: WordArea, index: Index, bit: u8, value: Value) {
+        let word = self.b.push(Inst::LoadWord { area, index });
+        let word = self.b.extend(word, Type::I32, true);
+        let keep = self.b.constant(Type::I32, !(1i64 << bit));
+        let cleared = self.b.binary(BinOp::And, word, keep);
+        let mask = self.b.constant(Type::I32, 1 << bit);
+        let zero = self.b.constant(Type::I32, 0);
+        let set = self.b.select(value, mask, zero);
+        let updated = self.b.binary(BinOp::Or, cleared, set);
+        let updated = self.b.truncate(updated, Type::I16);
+        self.b.effect(Inst::StoreWord {
+            area,
+            index,
+            value: updated,
+        });
     }
 
     /// SET/RST of `count` bits; an offset start is clamped so the run fits.
@@ -96,39 +102,35 @@ impl Lowering<'_> {
                 let start = self.clamped_index(address, 0, area.count() - count, OperationError::WriteOutOfRange, line);
                 self.b.effect(Inst::FillBits { area, start, count, on });
             }
-            word_bit => {
+            BitRef::WordBit(..) => {
                 let value = self.b.bit(on);
-                self.write_bit(word_bit, value, line);
+                self.write_bit(bit, value, line);
             }
         }
     }
 
     /// A comparison contact's operand as an I64: out of range, it reads the
     /// nearest valid device and records 4085H, like any contact.
-    pub(super) fn compare_operand(&mut self, word: WordRef, wide: bool, line: u32) -> Value {
+    pub(super) fn compare_operand(&mut self, word: WordRef, width: Width, line: u32) -> Value {
         let error = OperationError::ReadOutOfRange;
         let operand = match word {
-            WordRef::Constant(value) => super::data::Operand::Constant(i64::from(value)),
+            WordRef::Constant(value) => Operand::Constant(i64::from(value)),
             WordRef::Word(area, address) => {
-                let span = if wide { 2 } else { 1 };
-                super::data::Operand::Word(area, self.clamped_index(address, 0, area.count() - span, error, line))
+                let span = width.words();
+                Operand::Word(area, self.clamped_index(address, 0, area.count() - span, error, line))
             }
-            WordRef::WideCounter(address) => super::data::Operand::WideCounter(self.clamped_index(
-                address,
-                FIRST_WIDE_COUNTER,
-                COUNTER_COUNT - 1,
-                error,
-                line,
-            )),
+            WordRef::WideCounter(address) => {
+                Operand::WideCounter(self.clamped_index(address, FIRST_WIDE_COUNTER, COUNTER_COUNT - 1, error, line))
+            }
             WordRef::Digits(area, address, digits) => {
                 let span = 4 * u32::from(digits);
-                super::data::Operand::Digits(
+                Operand::Digits(
                     area,
                     self.clamped_index(address, 0, area.count() - span, error, line),
                     digits,
                 )
             }
         };
-        self.read(&operand, wide)
+        self.read(&operand, width)
     }
 }

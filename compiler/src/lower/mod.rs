@@ -5,12 +5,13 @@
 //! values, so ANB/ORB/MPS/MRD/MPP produce no code at all.
 
 mod access;
-mod data;
+mod app;
+mod operand;
 
 use crate::ir::{Builder, Function, Inst, Local, Terminator, Type, Value};
 use crate::isa::Sense;
 use crate::program::{CheckedProgram, Contact, Instruction, Op, ResetTarget, StlBlock};
-use ladder_runtime::{BitArea, OperationError};
+use ladder_runtime::{BitArea, OperationError, Width};
 use std::collections::BTreeMap;
 
 /// Lowers a checked program to the IR of its scan body.
@@ -57,7 +58,27 @@ impl<'p> Lowering<'p> {
             let target = match &instruction.op {
                 Op::Jump { target } => Some(*target),
                 Op::StlBegin { block } => Some(self.program.stl_blocks[*block].end + 1),
-                _ => None,
+                Op::Load { .. }
+                | Op::And(_)
+                | Op::Or(_)
+                | Op::AndBlock
+                | Op::OrBlock
+                | Op::BranchPush
+                | Op::BranchRead
+                | Op::BranchPop
+                | Op::Invert
+                | Op::ResultEdge { .. }
+                | Op::Out(_)
+                | Op::OutTimer { .. }
+                | Op::OutCounter { .. }
+                | Op::Set { .. }
+                | Op::Reset { .. }
+                | Op::Pulse { .. }
+                | Op::StateJump { .. }
+                | Op::MasterControl { .. }
+                | Op::Label
+                | Op::StlEnd
+                | Op::App(_) => None,
             };
             if let Some(target) = target {
                 if !self.targets.contains_key(&target) {
@@ -132,9 +153,9 @@ impl<'p> Lowering<'p> {
                     self.b.or(earlier, self.result)
                 };
             }
-            Op::Push => self.branches.push(self.result),
-            Op::Read => self.result = self.branches.last().copied().unwrap_or(self.result),
-            Op::Pop => self.result = self.branches.pop().unwrap_or(self.result),
+            Op::BranchPush => self.branches.push(self.result),
+            Op::BranchRead => self.result = self.branches.last().copied().unwrap_or(self.result),
+            Op::BranchPop => self.result = self.branches.pop().unwrap_or(self.result),
             Op::Invert => self.result = self.b.not(self.result),
             Op::ResultEdge { falling, slot } => self.result = self.edge(*slot, self.result, *falling),
             Op::Jump { target } => {
@@ -152,7 +173,15 @@ impl<'p> Lowering<'p> {
                 self.stl_gate(&program.stl_blocks[*block]);
             }
             Op::Label | Op::StlEnd => {}
-            op => self.output(op, self.result, line),
+            Op::Out(_)
+            | Op::OutTimer { .. }
+            | Op::OutCounter { .. }
+            | Op::Set { .. }
+            | Op::Reset { .. }
+            | Op::Pulse { .. }
+            | Op::StateJump { .. }
+            | Op::MasterControl { .. }
+            | Op::App(_) => self.output(&instruction.op, self.result, line),
         }
     }
 
@@ -225,9 +254,9 @@ impl<'p> Lowering<'p> {
                 self.edge(slot, now, falling)
             }
             Contact::Constant(on) => self.b.bit(on),
-            Contact::Compare { op, wide, left, right } => {
-                let left = self.compare_operand(left, wide, line);
-                let right = self.compare_operand(right, wide, line);
+            Contact::Compare { op, width, left, right } => {
+                let left = self.compare_operand(left, width, line);
+                let right = self.compare_operand(right, width, line);
                 self.b.compare(op, left, right)
             }
         }
@@ -252,7 +281,7 @@ impl<'p> Lowering<'p> {
         match op {
             Op::Out(bit) => self.write_bit(*bit, power, line),
             Op::OutTimer { timer, preset } => {
-                let preset = self.preset(*preset, false);
+                let preset = self.preset(*preset, Width::Single);
                 self.b.effect(Inst::TimerCoil {
                     timer: *timer,
                     coil: power,
@@ -260,8 +289,12 @@ impl<'p> Lowering<'p> {
                 });
             }
             Op::OutCounter { counter, preset } => {
-                let wide = ladder_runtime::device::is_wide_counter(*counter);
-                let preset = self.preset(*preset, wide);
+                let width = if ladder_runtime::device::is_wide_counter(*counter) {
+                    Width::Double
+                } else {
+                    Width::Single
+                };
+                let preset = self.preset(*preset, width);
                 self.b.effect(Inst::CounterCoil {
                     counter: *counter,
                     coil: power,
@@ -294,15 +327,30 @@ impl<'p> Lowering<'p> {
                 });
                 self.write_bit(*relay, power, line);
             }
-            Op::Data(data) => {
-                let run = match data.pulse_slot {
+            Op::App(app) => {
+                let run = match app.pulse_slot {
                     Some(slot) => self.edge(slot, power, false),
                     None => power,
                 };
                 // A failed operand check leaves the body early, to `after`.
-                self.when(run, |this, after| this.data(data, line, after));
+                self.when(run, |this, after| this.app(app, line, after));
             }
-            other => unreachable!("not an output: {other:?}"),
+            // Not outputs: `instruction` handles them, and an STL block's
+            // reset list holds outputs only.
+            Op::Load { .. }
+            | Op::And(_)
+            | Op::Or(_)
+            | Op::AndBlock
+            | Op::OrBlock
+            | Op::BranchPush
+            | Op::BranchRead
+            | Op::BranchPop
+            | Op::Invert
+            | Op::ResultEdge { .. }
+            | Op::Jump { .. }
+            | Op::Label
+            | Op::StlBegin { .. }
+            | Op::StlEnd => {}
         }
     }
 
@@ -342,9 +390,9 @@ impl<'p> Lowering<'p> {
     }
 
     /// A timer or counter preset as an I32.
-    fn preset(&mut self, preset: crate::program::WordRef, wide: bool) -> Value {
-        let (operand, _) = self.resolve(preset, wide, data::Units::Checked(1));
-        let value = self.read(&operand, wide);
+    fn preset(&mut self, preset: crate::program::WordRef, width: Width) -> Value {
+        let (operand, _) = self.resolve(preset, width, operand::Units::Checked(1));
+        let value = self.read(&operand, width);
         self.b.truncate(value, Type::I32)
     }
 }

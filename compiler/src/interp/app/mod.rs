@@ -1,0 +1,256 @@
+//! Application instructions in the reference interpreter.
+//!
+//! `Step` is the one place that applies the operand rules of DIALECT.md:
+//! every operand is resolved first; if one that is read lies outside its area
+//! the instruction records 4085H, else if one that is written does, 4086H,
+//! and either way it does nothing else. `execute` dispatches to a shape
+//! (`map`, `modify`, ...) that resolves, reads, calls the instruction's
+//! kernel with values, and writes what the kernel returns. The kernels live
+//! in one file per family and see values only.
+//!
+//! Nothing here uses the IR, the code generator or the runtime's helpers for
+//! compiled code: this is the specification the native engines are tested
+//! against.
+
+mod arithmetic;
+mod compare;
+mod moves;
+
+use super::access::{effective_index, resolve_word, write_place, BitPlace};
+use crate::isa::AppArgs;
+use crate::program::{AppInstruction, BitRef, WordRef};
+use ladder_runtime::{Memory, OperationError, Place, Width};
+
+/// Runs one application instruction whose condition is ON; an operation
+/// error is recorded against `line`.
+pub fn execute(mem: &mut Memory, app: &AppInstruction, line: u32) {
+    let mut step = Step {
+        mem,
+        width: app.width,
+        read_failed: false,
+        write_failed: false,
+    };
+    if let Err(error) = dispatch(&mut step, &app.args) {
+        step.mem.record_error(error, line);
+    }
+}
+
+type Outcome = Result<(), OperationError>;
+
+fn dispatch(step: &mut Step, args: &AppArgs) -> Outcome {
+    let flags = args.op().spec().writes;
+    match args {
+        AppArgs::Mov { s, d } => step.map([s], d, moves::mov),
+        AppArgs::BlockMov { s, d, n } => moves::block_move(step, s, d, n),
+        AppArgs::FillMov { s, d, n } => moves::fill_move(step, s, d, n),
+        AppArgs::Add { s1, s2, d } => step.map_flags([s1, s2], d, flags, arithmetic::add),
+        AppArgs::Sub { s1, s2, d } => step.map_flags([s1, s2], d, flags, arithmetic::sub),
+        AppArgs::Mul { s1, s2, d } => step.map_double([s1, s2], d, arithmetic::mul),
+        AppArgs::Div { s1, s2, d } => step.map_double([s1, s2], d, arithmetic::div),
+        AppArgs::Inc { d } => step.modify(d, arithmetic::inc),
+        AppArgs::Dec { d } => step.modify(d, arithmetic::dec),
+        AppArgs::Cmp { s1, s2, d } => step.map_bits([s1, s2], d, compare::cmp),
+        AppArgs::ZoneCmp { s1, s2, s, d } => step.map_bits([s1, s2, s], d, compare::zcp),
+    }
+}
+
+/// `value` wrapped to `width` and sign-extended: what a device of that width
+/// holds after the value is written.
+pub fn wrap(value: i64, width: Width) -> i64 {
+    match width {
+        Width::Single => i64::from(value as i16),
+        Width::Double => i64::from(value as i32),
+    }
+}
+
+/// The operand step of one execution.
+pub struct Step<'m> {
+    pub mem: &'m mut Memory,
+    /// The instruction's width.
+    pub width: Width,
+    read_failed: bool,
+    write_failed: bool,
+}
+
+impl Step<'_> {
+    fn mark(&mut self, read: bool) {
+        if read {
+            self.read_failed = true;
+        } else {
+            self.write_failed = true;
+        }
+    }
+
+    /// `units` values of `width` from `word`; `read` says whether the
+    /// instruction reads the operand (4085H) or only writes it (4086H).
+    pub fn resolve(&mut self, word: &WordRef, width: Width, units: u32, read: bool) -> Option<Place> {
+        let place = resolve_word(self.mem, *word, width, units);
+        if place.is_none() {
+            self.mark(read);
+        }
+        place
+    }
+
+    /// A value read at the instruction's width.
+    pub fn source(&mut self, word: &WordRef) -> Option<Place> {
+        self.resolve(word, self.width, 1, true)
+    }
+
+    /// A 16-bit value (a count or a mode).
+    pub fn count(&mut self, word: &WordRef) -> Option<Place> {
+        self.resolve(word, Width::Single, 1, true)
+    }
+
+    /// A value written at the instruction's width.
+    pub fn destination(&mut self, word: &WordRef) -> Option<Place> {
+        self.resolve(word, self.width, 1, false)
+    }
+
+    /// `n` consecutive bits from `bit`, written.
+    pub fn bits(&mut self, bit: &BitRef, n: u32) -> Option<Vec<BitPlace>> {
+        let places = match *bit {
+            BitRef::Device(area, address) => {
+                let start = effective_index(self.mem, address);
+                (start >= 0 && start + i64::from(n) <= i64::from(area.count()))
+                    .then(|| (0..n).map(|i| BitPlace::Device(area, start as u32 + i)).collect())
+            }
+            BitRef::WordBit(area, address, bit) => {
+                let index = effective_index(self.mem, address);
+                let last_bit = u32::from(bit) + n;
+                (index >= 0 && index < i64::from(area.count()) && last_bit <= 16).then(|| {
+                    (0..n)
+                        .map(|i| BitPlace::WordBit(area, index as u32, bit + i as u8))
+                        .collect()
+                })
+            }
+        };
+        if places.is_none() {
+            self.mark(false);
+        }
+        places
+    }
+
+    /// Ends resolution: the error of the first operand out of range (reads
+    /// before writes), if any.
+    pub fn commit(&self) -> Outcome {
+        if self.read_failed {
+            Err(OperationError::ReadOutOfRange)
+        } else if self.write_failed {
+            Err(OperationError::WriteOutOfRange)
+        } else {
+            Ok(())
+        }
+    }
+
+    /// The value at the instruction's width.
+    pub fn read(&self, place: Place) -> i64 {
+        i64::from(place.read(self.mem, self.width))
+    }
+
+    pub fn read_at(&self, place: Place, width: Width) -> i64 {
+        i64::from(place.read(self.mem, width))
+    }
+
+    /// Writes the low bits of `value` that the place holds.
+    pub fn write(&mut self, place: Place, value: i64) {
+        place.write(self.mem, self.width, value);
+    }
+
+    fn sources<const N: usize>(&mut self, sources: [&WordRef; N]) -> [Option<Place>; N] {
+        sources.map(|word| self.source(word))
+    }
+
+    fn values<const N: usize>(&self, places: [Option<Place>; N]) -> [i64; N] {
+        places.map(|place| place.map_or(0, |p| self.read(p)))
+    }
+
+    /// D = kernel(S1, ..., Sn).
+    pub fn map<const N: usize>(
+        &mut self,
+        sources: [&WordRef; N],
+        d: &WordRef,
+        kernel: impl FnOnce([i64; N], Width) -> Result<i64, OperationError>,
+    ) -> Outcome {
+        let places = self.sources(sources);
+        let d = self.destination(d);
+        self.commit()?;
+        let value = kernel(self.values(places), self.width)?;
+        if let Some(d) = d {
+            self.write(d, value);
+        }
+        Ok(())
+    }
+
+    /// D = kernel(S1, ..., Sn), and the instruction's flags (`flags`, in
+    /// declaration order) from the kernel.
+    pub fn map_flags<const N: usize, const F: usize>(
+        &mut self,
+        sources: [&WordRef; N],
+        d: &WordRef,
+        flags: &[ladder_runtime::special::SpecialBit],
+        kernel: impl FnOnce([i64; N], Width) -> Result<(i64, [bool; F]), OperationError>,
+    ) -> Outcome {
+        let places = self.sources(sources);
+        let d = self.destination(d);
+        self.commit()?;
+        let (value, on) = kernel(self.values(places), self.width)?;
+        if let Some(d) = d {
+            self.write(d, value);
+        }
+        debug_assert_eq!(flags.len(), F, "the kernel returns every declared flag");
+        for (flag, on) in flags.iter().zip(on) {
+            self.mem.set_bit(flag.area, flag.number, on);
+        }
+        Ok(())
+    }
+
+    /// D = kernel(D).
+    pub fn modify(&mut self, d: &WordRef, kernel: impl FnOnce(i64, Width) -> i64) -> Outcome {
+        let place = self.resolve(d, self.width, 1, true);
+        self.commit()?;
+        if let Some(place) = place {
+            let value = kernel(self.read(place), self.width);
+            self.write(place, value);
+        }
+        Ok(())
+    }
+
+    /// (D, D+1 unit) = kernel(S1, ..., Sn), for results twice the width; a
+    /// digit group holds only its own bits of the first unit.
+    pub fn map_double<const N: usize>(
+        &mut self,
+        sources: [&WordRef; N],
+        d: &WordRef,
+        kernel: impl FnOnce([i64; N], Width) -> Result<[i64; 2], OperationError>,
+    ) -> Outcome {
+        let places = self.sources(sources);
+        let units = if matches!(d, WordRef::Digits(..)) { 1 } else { 2 };
+        let d = self.resolve(d, self.width, units, false);
+        self.commit()?;
+        let [low, high] = kernel(self.values(places), self.width)?;
+        if let Some(d) = d {
+            self.write(d, low);
+            if units == 2 {
+                self.write(d.nth(1, self.width), high);
+            }
+        }
+        Ok(())
+    }
+
+    /// D, D+1, D+2 = kernel(S1, ..., Sn).
+    pub fn map_bits<const N: usize>(
+        &mut self,
+        sources: [&WordRef; N],
+        d: &BitRef,
+        kernel: impl FnOnce([i64; N]) -> [bool; 3],
+    ) -> Outcome {
+        let places = self.sources(sources);
+        let d = self.bits(d, 3);
+        self.commit()?;
+        let values = kernel(self.values(places));
+        for (place, on) in d.into_iter().flatten().zip(values) {
+            write_place(self.mem, place, on);
+        }
+        Ok(())
+    }
+}

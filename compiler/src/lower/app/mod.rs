@@ -1,0 +1,283 @@
+//! Application instructions in the lowering, written apart from the
+//! interpreter on purpose (the differential test compares the two).
+//!
+//! `Step` applies the operand rules once for every instruction: operands are
+//! resolved first (computing their in-range tests); `commit` then branches
+//! to 4085H if an operand that is read is out of range, else to 4086H if one
+//! that is written is, and the instruction does nothing else. The shapes
+//! (`map`, `modify`, ...) resolve, read, call the kernel with IR values and
+//! write what it returns. Kernels live in one file per family.
+
+mod arithmetic;
+mod compare;
+mod moves;
+
+use super::operand::{Operand, Units};
+use super::Lowering;
+use crate::ir::{BlockId, Builder, Index, Inst, Terminator, Type, Value};
+use crate::isa::{AppArgs, CompareOp};
+use crate::program::{AppInstruction, BitRef, WordRef};
+use ladder_runtime::special::SpecialBit;
+use ladder_runtime::{BitArea, OperationError, Width, WordArea};
+
+impl Lowering<'_> {
+    /// The body of an application instruction, entered when its condition
+    /// holds; every failure continues at `after`.
+    pub(super) fn app(&mut self, app: &AppInstruction, line: u32, after: BlockId) {
+        let mut step = Step {
+            l: self,
+            width: app.width,
+            line,
+            after,
+            reads: Vec::new(),
+            writes: Vec::new(),
+        };
+        dispatch(&mut step, &app.args);
+    }
+}
+
+fn dispatch(step: &mut Step, args: &AppArgs) {
+    let flags = args.op().spec().writes;
+    match args {
+        AppArgs::Mov { s, d } => step.map([s], d, moves::mov),
+        AppArgs::BlockMov { s, d, n } => moves::block_move(step, s, d, n),
+        AppArgs::FillMov { s, d, n } => moves::fill_move(step, s, d, n),
+        AppArgs::Add { s1, s2, d } => step.map_flags([s1, s2], d, flags, arithmetic::add),
+        AppArgs::Sub { s1, s2, d } => step.map_flags([s1, s2], d, flags, arithmetic::sub),
+        AppArgs::Mul { s1, s2, d } => step.map_double([s1, s2], d, arithmetic::mul),
+        AppArgs::Div { s1, s2, d } => step.map_double([s1, s2], d, arithmetic::div),
+        AppArgs::Inc { d } => step.modify(d, arithmetic::inc),
+        AppArgs::Dec { d } => step.modify(d, arithmetic::dec),
+        AppArgs::Cmp { s1, s2, d } => step.map_bits([s1, s2], d, compare::cmp),
+        AppArgs::ZoneCmp { s1, s2, s, d } => step.map_bits([s1, s2, s], d, compare::zcp),
+    }
+}
+
+/// A bit an application instruction writes, after its index is resolved.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum BitTarget {
+    Device(BitArea, Index),
+    WordBit(WordArea, Index, u8),
+}
+
+/// The operand step of one instruction.
+pub(super) struct Step<'l, 'p> {
+    pub l: &'l mut Lowering<'p>,
+    /// The instruction's width.
+    pub width: Width,
+    line: u32,
+    after: BlockId,
+    /// In-range tests of operands that are read, and of those written.
+    reads: Vec<Value>,
+    writes: Vec<Value>,
+}
+
+impl Step<'_, '_> {
+    pub fn b(&mut self) -> &mut Builder {
+        &mut self.l.b
+    }
+
+    fn note(&mut self, check: Option<Value>, read: bool) {
+        if let Some(check) = check {
+            if read {
+                self.reads.push(check);
+            } else {
+                self.writes.push(check);
+            }
+        }
+    }
+
+    /// `units` values of `width` from `word`; `read` says whether the
+    /// instruction reads it (4085H out of range) or only writes it (4086H).
+    pub fn resolve(&mut self, word: &WordRef, width: Width, units: Units, read: bool) -> Operand {
+        let (operand, check) = self.l.resolve(*word, width, units);
+        self.note(check, read);
+        operand
+    }
+
+    pub fn source(&mut self, word: &WordRef) -> Operand {
+        self.resolve(word, self.width, Units::Checked(1), true)
+    }
+
+    /// A 16-bit value (a count or a mode).
+    pub fn count(&mut self, word: &WordRef) -> Operand {
+        self.resolve(word, Width::Single, Units::Checked(1), true)
+    }
+
+    pub fn destination(&mut self, word: &WordRef) -> Operand {
+        self.resolve(word, self.width, Units::Checked(1), false)
+    }
+
+    /// `n` consecutive bits from `bit`, written.
+    pub fn bits(&mut self, bit: &BitRef, n: u32) -> Vec<BitTarget> {
+        let (address, len, first_bit) = match *bit {
+            BitRef::Device(area, address) => (address, area.count(), None),
+            BitRef::WordBit(area, address, b) => (address, area.count(), Some(b)),
+        };
+        // A run inside one word must fit in its 16 bits; the checker
+        // accepts such runs only where they do.
+        let extent = if first_bit.is_some() { 1 } else { n };
+        let start = match address.index_register {
+            None => Index::Fixed(address.index),
+            Some(register) => {
+                let index = self.l.indexed(address.index, register);
+                let zero = self.b().constant(Type::I32, 0);
+                let last_start = self.b().constant(Type::I32, i64::from(len) - i64::from(extent));
+                let above_zero = self.b().compare(CompareOp::Ge, index, zero);
+                let fits = self.b().compare(CompareOp::Le, index, last_start);
+                let check = self.b().and(above_zero, fits);
+                self.note(Some(check), false);
+                Index::Dynamic(index)
+            }
+        };
+        match *bit {
+            BitRef::Device(area, _) => (0..n)
+                .map(|i| BitTarget::Device(area, self.l.index_plus(start, i)))
+                .collect(),
+            BitRef::WordBit(area, _, b) => (0..n).map(|i| BitTarget::WordBit(area, start, b + i as u8)).collect(),
+        }
+    }
+
+    /// Continues only while `check` holds; otherwise records `error` and
+    /// leaves the instruction.
+    pub fn require(&mut self, check: Value, error: OperationError) {
+        let (line, after) = (self.line, self.after);
+        let b = self.b();
+        let pass = b.create_block();
+        let fail = b.create_block();
+        b.terminate(Terminator::Branch {
+            condition: check,
+            then: pass,
+            otherwise: fail,
+        });
+        b.switch_to(fail);
+        b.effect(Inst::RecordError { error, line });
+        b.terminate(Terminator::Jump(after));
+        b.switch_to(pass);
+    }
+
+    fn all(&mut self, checks: Vec<Value>) -> Option<Value> {
+        checks.into_iter().reduce(|a, b| self.l.b.and(a, b))
+    }
+
+    /// Ends resolution: 4085H if an operand that is read is out of range,
+    /// else 4086H if one that is written is.
+    pub fn commit(&mut self) {
+        let reads = std::mem::take(&mut self.reads);
+        if let Some(check) = self.all(reads) {
+            self.require(check, OperationError::ReadOutOfRange);
+        }
+        let writes = std::mem::take(&mut self.writes);
+        if let Some(check) = self.all(writes) {
+            self.require(check, OperationError::WriteOutOfRange);
+        }
+    }
+
+    /// The operand's value at the instruction's width, as an I64.
+    pub fn read(&mut self, operand: &Operand) -> Value {
+        self.l.read(operand, self.width)
+    }
+
+    pub fn read_at(&mut self, operand: &Operand, width: Width) -> Value {
+        self.l.read(operand, width)
+    }
+
+    /// Writes the low bits of an I64 that the operand holds.
+    pub fn write(&mut self, operand: &Operand, value: Value) {
+        self.l.write(operand, self.width, value);
+    }
+
+    pub fn write_bit(&mut self, target: BitTarget, value: Value) {
+        match target {
+            BitTarget::Device(area, index) => self.b().store_bit(area, index, value),
+            BitTarget::WordBit(area, index, bit) => self.l.store_word_bit(area, index, bit, value),
+        }
+    }
+
+    fn values<const N: usize>(&mut self, operands: [Operand; N]) -> [Value; N] {
+        operands.map(|operand| self.read(&operand))
+    }
+
+    /// D = kernel(S1, ..., Sn).
+    pub fn map<const N: usize>(
+        &mut self,
+        sources: [&WordRef; N],
+        d: &WordRef,
+        kernel: impl FnOnce(&mut Step, [Value; N]) -> Value,
+    ) {
+        let sources = sources.map(|s| self.source(s));
+        let d = self.destination(d);
+        self.commit();
+        let values = self.values(sources);
+        let value = kernel(self, values);
+        self.write(&d, value);
+    }
+
+    /// D = kernel(S1, ..., Sn), and the instruction's flags in declaration
+    /// order.
+    pub fn map_flags<const N: usize, const F: usize>(
+        &mut self,
+        sources: [&WordRef; N],
+        d: &WordRef,
+        flags: &[SpecialBit],
+        kernel: impl FnOnce(&mut Step, [Value; N]) -> (Value, [Value; F]),
+    ) {
+        let sources = sources.map(|s| self.source(s));
+        let d = self.destination(d);
+        self.commit();
+        let values = self.values(sources);
+        let (value, on) = kernel(self, values);
+        self.write(&d, value);
+        debug_assert_eq!(flags.len(), F, "the kernel returns every declared flag");
+        for (flag, on) in flags.iter().zip(on) {
+            self.b().store_bit(flag.area, Index::Fixed(flag.number), on);
+        }
+    }
+
+    /// D = kernel(D).
+    pub fn modify(&mut self, d: &WordRef, kernel: impl FnOnce(&mut Step, Value) -> Value) {
+        let d = self.resolve(d, self.width, Units::Checked(1), true);
+        self.commit();
+        let value = self.read(&d);
+        let value = kernel(self, value);
+        self.write(&d, value);
+    }
+
+    /// (D, D+1 unit) = kernel(S1, ..., Sn); a digit group holds only its own
+    /// bits of the first unit.
+    pub fn map_double<const N: usize>(
+        &mut self,
+        sources: [&WordRef; N],
+        d: &WordRef,
+        kernel: impl FnOnce(&mut Step, [Value; N]) -> [Value; 2],
+    ) {
+        let sources = sources.map(|s| self.source(s));
+        let units = if matches!(d, WordRef::Digits(..)) { 1 } else { 2 };
+        let d = self.resolve(d, self.width, Units::Checked(units), false);
+        self.commit();
+        let values = self.values(sources);
+        let [low, high] = kernel(self, values);
+        self.write(&d, low);
+        if units == 2 {
+            let next = self.l.nth(&d, 1, self.width);
+            self.write(&next, high);
+        }
+    }
+
+    /// D, D+1, D+2 = kernel(S1, ..., Sn).
+    pub fn map_bits<const N: usize>(
+        &mut self,
+        sources: [&WordRef; N],
+        d: &BitRef,
+        kernel: impl FnOnce(&mut Step, [Value; N]) -> [Value; 3],
+    ) {
+        let sources = sources.map(|s| self.source(s));
+        let d = self.bits(d, 3);
+        self.commit();
+        let values = self.values(sources);
+        let results = kernel(self, values);
+        for (target, value) in d.into_iter().zip(results) {
+            self.write_bit(target, value);
+        }
+    }
+}
