@@ -1,108 +1,277 @@
-//! Entry points that compiled programs call (C ABI). The interpreter calls the
-//! same `Memory` methods directly, so both engines share this bookkeeping.
+//! The functions compiled programs call (C ABI), declared once: the
+//! `helpers!` table below gives each its name, parameters, what it writes
+//! and its body. From it come the exported functions, the `Helper` enum the
+//! compiler's IR names them by, their signatures for code generation, what
+//! a call may write (for the compiler's analyses), and the symbol table of
+//! the JIT. Tests check the cross-target shim and docs/runtime.md against it.
 //!
-//! Every helper takes the device image first. A null image is ignored; device
-//! numbers outside their area are ignored by the methods they call.
+//! Every helper takes the device image first; a null image is ignored (and
+//! a helper that returns a value returns 0). Device numbers and places
+//! outside their area are ignored by the methods they call.
+//!
+//! The reference interpreter does not call these: it implements the same
+//! rules on its own, and the differential test compares the two.
 
+use crate::device::BitArea;
+use crate::host::Width;
 use crate::memory::Memory;
 use crate::place::Place;
+use crate::special::OperationError;
 
-/// # Safety
-/// `mem` is null or points to a `Memory` no one else is using.
-unsafe fn memory<'a>(mem: *mut Memory) -> Option<&'a mut Memory> {
-    // SAFETY: the caller passes the image it was given (see each helper).
-    unsafe { mem.as_mut() }
+/// The C type of a helper parameter or result.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Param {
+    U32,
+    I32,
+    /// A place the helper reads (`Place::pack`), passed as a u32.
+    SourcePlace,
+    /// A place the helper writes (`Place::pack`), passed as a u32.
+    DestinationPlace,
 }
 
-/// `OUT Tn preset` with the rung result `coil` (0 or 1).
-///
-/// # Safety
-/// `mem` is null or the program's device image.
-#[no_mangle]
-pub unsafe extern "C" fn ladder_rt_timer_coil(mem: *mut Memory, timer: u32, coil: u32, preset: i32) {
-    if let Some(mem) = unsafe { memory(mem) } {
-        mem.timer_coil(timer, coil != 0, preset);
+impl Param {
+    /// Spelled as in C.
+    pub fn c_type(self) -> &'static str {
+        match self {
+            Param::U32 | Param::SourcePlace | Param::DestinationPlace => "uint32_t",
+            Param::I32 => "int32_t",
+        }
     }
 }
 
-/// `OUT Cn preset` with the rung result `coil` (0 or 1).
-///
-/// # Safety
-/// `mem` is null or the program's device image.
-#[no_mangle]
-pub unsafe extern "C" fn ladder_rt_counter_coil(mem: *mut Memory, counter: u32, coil: u32, preset: i32) {
-    if let Some(mem) = unsafe { memory(mem) } {
-        mem.counter_coil(counter, coil != 0, preset);
+/// Parts of the image a helper may write besides its destination places.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Writes {
+    /// Timer values, contacts and their bookkeeping.
+    Timers,
+    /// Counter values, contacts and their bookkeeping.
+    Counters,
+    /// The STL bookkeeping (`stl_pending_off`).
+    StlBookkeeping,
+    /// M8067, D8067, D8069.
+    OperationError,
+    /// Any bit of an area (flags such as SM229, alarm states).
+    Bits(BitArea),
+}
+
+impl Writes {
+    /// The bit areas a helper with this effect may write.
+    pub fn bit_areas(self) -> &'static [BitArea] {
+        match self {
+            Writes::Timers => &[BitArea::TimerContact],
+            Writes::Counters => &[BitArea::CounterContact],
+            Writes::StlBookkeeping => &[],
+            Writes::OperationError => &[BitArea::M],
+            Writes::Bits(BitArea::X) => &[BitArea::X],
+            Writes::Bits(BitArea::Y) => &[BitArea::Y],
+            Writes::Bits(BitArea::M) => &[BitArea::M],
+            Writes::Bits(BitArea::S) => &[BitArea::S],
+            Writes::Bits(BitArea::Sm) => &[BitArea::Sm],
+            Writes::Bits(BitArea::TimerContact) => &[BitArea::TimerContact],
+            Writes::Bits(BitArea::CounterContact) => &[BitArea::CounterContact],
+        }
     }
 }
 
-/// `RST Tn`.
-///
-/// # Safety
-/// `mem` is null or the program's device image.
-#[no_mangle]
-pub unsafe extern "C" fn ladder_rt_reset_timer(mem: *mut Memory, timer: u32) {
-    if let Some(mem) = unsafe { memory(mem) } {
-        mem.reset_timer(timer);
+/// A helper's declaration.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct HelperDecl {
+    pub helper: Helper,
+    pub name: &'static str,
+    /// The parameters after the image pointer, with their names.
+    pub params: &'static [(&'static str, Param)],
+    pub returns: Option<Param>,
+    pub writes: &'static [Writes],
+    pub doc: &'static str,
+}
+
+impl HelperDecl {
+    /// The C prototype: `void ladder_rt_x(LadderMemory *mem, uint32_t a)`.
+    pub fn c_prototype(&self) -> String {
+        let params: Vec<String> = std::iter::once("LadderMemory *mem".to_string())
+            .chain(
+                self.params
+                    .iter()
+                    .map(|(name, param)| format!("{} {name}", param.c_type())),
+            )
+            .collect();
+        format!(
+            "{} {}({})",
+            self.returns.map_or("void", Param::c_type),
+            self.name,
+            params.join(", ")
+        )
     }
 }
 
-/// `RST Cn`.
-///
-/// # Safety
-/// `mem` is null or the program's device image.
-#[no_mangle]
-pub unsafe extern "C" fn ladder_rt_reset_counter(mem: *mut Memory, counter: u32) {
-    if let Some(mem) = unsafe { memory(mem) } {
-        mem.reset_counter(counter);
+macro_rules! param_type {
+    (u32) => {
+        u32
+    };
+    (i32) => {
+        i32
+    };
+    (source_place) => {
+        u32
+    };
+    (destination_place) => {
+        u32
+    };
+    (none) => {
+        ()
+    };
+}
+
+macro_rules! param_kind {
+    (u32) => {
+        Param::U32
+    };
+    (i32) => {
+        Param::I32
+    };
+    (source_place) => {
+        Param::SourcePlace
+    };
+    (destination_place) => {
+        Param::DestinationPlace
+    };
+}
+
+macro_rules! returns {
+    (none) => {
+        None
+    };
+    ($kind:ident) => {
+        Some(param_kind!($kind))
+    };
+}
+
+macro_rules! helpers {
+    ($(
+        #[doc = $doc:literal]
+        $(#[doc = $more:literal])*
+        $variant:ident = fn $name:ident($mem:ident $(, $param:ident: $kind:ident)*) -> $ret:ident
+            writes [$($writes:ident),*] $body:block
+    )*) => {
+        /// The runtime helpers compiled code calls.
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        pub enum Helper {
+            $( #[doc = $doc] $variant, )*
+        }
+
+        impl Helper {
+            pub const ALL: &'static [Helper] = &[$(Helper::$variant),*];
+
+            pub fn decl(self) -> &'static HelperDecl {
+                match self {
+                    $(Helper::$variant => {
+                        const DECL: HelperDecl = HelperDecl {
+                            helper: Helper::$variant,
+                            name: stringify!($name),
+                            params: &[$((stringify!($param), param_kind!($kind))),*],
+                            returns: returns!($ret),
+                            writes: &[$(Writes::$writes),*],
+                            doc: $doc,
+                        };
+                        &DECL
+                    })*
+                }
+            }
+
+            /// The function's address, for a JIT to resolve its imports.
+            pub fn address(self) -> *const u8 {
+                match self {
+                    $(Helper::$variant => $name as *const u8,)*
+                }
+            }
+        }
+
+        $(
+            #[doc = $doc]
+            $(#[doc = $more])*
+            ///
+            /// # Safety
+            /// `mem` is null or the program's device image, not in use elsewhere.
+            #[no_mangle]
+            pub unsafe extern "C" fn $name(
+                $mem: *mut Memory $(, $param: param_type!($kind))*
+            ) -> param_type!($ret) {
+                // SAFETY: the caller passes the image it was given.
+                match unsafe { $mem.as_mut() } {
+                    Some($mem) => $body,
+                    None => Default::default(),
+                }
+            }
+        )*
+    };
+}
+
+helpers! {
+    /// `OUT Tn preset` with the rung result `coil` (0 or 1).
+    TimerCoil = fn ladder_rt_timer_coil(mem, timer: u32, coil: u32, preset: i32) -> none
+        writes [Timers] {
+        mem.timer_coil(timer, coil != 0, preset)
+    }
+
+    /// `OUT Cn preset` with the rung result `coil` (0 or 1).
+    CounterCoil = fn ladder_rt_counter_coil(mem, counter: u32, coil: u32, preset: i32) -> none
+        writes [Counters] {
+        mem.counter_coil(counter, coil != 0, preset)
+    }
+
+    /// `RST Tn`.
+    ResetTimer = fn ladder_rt_reset_timer(mem, timer: u32) -> none writes [Timers] {
+        mem.reset_timer(timer)
+    }
+
+    /// `RST Cn`.
+    ResetCounter = fn ladder_rt_reset_counter(mem, counter: u32) -> none writes [Counters] {
+        mem.reset_counter(counter)
+    }
+
+    /// A SET transfer out of the block of `state`.
+    ScheduleStateOff = fn ladder_rt_schedule_state_off(mem, state: u32) -> none writes [StlBookkeeping] {
+        mem.schedule_state_off(state)
+    }
+
+    /// BMOV: `n` units of `width` (1 = 16-bit, 2 = 32-bit) between checked places, as a whole.
+    /// Overlapping blocks move as if every value were read before any is written.
+    BlockMove = fn ladder_rt_block_move(
+        mem, source: source_place, destination: destination_place, n: u32, width: u32
+    ) -> none writes [] {
+        if let (Some(source), Some(destination)) = (Place::unpack(source), Place::unpack(destination)) {
+            mem.block_move(source, destination, n, width_of(width), false)
+        }
+    }
+
+    /// FMOV: `value` into `n` units of `width` from a checked place.
+    Fill = fn ladder_rt_fill(mem, destination: destination_place, n: u32, width: u32, value: i32) -> none
+        writes [] {
+        if let Some(destination) = Place::unpack(destination) {
+            mem.block_move(Place::Constant(value), destination, n, width_of(width), true)
+        }
+    }
+
+    /// Records an operation error: M8067 ON, D8067 = `code`, D8069 = `line`.
+    RecordError = fn ladder_rt_record_error(mem, code: u32, line: u32) -> none writes [OperationError] {
+        if let Some(error) = OperationError::from_code(code) {
+            mem.record_error(error, line)
+        }
     }
 }
 
-/// A SET transfer out of the block of `state`.
-///
-/// # Safety
-/// `mem` is null or the program's device image.
-#[no_mangle]
-pub unsafe extern "C" fn ladder_rt_schedule_state_off(mem: *mut Memory, state: u32) {
-    if let Some(mem) = unsafe { memory(mem) } {
-        mem.schedule_state_off(state);
+/// The width a helper's `width` argument names: 2 is 32-bit, else 16-bit.
+fn width_of(width: u32) -> Width {
+    if width == 2 {
+        Width::Double
+    } else {
+        Width::Single
     }
 }
 
-/// BMOV/FMOV of `n` units between places encoded as by `Place::encode`. The
-/// compiled code has checked that both places hold `n` units; a place that
-/// does not decode is ignored.
-///
-/// # Safety
-/// `mem` is null or the program's device image.
-#[no_mangle]
-#[allow(clippy::too_many_arguments)]
-pub unsafe extern "C" fn ladder_rt_block_move(
-    mem: *mut Memory,
-    source_kind: u32,
-    source_index: u32,
-    source_digits: u32,
-    destination_kind: u32,
-    destination_index: u32,
-    destination_digits: u32,
-    n: u32,
-    flags: u32,
-) {
-    let source = Place::decode(source_kind, source_index, source_digits);
-    let destination = Place::decode(destination_kind, destination_index, destination_digits);
-    if let (Some(mem), Some(source), Some(destination)) = (unsafe { memory(mem) }, source, destination) {
-        mem.block_move(
-            source,
-            destination,
-            n,
-            if flags & BLOCK_MOVE_WIDE != 0 {
-                crate::host::Width::Double
-            } else {
-                crate::host::Width::Single
-            },
-            flags & BLOCK_MOVE_FILL != 0,
-        );
-    }
+/// A helper's `width` argument for `width`.
+pub fn width_arg(width: Width) -> u32 {
+    width.words()
 }
 
 /// Steps 1-2 of the scan, for the scan entry point of compiled objects. The
@@ -112,30 +281,57 @@ pub unsafe extern "C" fn ladder_rt_block_move(
 /// `mem` is null or the program's device image.
 #[export_name = "ladder_rt_begin_scan_v1_137856"]
 pub unsafe extern "C" fn ladder_rt_begin_scan(mem: *mut Memory, elapsed_ms: u32) {
-    if let Some(mem) = unsafe { memory(mem) } {
+    // SAFETY: the caller passes the image it was given.
+    if let Some(mem) = unsafe { mem.as_mut() } {
         mem.begin_scan(elapsed_ms);
     }
 }
 
-/// `ladder_rt_block_move` flag: 32-bit units.
-pub const BLOCK_MOVE_WIDE: u32 = 1;
-/// `ladder_rt_block_move` flag: fill (FMOV) instead of move (BMOV).
-pub const BLOCK_MOVE_FILL: u32 = 2;
+/// Every symbol compiled code may import, with its address, for a JIT.
+pub fn symbols() -> Vec<(&'static str, *const u8)> {
+    Helper::ALL
+        .iter()
+        .map(|helper| (helper.decl().name, helper.address()))
+        .chain([
+            (crate::layout::TAGGED_BEGIN_SCAN, ladder_rt_begin_scan as *const u8),
+            ("ladder_begin_scan", crate::capi::ladder_begin_scan as *const u8),
+            (crate::layout::END_SCAN, crate::capi::ladder_end_scan as *const u8),
+        ])
+        .collect()
+}
 
-/// The helpers by name with their addresses, for a JIT to resolve imports.
-pub fn symbols() -> [(&'static str, *const u8); 9] {
-    [
-        ("ladder_rt_timer_coil", ladder_rt_timer_coil as *const u8),
-        ("ladder_rt_counter_coil", ladder_rt_counter_coil as *const u8),
-        ("ladder_rt_reset_timer", ladder_rt_reset_timer as *const u8),
-        ("ladder_rt_reset_counter", ladder_rt_reset_counter as *const u8),
-        (
-            "ladder_rt_schedule_state_off",
-            ladder_rt_schedule_state_off as *const u8,
-        ),
-        ("ladder_rt_block_move", ladder_rt_block_move as *const u8),
-        (crate::layout::TAGGED_BEGIN_SCAN, ladder_rt_begin_scan as *const u8),
-        ("ladder_begin_scan", crate::capi::ladder_begin_scan as *const u8),
-        ("ladder_end_scan", crate::capi::ladder_end_scan as *const u8),
-    ]
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn declarations_name_their_functions() {
+        for &helper in Helper::ALL {
+            let decl = helper.decl();
+            assert_eq!(decl.helper, helper);
+            assert!(decl.name.starts_with("ladder_rt_"), "{}", decl.name);
+            assert!(!helper.address().is_null());
+        }
+        assert_eq!(
+            Helper::TimerCoil.decl().c_prototype(),
+            "void ladder_rt_timer_coil(LadderMemory *mem, uint32_t timer, uint32_t coil, int32_t preset)"
+        );
+    }
+
+    #[test]
+    fn null_images_are_ignored() {
+        unsafe {
+            ladder_rt_timer_coil(core::ptr::null_mut(), 0, 1, 5);
+            ladder_rt_record_error(core::ptr::null_mut(), 0x4085, 3);
+        }
+    }
+
+    #[test]
+    fn record_error_takes_known_codes_only() {
+        let mut mem = Memory::new_boxed();
+        unsafe { ladder_rt_record_error(&mut *mem, 0x1234, 9) };
+        assert_eq!(mem.operation_error(), None);
+        unsafe { ladder_rt_record_error(&mut *mem, 0x4086, 9) };
+        assert_eq!(mem.operation_error(), Some(0x4086));
+    }
 }

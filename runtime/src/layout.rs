@@ -21,6 +21,9 @@ pub const LAYOUT_TAG: &str = "v1_137856";
 /// The begin-scan entry compiled objects call; carries the layout tag.
 pub const TAGGED_BEGIN_SCAN: &str = "ladder_rt_begin_scan_v1_137856";
 
+/// The end-scan entry compiled objects call (the C API's `ladder_end_scan`).
+pub const END_SCAN: &str = "ladder_end_scan";
+
 /// Offset of a bit area's first byte (one byte per bit).
 pub const fn bit_area_offset(area: BitArea) -> usize {
     match area {

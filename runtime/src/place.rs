@@ -68,37 +68,83 @@ impl Place {
         }
     }
 
-    /// Encodes the place for the C ABI of the runtime helpers:
-    /// (kind, index, digits).
-    pub fn encode(self) -> (u32, u32, u32) {
+    /// What kind of place it is, without the index; `None` for a constant.
+    pub fn kind(self) -> Option<PlaceKind> {
         match self {
-            Place::Constant(value) => (PLACE_CONSTANT, value as u32, 0),
-            Place::Word(area, index) => (area as u32, index, 0),
-            Place::WideCounter(index) => (PLACE_WIDE_COUNTER, index, 0),
-            Place::Digits(area, start, digits) => (PLACE_DIGITS + area as u32, start, u32::from(digits)),
+            Place::Constant(_) => None,
+            Place::Word(area, _) => Some(PlaceKind::Word(area)),
+            Place::WideCounter(_) => Some(PlaceKind::WideCounter),
+            Place::Digits(area, _, digits) => Some(PlaceKind::Digits(area, digits)),
         }
     }
 
-    /// The inverse of `encode`; `None` for a kind that does not exist.
-    pub fn decode(kind: u32, index: u32, digits: u32) -> Option<Place> {
-        let word = WordArea::ALL.iter().find(|&&a| a as u32 == kind);
-        let bits = BitArea::ALL.iter().find(|&&a| PLACE_DIGITS + a as u32 == kind);
-        match (kind, word, bits) {
-            (PLACE_CONSTANT, _, _) => Some(Place::Constant(index as i32)),
-            (PLACE_WIDE_COUNTER, _, _) => Some(Place::WideCounter(index)),
-            (_, Some(&area), _) => Some(Place::Word(area, index)),
-            (_, _, Some(&area)) if (1..=8).contains(&digits) => Some(Place::Digits(area, index, digits as u8)),
-            _ => None,
-        }
+    /// The place as one u32 for the runtime helpers (`PlaceKind::tag` plus
+    /// the index); `None` for a constant, which helpers take as a value.
+    pub fn pack(self) -> Option<u32> {
+        let index = match self {
+            Place::Constant(_) => return None,
+            Place::Word(_, index) | Place::WideCounter(index) | Place::Digits(_, index, _) => index,
+        };
+        Some(self.kind()?.tag() | (index & PLACE_INDEX_MASK))
+    }
+
+    /// The inverse of `pack`; `None` for a value that names no place.
+    pub fn unpack(packed: u32) -> Option<Place> {
+        let index = packed & PLACE_INDEX_MASK;
+        let tag = packed & !PLACE_INDEX_MASK;
+        let kind = PlaceKind::ALL_TAGS.iter().find(|kind| kind.tag() == tag)?;
+        Some(match *kind {
+            PlaceKind::Word(area) => Place::Word(area, index),
+            PlaceKind::WideCounter => Place::WideCounter(index),
+            PlaceKind::Digits(area, digits) => Place::Digits(area, index, digits),
+        })
     }
 }
 
-/// Place kind of a constant (its value is the index).
-pub const PLACE_CONSTANT: u32 = 255;
-/// Place kind of a 32-bit counter value.
-pub const PLACE_WIDE_COUNTER: u32 = 8;
-/// Place kinds of digit groups: this plus the bit area.
-pub const PLACE_DIGITS: u32 = 16;
+/// Bits of a packed place that hold the index (areas have at most 32768
+/// elements).
+pub const PLACE_INDEX_MASK: u32 = 0xFFFF;
+
+/// A place without its index.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PlaceKind {
+    Word(WordArea),
+    WideCounter,
+    /// A digit group of n digits (1..8).
+    Digits(BitArea, u8),
+}
+
+impl PlaceKind {
+    /// Every kind that packs (digit counts 1..8).
+    const ALL_TAGS: [PlaceKind; 5 + 1 + 7 * 8] = {
+        let mut all = [PlaceKind::WideCounter; 5 + 1 + 7 * 8];
+        let mut i = 0;
+        while i < 5 {
+            all[i] = PlaceKind::Word(WordArea::ALL[i]);
+            i += 1;
+        }
+        let mut area = 0;
+        while area < 7 {
+            let mut digits = 1;
+            while digits <= 8 {
+                all[6 + area * 8 + (digits - 1)] = PlaceKind::Digits(BitArea::ALL[area], digits as u8);
+                digits += 1;
+            }
+            area += 1;
+        }
+        all
+    };
+
+    /// The packed place with index 0: the kind in bits 24-31, the digit
+    /// count in bits 16-19.
+    pub const fn tag(self) -> u32 {
+        match self {
+            PlaceKind::Word(area) => (1 + area as u32) << 24,
+            PlaceKind::WideCounter => 16 << 24,
+            PlaceKind::Digits(area, digits) => ((32 + area as u32) << 24) | ((digits as u32 & 0xF) << 16),
+        }
+    }
+}
 
 /// Largest word count of BMOV/FMOV.
 pub const MAX_BLOCK_UNITS: u32 = 512;
@@ -126,18 +172,23 @@ mod tests {
     use super::*;
 
     #[test]
-    fn encoding_round_trips() {
+    fn packing_round_trips() {
         for place in [
-            Place::Constant(-5),
-            Place::Word(WordArea::R, 9),
+            Place::Word(WordArea::R, 32767),
+            Place::Word(WordArea::D, 0),
             Place::WideCounter(201),
             Place::Digits(BitArea::Y, 8, 2),
+            Place::Digits(BitArea::CounterContact, 250, 8),
         ] {
-            let (kind, index, digits) = place.encode();
-            assert_eq!(Place::decode(kind, index, digits), Some(place));
+            assert_eq!(Place::unpack(place.pack().unwrap()), Some(place), "{place:?}");
         }
-        assert_eq!(Place::decode(99, 0, 0), None);
-        assert_eq!(Place::decode(PLACE_DIGITS, 0, 9), None);
+        assert_eq!(Place::Constant(-5).pack(), None);
+        assert_eq!(Place::unpack(0), None);
+        assert_eq!(Place::unpack(99 << 24), None);
+        assert_eq!(
+            Place::unpack(PlaceKind::Digits(BitArea::M, 1).tag() & !(0xF << 16)),
+            None
+        );
     }
 
     #[test]

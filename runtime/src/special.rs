@@ -117,7 +117,22 @@ pub enum OperationError {
 }
 
 impl OperationError {
+    pub const ALL: [OperationError; 7] = [
+        OperationError::DataOutOfRange,
+        OperationError::ReadOutOfRange,
+        OperationError::WriteOutOfRange,
+        OperationError::UnsupportedDevice,
+        OperationError::TooManyInstructions,
+        OperationError::RangeNotSameDevice,
+        OperationError::RangeOrder,
+    ];
+
     pub const fn code(self) -> u16 {
         self as u16
+    }
+
+    /// The error with this code, if there is one.
+    pub fn from_code(code: u32) -> Option<OperationError> {
+        OperationError::ALL.into_iter().find(|e| u32::from(e.code()) == code)
     }
 }

@@ -15,7 +15,8 @@ use cranelift_codegen::isa::{OwnedTargetIsa, TargetIsa};
 use cranelift_codegen::settings::{self, Configurable};
 use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext};
 use cranelift_module::{FuncId, Linkage, Module, ModuleError};
-use translate::{translate, HelperRefs};
+use ladder_runtime::helpers::Helper;
+use translate::translate;
 
 /// Something went wrong in the back end. Not expected for any checked
 /// program; reported rather than panicking.
@@ -67,17 +68,6 @@ fn target_isa(triple: Option<&str>, pic: bool) -> Result<OwnedTargetIsa, Codegen
         .map_err(|e| CodegenError::Target(e.to_string()))
 }
 
-/// Names of the runtime functions compiled code imports.
-mod names {
-    pub const TIMER_COIL: &str = "ladder_rt_timer_coil";
-    pub const COUNTER_COIL: &str = "ladder_rt_counter_coil";
-    pub const RESET_TIMER: &str = "ladder_rt_reset_timer";
-    pub const RESET_COUNTER: &str = "ladder_rt_reset_counter";
-    pub const SCHEDULE_STATE_OFF: &str = "ladder_rt_schedule_state_off";
-    pub const BLOCK_MOVE: &str = "ladder_rt_block_move";
-    pub const END_SCAN: &str = "ladder_end_scan";
-}
-
 /// A C signature. 32-bit arguments are sign-extended by the caller: the
 /// riscv64 psABI requires it (for unsigned ones too) and callees compiled by
 /// LLVM rely on it; elsewhere it is harmless.
@@ -94,36 +84,31 @@ fn signature(isa: &dyn TargetIsa, params: &[types::Type]) -> Signature {
     signature
 }
 
-/// The runtime helpers, declared as imports of the module.
-struct Helpers {
-    timer_coil: FuncId,
-    counter_coil: FuncId,
-    reset_timer: FuncId,
-    reset_counter: FuncId,
-    schedule_state_off: FuncId,
-    block_move: FuncId,
+/// The C signature of a runtime helper: the image pointer, then its
+/// declared parameters (all 32-bit).
+fn helper_signature(isa: &dyn TargetIsa, pointer: types::Type, helper: Helper) -> Signature {
+    let decl = helper.decl();
+    let params: Vec<types::Type> = std::iter::once(pointer)
+        .chain(decl.params.iter().map(|_| types::I32))
+        .collect();
+    let mut signature = signature(isa, &params);
+    if decl.returns.is_some() {
+        signature.returns.push(AbiParam::new(types::I32));
+    }
+    signature
 }
 
-impl Helpers {
-    fn declare(module: &mut dyn Module) -> Result<Helpers, CodegenError> {
-        let pointer = module.target_config().pointer_type();
-        let i32 = types::I32;
-        let isa = module.isa();
-        let coil = signature(isa, &[pointer, i32, i32, i32]);
-        let one = signature(isa, &[pointer, i32]);
-        let moves = signature(isa, &[pointer, i32, i32, i32, i32, i32, i32, i32, i32]);
-        let mut import = |name: &str, signature: &Signature| -> Result<FuncId, CodegenError> {
-            Ok(module.declare_function(name, Linkage::Import, signature)?)
-        };
-        Ok(Helpers {
-            timer_coil: import(names::TIMER_COIL, &coil)?,
-            counter_coil: import(names::COUNTER_COIL, &coil)?,
-            reset_timer: import(names::RESET_TIMER, &one)?,
-            reset_counter: import(names::RESET_COUNTER, &one)?,
-            schedule_state_off: import(names::SCHEDULE_STATE_OFF, &one)?,
-            block_move: import(names::BLOCK_MOVE, &moves)?,
+/// Declares every runtime helper as an import of the module, in
+/// `Helper::ALL` order.
+fn declare_helpers(module: &mut dyn Module) -> Result<Vec<FuncId>, CodegenError> {
+    let pointer = module.target_config().pointer_type();
+    Helper::ALL
+        .iter()
+        .map(|&helper| {
+            let signature = helper_signature(module.isa(), pointer, helper);
+            Ok(module.declare_function(helper.decl().name, Linkage::Import, &signature)?)
         })
-    }
+        .collect()
 }
 
 /// Defines the program body `fn(mem)` in `module` under `name`.
@@ -133,7 +118,7 @@ fn define_program(
     name: &str,
     linkage: Linkage,
 ) -> Result<FuncId, CodegenError> {
-    let helpers = Helpers::declare(module)?;
+    let helpers = declare_helpers(module)?;
     let pointer = module.target_config().pointer_type();
     let body_signature = signature(module.isa(), &[pointer]);
     let id = module.declare_function(name, linkage, &body_signature)?;
@@ -143,15 +128,10 @@ fn define_program(
     let mut builder_context = FunctionBuilderContext::new();
     {
         let mut builder = FunctionBuilder::new(&mut context.func, &mut builder_context);
-        let mut reference = |id: FuncId| module.declare_func_in_func(id, builder.func);
-        let refs = HelperRefs {
-            timer_coil: reference(helpers.timer_coil),
-            counter_coil: reference(helpers.counter_coil),
-            reset_timer: reference(helpers.reset_timer),
-            reset_counter: reference(helpers.reset_counter),
-            schedule_state_off: reference(helpers.schedule_state_off),
-            block_move: reference(helpers.block_move),
-        };
+        let refs: Vec<_> = helpers
+            .iter()
+            .map(|&id| module.declare_func_in_func(id, builder.func))
+            .collect();
         translate(program, &mut builder, &refs, pointer);
         builder.finalize(module.target_config());
     }

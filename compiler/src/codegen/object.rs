@@ -1,6 +1,6 @@
 //! The object-file back end: the program and its C-ABI scan entry point.
 
-use super::{define_program, names, signature, target_isa, CodegenError};
+use super::{define_program, signature, target_isa, CodegenError};
 use crate::ir::Function;
 use cranelift_codegen::ir::{types, InstBuilder, UserFuncName};
 use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext};
@@ -37,7 +37,7 @@ pub fn emit_object(program: &Function, options: &ObjectOptions) -> Result<Vec<u8
         Linkage::Import,
         &scan_signature,
     )?;
-    let end = module.declare_function(names::END_SCAN, Linkage::Import, &end_signature)?;
+    let end = module.declare_function(ladder_runtime::layout::END_SCAN, Linkage::Import, &end_signature)?;
     let entry = module.declare_function(&format!("{}scan", options.prefix), Linkage::Export, &scan_signature)?;
 
     let mut context = module.make_context();

@@ -10,21 +10,11 @@ use cranelift_codegen::ir::condcodes::IntCC;
 use cranelift_codegen::ir::{types, FuncRef, InstBuilder, MemFlagsData, Value};
 use cranelift_frontend::{FunctionBuilder, Variable};
 use ladder_runtime::device::{FIRST_WIDE_COUNTER, WIDE_COUNTER_COUNT};
+use ladder_runtime::helpers::Helper;
 use ladder_runtime::layout::{
     bit_area_offset, word_area_offset, EDGE_SLOT_OFFSET, STL_BLOCK_ACTIVE_OFFSET, WIDE_COUNTER_OFFSET,
 };
-use ladder_runtime::special::{D_ERROR_CODE, D_ERROR_LINE, M_OPERATION_ERROR};
 use ladder_runtime::{BitArea, WordArea};
-
-/// Imported runtime helpers, as callable from the function being built.
-pub struct HelperRefs {
-    pub timer_coil: FuncRef,
-    pub counter_coil: FuncRef,
-    pub reset_timer: FuncRef,
-    pub reset_counter: FuncRef,
-    pub schedule_state_off: FuncRef,
-    pub block_move: FuncRef,
-}
 
 fn cl_type(ty: Type) -> types::Type {
     match ty {
@@ -53,7 +43,8 @@ fn flags() -> MemFlagsData {
 
 /// Translates `func` into the builder, whose entry block takes the image
 /// pointer as its only parameter.
-pub fn translate(func: &ir::Function, builder: &mut FunctionBuilder, helpers: &HelperRefs, pointer: types::Type) {
+/// `helpers` holds the imported runtime helpers in `Helper::ALL` order.
+pub fn translate(func: &ir::Function, builder: &mut FunctionBuilder, helpers: &[FuncRef], pointer: types::Type) {
     let blocks: Vec<_> = func.blocks.iter().map(|_| builder.create_block()).collect();
     let entry = blocks[0];
     builder.append_block_params_for_function_params(entry);
@@ -108,7 +99,7 @@ struct Translator<'a, 'b> {
     builder: &'a mut FunctionBuilder<'b>,
     mem: Value,
     pointer: types::Type,
-    helpers: &'a HelperRefs,
+    helpers: &'a [FuncRef],
     locals: Vec<Variable>,
 }
 
@@ -201,10 +192,12 @@ impl Translator<'_, '_> {
         self.builder.switch_to_block(done);
     }
 
-    fn call(&mut self, helper: FuncRef, args: &[Value]) {
+    /// Calls a runtime helper with the image and `args`; its result, if any.
+    fn call(&mut self, helper: Helper, args: &[Value]) -> Option<Value> {
         let mut all = vec![self.mem];
         all.extend_from_slice(args);
-        self.builder.ins().call(helper, &all);
+        let call = self.builder.ins().call(self.helpers[helper as usize], &all);
+        self.builder.inst_results(call).first().copied()
     }
 
     fn inst(&mut self, inst: &Inst, values: &[Option<Value>]) -> Option<Value> {
@@ -306,87 +299,14 @@ impl Translator<'_, '_> {
                 if_false,
             } => self.builder.ins().select(get(condition), get(if_true), get(if_false)),
             Inst::RecordError { error, line } => {
-                let on = self.iconst(types::I8, 1);
-                self.store_at(
-                    on,
-                    (
-                        self.mem,
-                        (bit_area_offset(BitArea::M) + M_OPERATION_ERROR as usize) as i32,
-                    ),
-                );
-                let code = self.iconst(types::I16, i64::from(error.code() as i16));
-                self.store_at(
-                    code,
-                    (
-                        self.mem,
-                        (word_area_offset(WordArea::D) + 2 * D_ERROR_CODE as usize) as i32,
-                    ),
-                );
-                let line = self.iconst(types::I16, i64::from(*line as u16 as i16));
-                self.store_at(
-                    line,
-                    (
-                        self.mem,
-                        (word_area_offset(WordArea::D) + 2 * D_ERROR_LINE as usize) as i32,
-                    ),
-                );
+                let code = self.iconst(types::I32, i64::from(error.code()));
+                let line = self.iconst(types::I32, i64::from(*line as i32));
+                self.call(Helper::RecordError, &[code, line]);
                 return None;
             }
-            Inst::TimerCoil { timer, coil, preset }
-            | Inst::CounterCoil {
-                counter: timer,
-                coil,
-                preset,
-            } => {
-                let number = self.iconst(types::I32, i64::from(*timer));
-                let coil = self.builder.ins().uextend(types::I32, get(coil));
-                let helper = if matches!(inst, Inst::TimerCoil { .. }) {
-                    self.helpers.timer_coil
-                } else {
-                    self.helpers.counter_coil
-                };
-                self.call(helper, &[number, coil, get(preset)]);
-                return None;
-            }
-            Inst::ResetTimer { timer } => {
-                let number = self.iconst(types::I32, i64::from(*timer));
-                self.call(self.helpers.reset_timer, &[number]);
-                return None;
-            }
-            Inst::ResetCounter { counter } => {
-                let number = self.iconst(types::I32, i64::from(*counter));
-                self.call(self.helpers.reset_counter, &[number]);
-                return None;
-            }
-            Inst::ScheduleStateOff { state } => {
-                let number = self.iconst(types::I32, i64::from(*state));
-                self.call(self.helpers.schedule_state_off, &[number]);
-                return None;
-            }
-            Inst::BlockMove {
-                source,
-                destination,
-                count,
-                width,
-                fill,
-            } => {
-                let mut args = Vec::new();
-                for place in [source, destination] {
-                    let kind = self.iconst(types::I32, i64::from(place.kind));
-                    let index = match place.index {
-                        Index::Fixed(n) => self.iconst(types::I32, i64::from(n)),
-                        Index::Dynamic(v) => get(&v),
-                    };
-                    let digits = self.iconst(types::I32, i64::from(place.digits));
-                    args.extend([kind, index, digits]);
-                }
-                let flags = (ladder_runtime::helpers::BLOCK_MOVE_WIDE
-                    * u32::from(*width == ladder_runtime::Width::Double))
-                    | (ladder_runtime::helpers::BLOCK_MOVE_FILL * u32::from(*fill));
-                let flags = self.iconst(types::I32, i64::from(flags));
-                args.extend([get(count), flags]);
-                self.call(self.helpers.block_move, &args);
-                return None;
+            Inst::Call { helper, args } => {
+                let args: Vec<Value> = args.iter().map(get).collect();
+                return self.call(*helper, &args);
             }
         };
         Some(ins_value)

@@ -2,6 +2,7 @@
 
 use super::{BinOp, Block, BlockId, Function, Index, Inst, Local, Terminator, Type, Value};
 use crate::isa::CompareOp;
+use ladder_runtime::helpers::Helper;
 
 /// Appends instructions to the current block of a function being built.
 pub struct Builder {
@@ -109,6 +110,23 @@ impl Builder {
 
     pub fn constant(&mut self, ty: Type, value: i64) -> Value {
         self.push(Inst::Const { ty, value })
+    }
+
+    /// A u32 argument of a helper call (a device number, a code).
+    pub fn number(&mut self, value: u32) -> Value {
+        self.constant(Type::I32, i64::from(value as i32))
+    }
+
+    /// Calls a runtime helper; its value, when it returns one.
+    pub fn call(&mut self, helper: Helper, args: Vec<Value>) -> Option<Value> {
+        debug_assert_eq!(args.len(), helper.decl().params.len(), "{helper:?} arguments");
+        let inst = Inst::Call { helper, args };
+        if self.result_type(&inst).is_some() {
+            Some(self.push(inst))
+        } else {
+            self.effect(inst);
+            None
+        }
     }
 
     pub fn bit(&mut self, on: bool) -> Value {

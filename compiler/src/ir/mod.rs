@@ -20,7 +20,8 @@ mod print;
 pub use builder::Builder;
 
 use crate::isa::CompareOp;
-use ladder_runtime::{BitArea, OperationError, Width, WordArea};
+use ladder_runtime::helpers::Helper;
+use ladder_runtime::{BitArea, OperationError, WordArea};
 
 /// An SSA value.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -67,14 +68,6 @@ pub enum BinOp {
     Shl,
     /// Arithmetic shift right.
     Shr,
-}
-
-/// Where BMOV/FMOV read or write: an encoded `ladder_runtime::Place`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct PlaceArg {
-    pub kind: u32,
-    pub index: Index,
-    pub digits: u32,
 }
 
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -181,40 +174,18 @@ pub enum Inst {
         if_true: Value,
         if_false: Value,
     },
-    /// M8067 ON, D8067 = code, D8069 = line.
+    /// M8067 ON, D8067 = code, D8069 = line (a call of the runtime's
+    /// `RecordError` helper in machine code).
     RecordError {
         error: OperationError,
         line: u32,
     },
-    /// `OUT Tn preset` with `coil` (Bit) and `preset` (I32).
-    TimerCoil {
-        timer: u32,
-        coil: Value,
-        preset: Value,
-    },
-    /// `OUT Cn preset` with `coil` (Bit) and `preset` (I32).
-    CounterCoil {
-        counter: u32,
-        coil: Value,
-        preset: Value,
-    },
-    ResetTimer {
-        timer: u32,
-    },
-    ResetCounter {
-        counter: u32,
-    },
-    /// A SET transfer: `state` turns OFF at the start of the next scan.
-    ScheduleStateOff {
-        state: u32,
-    },
-    /// BMOV/FMOV of `count` (I32) units between checked places.
-    BlockMove {
-        source: PlaceArg,
-        destination: PlaceArg,
-        count: Value,
-        width: Width,
-        fill: bool,
+    /// A call of a runtime helper; the arguments follow the helper's
+    /// declaration (I32 values; places packed by `Place::pack`). Defines a
+    /// value when the helper returns one.
+    Call {
+        helper: Helper,
+        args: Vec<Value>,
     },
 }
 
@@ -237,15 +208,27 @@ impl Inst {
             Inst::Binary { a, .. } => value_type(*a),
             Inst::Extend { to, .. } | Inst::Truncate { to, .. } => *to,
             Inst::Select { if_true, .. } => value_type(*if_true),
-            _ => return None,
+            Inst::Call { helper, .. } => return helper.decl().returns.map(|_| Type::I32),
+            Inst::StoreBit { .. }
+            | Inst::FillBits { .. }
+            | Inst::StoreWord { .. }
+            | Inst::ClearWords { .. }
+            | Inst::StoreWideCounter { .. }
+            | Inst::StoreSlot { .. }
+            | Inst::StoreBlockActive { .. }
+            | Inst::SetLocal { .. }
+            | Inst::RecordError { .. } => return None,
         })
     }
 
-    /// Has no effect besides its result, so it may be removed when unused. In
-    /// this IR that is every instruction that defines a value (loads of the
-    /// image included); instructions with effects define nothing.
+    /// Has no effect besides its result, so it may be removed when unused:
+    /// every instruction that defines a value (loads of the image included)
+    /// except helper calls.
     pub fn is_pure(&self) -> bool {
-        self.result_type(|_| Type::Bit).is_some()
+        match self {
+            Inst::Call { .. } => false,
+            other => other.result_type(|_| Type::Bit).is_some(),
+        }
     }
 
     /// Values the instruction reads.
@@ -267,10 +250,7 @@ impl Inst {
             | Inst::LoadSlot { .. }
             | Inst::LoadBlockActive { .. }
             | Inst::GetLocal { .. }
-            | Inst::RecordError { .. }
-            | Inst::ResetTimer { .. }
-            | Inst::ResetCounter { .. }
-            | Inst::ScheduleStateOff { .. } => {}
+            | Inst::RecordError { .. } => {}
             Inst::LoadBit { index: i, .. } | Inst::LoadWord { index: i, .. } | Inst::LoadWideCounter { index: i } => {
                 index(i, &mut visit)
             }
@@ -300,20 +280,7 @@ impl Inst {
                 visit(if_true);
                 visit(if_false);
             }
-            Inst::TimerCoil { coil, preset, .. } | Inst::CounterCoil { coil, preset, .. } => {
-                visit(coil);
-                visit(preset);
-            }
-            Inst::BlockMove {
-                source,
-                destination,
-                count,
-                ..
-            } => {
-                index(&mut source.index, &mut visit);
-                index(&mut destination.index, &mut visit);
-                visit(count);
-            }
+            Inst::Call { args, .. } => args.iter_mut().for_each(&mut visit),
         }
     }
 }

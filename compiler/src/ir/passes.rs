@@ -8,8 +8,9 @@
 
 use super::{BinOp, Block, BlockId, Function, Index, Inst, Terminator, Type, Value};
 use crate::isa::CompareOp;
+use ladder_runtime::helpers::Param;
 use ladder_runtime::special::{M_ALWAYS_OFF, M_ALWAYS_ON, SM_ALWAYS_OFF, SM_ALWAYS_ON};
-use ladder_runtime::BitArea;
+use ladder_runtime::{BitArea, Place};
 use std::collections::HashMap;
 
 /// Runs every pass.
@@ -90,29 +91,85 @@ fn constant_relays(function: &Function) -> HashMap<(BitArea, u32), bool> {
     for n in M_ALWAYS_OFF {
         known.insert((BitArea::M, n), false);
     }
+    let constants: HashMap<Value, i64> = function
+        .blocks
+        .iter()
+        .flat_map(|b| b.insts.iter())
+        .filter_map(|(result, inst)| match (result, inst) {
+            (Some(r), Inst::Const { value, .. }) => Some((*r, *value)),
+            _ => None,
+        })
+        .collect();
     for block in &function.blocks {
         for (_, inst) in &block.insts {
-            let written: Option<(BitArea, Index, u32)> = match inst {
-                Inst::StoreBit { area, index, .. } => Some((*area, *index, 1)),
-                Inst::FillBits { area, start, count, .. } => Some((*area, *start, *count)),
-                Inst::BlockMove { destination, .. } => {
-                    // A digit-group destination writes bits of some area.
-                    let bits = destination.kind.checked_sub(ladder_runtime::place::PLACE_DIGITS);
-                    let area = BitArea::ALL.iter().find(|a| Some(**a as u32) == bits);
-                    area.map(|&area| (area, Index::Dynamic(Value(0)), 0))
+            for (area, start, count) in written_bits(inst, &constants) {
+                match start {
+                    Some(start) => known.retain(|&(a, n), _| a != area || !(start..start + count).contains(&n)),
+                    None => known.retain(|&(a, _), _| a != area),
                 }
-                _ => None,
-            };
-            match written {
-                Some((area, Index::Fixed(start), count)) => {
-                    known.retain(|&(a, n), _| a != area || !(start..start + count).contains(&n));
-                }
-                Some((area, Index::Dynamic(_), _)) => known.retain(|&(a, _), _| a != area),
-                None => {}
             }
         }
     }
     known
+}
+
+/// The bit devices an instruction may write: (area, first, count), with no
+/// first when the index is dynamic (the whole area may be written).
+fn written_bits(inst: &Inst, constants: &HashMap<Value, i64>) -> Vec<(BitArea, Option<u32>, u32)> {
+    let fixed = |index: &Index| match index {
+        Index::Fixed(n) => Some(*n),
+        Index::Dynamic(_) => None,
+    };
+    match inst {
+        Inst::StoreBit { area, index, .. } => vec![(*area, fixed(index), 1)],
+        Inst::FillBits { area, start, count, .. } => vec![(*area, fixed(start), *count)],
+        Inst::Call { helper, args } => {
+            let decl = helper.decl();
+            let effects = decl
+                .writes
+                .iter()
+                .flat_map(|w| w.bit_areas())
+                .map(|&area| (area, None, 0));
+            let places = decl
+                .params
+                .iter()
+                .zip(args)
+                .filter(|((_, param), _)| *param == Param::DestinationPlace)
+                .flat_map(|(_, arg)| {
+                    let place = constants.get(arg).and_then(|&packed| Place::unpack(packed as u32));
+                    match place {
+                        // A digit group writes bits of its area.
+                        Some(Place::Digits(area, ..)) => vec![(area, None, 0)],
+                        Some(Place::Word(..) | Place::WideCounter(_) | Place::Constant(_)) => Vec::new(),
+                        // Not known here: any bit area.
+                        None => BitArea::ALL.iter().map(|&area| (area, None, 0)).collect(),
+                    }
+                });
+            effects.chain(places).collect()
+        }
+        Inst::Const { .. }
+        | Inst::LoadBit { .. }
+        | Inst::LoadWord { .. }
+        | Inst::StoreWord { .. }
+        | Inst::ClearWords { .. }
+        | Inst::LoadWideCounter { .. }
+        | Inst::StoreWideCounter { .. }
+        | Inst::LoadSlot { .. }
+        | Inst::StoreSlot { .. }
+        | Inst::LoadBlockActive { .. }
+        | Inst::StoreBlockActive { .. }
+        | Inst::GetLocal { .. }
+        | Inst::SetLocal { .. }
+        | Inst::Not { .. }
+        | Inst::And { .. }
+        | Inst::Or { .. }
+        | Inst::Binary { .. }
+        | Inst::Compare { .. }
+        | Inst::Extend { .. }
+        | Inst::Truncate { .. }
+        | Inst::Select { .. }
+        | Inst::RecordError { .. } => Vec::new(),
+    }
 }
 
 /// Wraps `value` to the bits of `ty`, sign-extended (Bits are 0/1).

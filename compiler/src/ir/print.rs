@@ -1,6 +1,6 @@
 //! The text form of the IR (`ladderc build --emit ir`), stable for snapshots.
 
-use super::{BinOp, Function, Index, Inst, PlaceArg, Terminator, Type};
+use super::{BinOp, Function, Index, Inst, Terminator, Type};
 use std::fmt::{self, Display, Formatter};
 
 impl Display for Type {
@@ -33,14 +33,6 @@ fn index(prefix: &str, name: impl Fn(u32) -> String, index: &Index) -> String {
     }
 }
 
-fn place(p: &PlaceArg) -> String {
-    let at = match p.index {
-        Index::Fixed(n) => n.to_string(),
-        Index::Dynamic(v) => v.to_string(),
-    };
-    format!("place(kind {}, {at}, digits {})", p.kind, p.digits)
-}
-
 fn binop(op: BinOp) -> &'static str {
     match op {
         BinOp::Add => "add",
@@ -55,7 +47,11 @@ fn binop(op: BinOp) -> &'static str {
     }
 }
 
-fn inst(func: &Function, inst: &Inst) -> String {
+/// Constant values by the value that holds them, so that helper calls show
+/// their constant arguments inline.
+type Constants = std::collections::HashMap<super::Value, i64>;
+
+fn inst(func: &Function, constants: &Constants, inst: &Inst) -> String {
     use Inst::*;
     match inst {
         Const { ty, value } => format!("const.{ty} {value}"),
@@ -109,39 +105,39 @@ fn inst(func: &Function, inst: &Inst) -> String {
             if_false,
         } => format!("select {condition}, {if_true}, {if_false}"),
         RecordError { error, line } => format!("record.error {:04X}H, line {line}", error.code()),
-        TimerCoil { timer, coil, preset } => format!("timer T{timer}, coil {coil}, preset {preset}"),
-        CounterCoil { counter, coil, preset } => format!("counter C{counter}, coil {coil}, preset {preset}"),
-        ResetTimer { timer } => format!("reset.timer T{timer}"),
-        ResetCounter { counter } => format!("reset.counter C{counter}"),
-        ScheduleStateOff { state } => format!("state.off.next.scan S{state}"),
-        BlockMove {
-            source,
-            destination,
-            count,
-            width,
-            fill,
-        } => format!(
-            "{}{} {} -> {}, count {count}",
-            if *fill { "fill" } else { "move" },
-            match width {
-                ladder_runtime::Width::Double => ".i32",
-                ladder_runtime::Width::Single => ".i16",
-            },
-            place(source),
-            place(destination)
-        ),
+        Call { helper, args } => {
+            let decl = helper.decl();
+            let args: Vec<String> = args
+                .iter()
+                .map(|v| constants.get(v).map_or_else(|| v.to_string(), i64::to_string))
+                .collect();
+            format!(
+                "call {}({})",
+                decl.name.trim_start_matches("ladder_rt_"),
+                args.join(", ")
+            )
+        }
     }
 }
 
 impl Display for Function {
     fn fmt(&self, f: &mut Formatter<'_>) -> fmt::Result {
+        let constants: Constants = self
+            .blocks
+            .iter()
+            .flat_map(|b| b.insts.iter())
+            .filter_map(|(result, inst)| match (result, inst) {
+                (Some(v), Inst::Const { value, .. }) => Some((*v, *value)),
+                _ => None,
+            })
+            .collect();
         writeln!(f, "program(mem) {{")?;
         for (number, block) in self.blocks.iter().enumerate() {
             writeln!(f, "block{number}:")?;
             for (result, instruction) in &block.insts {
                 match result {
-                    Some(value) => writeln!(f, "    {value} = {}", inst(self, instruction))?,
-                    None => writeln!(f, "    {}", inst(self, instruction))?,
+                    Some(value) => writeln!(f, "    {value} = {}", inst(self, &constants, instruction))?,
+                    None => writeln!(f, "    {}", inst(self, &constants, instruction))?,
                 }
             }
             match &block.terminator {

@@ -11,6 +11,7 @@ mod operand;
 use crate::ir::{Builder, Function, Inst, Local, Terminator, Type, Value};
 use crate::isa::Sense;
 use crate::program::{CheckedProgram, Contact, Instruction, Op, ResetTarget, StlBlock};
+use ladder_runtime::helpers::Helper;
 use ladder_runtime::{BitArea, OperationError, Width};
 use std::collections::BTreeMap;
 
@@ -282,11 +283,8 @@ impl<'p> Lowering<'p> {
             Op::Out(bit) => self.write_bit(*bit, power, line),
             Op::OutTimer { timer, preset } => {
                 let preset = self.preset(*preset, Width::Single);
-                self.b.effect(Inst::TimerCoil {
-                    timer: *timer,
-                    coil: power,
-                    preset,
-                });
+                let (timer, coil) = (self.b.number(*timer), self.b.extend(power, Type::I32, false));
+                self.b.call(Helper::TimerCoil, vec![timer, coil, preset]);
             }
             Op::OutCounter { counter, preset } => {
                 let width = if ladder_runtime::device::is_wide_counter(*counter) {
@@ -295,11 +293,8 @@ impl<'p> Lowering<'p> {
                     Width::Single
                 };
                 let preset = self.preset(*preset, width);
-                self.b.effect(Inst::CounterCoil {
-                    counter: *counter,
-                    coil: power,
-                    preset,
-                });
+                let (counter, coil) = (self.b.number(*counter), self.b.extend(power, Type::I32, false));
+                self.b.call(Helper::CounterCoil, vec![counter, coil, preset]);
             }
             Op::Set {
                 target,
@@ -308,7 +303,8 @@ impl<'p> Lowering<'p> {
             } => self.when(power, |this, _| {
                 this.write_bits(*target, *count, true, line);
                 if let Some(state) = transfer_from {
-                    this.b.effect(Inst::ScheduleStateOff { state: *state });
+                    let state = this.b.number(*state);
+                    this.b.call(Helper::ScheduleStateOff, vec![state]);
                 }
             }),
             Op::Reset { target, count } => self.when(power, |this, _| this.reset(*target, *count, line)),
@@ -374,12 +370,14 @@ impl<'p> Lowering<'p> {
             ResetTarget::Bit(bit) => self.write_bits(bit, count, false, line),
             ResetTarget::Timer(first) => {
                 for timer in first..first + count {
-                    self.b.effect(Inst::ResetTimer { timer });
+                    let timer = self.b.number(timer);
+                    self.b.call(Helper::ResetTimer, vec![timer]);
                 }
             }
             ResetTarget::Counter(first) => {
                 for counter in first..first + count {
-                    self.b.effect(Inst::ResetCounter { counter });
+                    let counter = self.b.number(counter);
+                    self.b.call(Helper::ResetCounter, vec![counter]);
                 }
             }
             ResetTarget::Word(area, address) => {

@@ -3,11 +3,11 @@
 //! reading and writing operands at a width.
 
 use super::Lowering;
-use crate::ir::{BinOp, Index, Inst, PlaceArg, Type, Value};
+use crate::ir::{BinOp, Index, Inst, Type, Value};
 use crate::isa::CompareOp;
 use crate::program::WordRef;
 use ladder_runtime::device::{COUNTER_COUNT, FIRST_WIDE_COUNTER};
-use ladder_runtime::place::{PLACE_CONSTANT, PLACE_DIGITS, PLACE_WIDE_COUNTER};
+use ladder_runtime::place::PlaceKind;
 use ladder_runtime::{BitArea, Width, WordArea};
 
 /// A resolved word operand.
@@ -188,29 +188,21 @@ impl Lowering<'_> {
         }
     }
 
-    /// An operand as the runtime's encoded place, for BMOV/FMOV.
-    pub(super) fn place(&mut self, operand: &Operand) -> PlaceArg {
-        match *operand {
-            Operand::Constant(value) => PlaceArg {
-                kind: PLACE_CONSTANT,
-                index: Index::Fixed(value as i32 as u32),
-                digits: 0,
-            },
-            Operand::Word(area, index) => PlaceArg {
-                kind: area as u32,
-                index,
-                digits: 0,
-            },
-            Operand::WideCounter(index) => PlaceArg {
-                kind: PLACE_WIDE_COUNTER,
-                index,
-                digits: 0,
-            },
-            Operand::Digits(area, index, digits) => PlaceArg {
-                kind: PLACE_DIGITS + area as u32,
-                index,
-                digits: u32::from(digits),
-            },
+    /// A block operand as a packed runtime place (an I32), for helpers.
+    /// Constants are not places: helpers take them as values.
+    pub(super) fn place(&mut self, operand: &Operand) -> Value {
+        let (kind, index) = match *operand {
+            Operand::Constant(value) => return self.b.constant(Type::I32, value),
+            Operand::Word(area, index) => (PlaceKind::Word(area), index),
+            Operand::WideCounter(index) => (PlaceKind::WideCounter, index),
+            Operand::Digits(area, index, digits) => (PlaceKind::Digits(area, digits), index),
+        };
+        match index {
+            Index::Fixed(n) => self.b.constant(Type::I32, i64::from(kind.tag() | n)),
+            Index::Dynamic(index) => {
+                let tag = self.b.constant(Type::I32, i64::from(kind.tag() as i32));
+                self.b.binary(BinOp::Or, tag, index)
+            }
         }
     }
 }

@@ -1,10 +1,11 @@
 //! Transfers: MOV, BMOV, FMOV.
 
 use super::Step;
-use crate::ir::{Inst, Type, Value};
+use crate::ir::{Type, Value};
 use crate::isa::CompareOp;
 use crate::lower::operand::Units;
 use crate::program::WordRef;
+use ladder_runtime::helpers::{self, Helper};
 use ladder_runtime::place::MAX_BLOCK_UNITS;
 use ladder_runtime::{OperationError, Width};
 
@@ -27,29 +28,29 @@ fn block_count(step: &mut Step, n: &WordRef) -> Value {
     n
 }
 
-/// BMOV/FMOV call the runtime's block move, which reads every value before
-/// it writes any.
-fn emit_block_move(step: &mut Step, s: &WordRef, d: &WordRef, n: &WordRef, fill: bool) {
+/// BMOV S D n calls the runtime's block move, which reads every value
+/// before it writes any.
+pub fn block_move(step: &mut Step, s: &WordRef, d: &WordRef, n: &WordRef) {
     let n = block_count(step, n);
     let width = step.width;
-    let source_units = if fill { Units::Checked(1) } else { Units::Dynamic(n) };
-    let source = step.resolve(s, width, source_units, true);
+    let source = step.resolve(s, width, Units::Dynamic(n), true);
     let destination = step.resolve(d, width, Units::Dynamic(n), false);
     step.commit();
     let (source, destination) = (step.l.place(&source), step.l.place(&destination));
-    step.b().effect(Inst::BlockMove {
-        source,
-        destination,
-        count: n,
-        width,
-        fill,
-    });
+    let width = step.b().number(helpers::width_arg(width));
+    step.b().call(Helper::BlockMove, vec![source, destination, n, width]);
 }
 
-pub fn block_move(step: &mut Step, s: &WordRef, d: &WordRef, n: &WordRef) {
-    emit_block_move(step, s, d, n, false);
-}
-
+/// FMOV S D n: S read here, written into n units by the runtime.
 pub fn fill_move(step: &mut Step, s: &WordRef, d: &WordRef, n: &WordRef) {
-    emit_block_move(step, s, d, n, true);
+    let n = block_count(step, n);
+    let width = step.width;
+    let source = step.source(s);
+    let destination = step.resolve(d, width, Units::Dynamic(n), false);
+    step.commit();
+    let value = step.read(&source);
+    let value = step.b().truncate(value, Type::I32);
+    let destination = step.l.place(&destination);
+    let width = step.b().number(helpers::width_arg(width));
+    step.b().call(Helper::Fill, vec![destination, n, width, value]);
 }
