@@ -88,8 +88,7 @@ impl BlockTracker {
                     .with_note("close the open block with STLE first"),
             );
         }
-        if !self.mc_open.is_empty() {
-            let &(level, _, mc_span) = self.mc_open.last().expect("not empty");
+        if let Some(&(level, _, mc_span)) = self.mc_open.last() {
             diagnostics.push(
                 Diagnostic::new(Code::NotInStl, span, "STL inside a master-control region")
                     .with_label("a state block may not start inside MC/MCR")

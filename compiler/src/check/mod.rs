@@ -4,6 +4,8 @@
 //! independent error in one run. An instruction whose operands are bad still
 //! takes part in the rung structure, so one typo gives one error.
 
+#![deny(clippy::wildcard_enum_match_arm)]
+
 mod app;
 mod blocks;
 mod lints;
@@ -652,9 +654,17 @@ impl Checker {
                     );
                     return;
                 }
-                _ => self.ok(operands::bit_target(first)),
+                Prefix::X
+                | Prefix::Y
+                | Prefix::M
+                | Prefix::S
+                | Prefix::Sm
+                | Prefix::Tn
+                | Prefix::Cn
+                | Prefix::P
+                | Prefix::N => self.ok(operands::bit_target(first)),
             },
-            _ => self.ok(operands::bit_target(first)),
+            OperandSyntax::Device(_) | OperandSyntax::Constant(_) => self.ok(operands::bit_target(first)),
         };
         let Some(target) = target else { return };
         let Some(count) = self.counted_bits(target, operands) else {

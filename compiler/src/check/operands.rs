@@ -55,7 +55,7 @@ fn bit_area(prefix: Prefix) -> Option<BitArea> {
         Prefix::Sm => BitArea::Sm,
         Prefix::T | Prefix::Ts => BitArea::TimerContact,
         Prefix::C | Prefix::Cs => BitArea::CounterContact,
-        _ => return None,
+        Prefix::Tn | Prefix::Cn | Prefix::D | Prefix::Sd | Prefix::R | Prefix::P | Prefix::N => return None,
     })
 }
 
@@ -170,11 +170,25 @@ pub fn bit_source(operand: &Operand) -> Resolved<BitRef> {
             format!("`{}` is not a device", text_of(d)),
             "not a bit device",
         )),
-        prefix => {
-            let area = bit_area(prefix).expect("remaining prefixes are bit areas");
-            check_extent(operand, &text_of(d), d.number, 1, area.count(), &area_text_bits(area))?;
-            Ok(BitRef::Device(area, address))
-        }
+        Prefix::X
+        | Prefix::Y
+        | Prefix::M
+        | Prefix::S
+        | Prefix::Sm
+        | Prefix::T
+        | Prefix::Ts
+        | Prefix::C
+        | Prefix::Cs => match bit_area(d.prefix) {
+            Some(area) => {
+                check_extent(operand, &text_of(d), d.number, 1, area.count(), &area_text_bits(area))?;
+                Ok(BitRef::Device(area, address))
+            }
+            None => Err(kind_error(
+                operand,
+                format!("`{}` is not a bit device", text_of(d)),
+                "not a bit device",
+            )),
+        },
     }
 }
 
@@ -192,7 +206,7 @@ pub fn bit_target(operand: &Operand) -> Resolved<BitRef> {
             "timer and counter contacts are driven by their coils (OUT Tn/Cn with a preset)",
             "timer/counter contact",
         )),
-        _ => Ok(bit),
+        BitRef::Device(BitArea::Y | BitArea::M | BitArea::S | BitArea::Sm, _) | BitRef::WordBit(..) => Ok(bit),
     }
 }
 
@@ -423,7 +437,13 @@ fn word_device(operand: &Operand, d: &DeviceSyntax, width: Width, multiple: u32)
                 "too many digits",
             ));
         }
-        let area = bit_area(d.prefix).expect("digit groups are X/Y/M/S");
+        let Some(area) = bit_area(d.prefix) else {
+            return Err(kind_error(
+                operand,
+                format!("`K{n}{name}`: digit groups are made of X, Y, M or S"),
+                "not a bit device",
+            ));
+        };
         check_extent(
             operand,
             &format!("K{n}{name}"),
@@ -464,7 +484,15 @@ fn word_device(operand: &Operand, d: &DeviceSyntax, width: Width, multiple: u32)
             return Ok(WordRef::Word(WordArea::TimerValue, address));
         }
         Prefix::C | Prefix::Cn => return counter_value(operand, &name, d.number, address, wide, multiple),
-        _ => {
+        Prefix::X
+        | Prefix::Y
+        | Prefix::M
+        | Prefix::S
+        | Prefix::Sm
+        | Prefix::Ts
+        | Prefix::Cs
+        | Prefix::P
+        | Prefix::N => {
             return Err(kind_error(
                 operand,
                 format!("`{name}` is a bit device; this operand is a word (use a digit group such as K4{name})"),
@@ -532,10 +560,9 @@ pub fn bit_triple(operand: &Operand) -> Resolved<BitRef> {
     let bit = bit_target(operand)?;
     match bit {
         BitRef::Device(area @ (BitArea::Y | BitArea::M | BitArea::S), address) => {
-            let d = device(operand).expect("bit_target accepted a device");
             check_extent(
                 operand,
-                &text_of(d),
+                &area.device_name(address.index),
                 address.index,
                 3,
                 area.count(),
@@ -543,7 +570,8 @@ pub fn bit_triple(operand: &Operand) -> Resolved<BitRef> {
             )?;
             Ok(bit)
         }
-        _ => Err(kind_error(
+        BitRef::Device(BitArea::X | BitArea::Sm | BitArea::TimerContact | BitArea::CounterContact, _)
+        | BitRef::WordBit(..) => Err(kind_error(
             operand,
             "the result is three consecutive bits of Y, M or S",
             "not Y, M or S",
@@ -613,7 +641,22 @@ pub fn range_end(operand: &Operand) -> Resolved<Element> {
         Prefix::D | Prefix::Sd | Prefix::R if d.bit.is_none() => {
             Ok(Element::Word(word_destination(operand, Width::Single, 1)?))
         }
-        _ => Ok(Element::Bits(bit_target(operand)?)),
+        Prefix::X
+        | Prefix::Y
+        | Prefix::M
+        | Prefix::S
+        | Prefix::Sm
+        | Prefix::T
+        | Prefix::Ts
+        | Prefix::Tn
+        | Prefix::C
+        | Prefix::Cs
+        | Prefix::Cn
+        | Prefix::D
+        | Prefix::Sd
+        | Prefix::R
+        | Prefix::P
+        | Prefix::N => Ok(Element::Bits(bit_target(operand)?)),
     }
 }
 

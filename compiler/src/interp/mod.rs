@@ -4,6 +4,8 @@
 //! with an explicit logic stack. It is written for clarity, not speed; the
 //! native engines are tested against it.
 
+#![deny(clippy::wildcard_enum_match_arm)]
+
 mod access;
 mod app;
 

@@ -13,6 +13,8 @@
 //! terminator. A value is defined once and used in blocks its definition
 //! dominates. The master-control power of each level is a local variable.
 
+#![deny(clippy::wildcard_enum_match_arm)]
+
 mod builder;
 pub mod passes;
 mod print;
@@ -225,10 +227,7 @@ impl Inst {
     /// every instruction that defines a value (loads of the image included)
     /// except helper calls.
     pub fn is_pure(&self) -> bool {
-        match self {
-            Inst::Call { .. } => false,
-            other => other.result_type(|_| Type::Bit).is_some(),
-        }
+        !matches!(self, Inst::Call { .. }) && self.result_type(|_| Type::Bit).is_some()
     }
 
     /// Values the instruction reads.

@@ -34,7 +34,7 @@ pub fn thread_jumps(function: &mut Function) {
             Terminator::Jump(target) if index != 0 && block.insts.is_empty() && target.0 as usize != index => {
                 Some(target)
             }
-            _ => None,
+            Terminator::Jump(_) | Terminator::Branch { .. } | Terminator::Return => None,
         })
         .collect();
     let resolve = |mut block: BlockId| {
@@ -280,7 +280,23 @@ fn fold(
             None if if_true == if_false => Folded::Same(*if_true),
             None => Folded::Nothing,
         },
-        _ => Folded::Nothing,
+        // Loads of the image and of bookkeeping, and effects: nothing known.
+        Inst::LoadBit { .. }
+        | Inst::StoreBit { .. }
+        | Inst::FillBits { .. }
+        | Inst::LoadWord { .. }
+        | Inst::StoreWord { .. }
+        | Inst::ClearWords { .. }
+        | Inst::LoadWideCounter { .. }
+        | Inst::StoreWideCounter { .. }
+        | Inst::LoadSlot { .. }
+        | Inst::StoreSlot { .. }
+        | Inst::LoadBlockActive { .. }
+        | Inst::StoreBlockActive { .. }
+        | Inst::GetLocal { .. }
+        | Inst::SetLocal { .. }
+        | Inst::RecordError { .. }
+        | Inst::Call { .. } => Folded::Nothing,
     }
 }
 

@@ -1,6 +1,7 @@
 //! Scenario files (SCENARIO.md): one directive per line, `#` comments
 //! outside the program block.
 
+use crate::diagnostics::Code;
 use crate::host_device::{parse_device, parse_number, parse_value, HostDevice};
 use ladder_runtime::BitArea;
 use std::path::{Path, PathBuf};
@@ -38,8 +39,12 @@ pub enum Directive {
     },
     /// `expect error CODE` (Some) or `expect error none` (None).
     ExpectError(Option<u16>),
-    /// `expect reject LINE`: the program's first error is on that line.
-    ExpectReject(u32),
+    /// `expect reject LINE [CODE]`: the program's first error is on that
+    /// line, with that diagnostic code when one is given.
+    ExpectReject {
+        line: u32,
+        code: Option<Code>,
+    },
 }
 
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -57,11 +62,18 @@ pub struct Scenario {
 }
 
 impl Scenario {
-    /// The `expect reject` line, if the scenario expects a rejection.
-    pub fn expected_reject(&self) -> Option<(u32, u32)> {
+    /// The `expect reject` expectation (program line, code) and the
+    /// scenario line it is on, if the scenario expects a rejection.
+    pub fn expected_reject(&self) -> Option<(u32, Option<Code>, u32)> {
         self.steps.iter().find_map(|step| match step.directive {
-            Directive::ExpectReject(line) => Some((line, step.line)),
-            _ => None,
+            Directive::ExpectReject { line, code } => Some((line, code, step.line)),
+            Directive::ScanMs(_)
+            | Directive::Set { .. }
+            | Directive::Force { .. }
+            | Directive::Unforce { .. }
+            | Directive::Scan(_)
+            | Directive::Expect { .. }
+            | Directive::ExpectError(_) => None,
         })
     }
 }
@@ -135,9 +147,17 @@ pub fn parse_scenario(path: &Path, text: &str) -> Result<Scenario, ParseError> {
             } else {
                 Some(error_code(code).map_err(error)?)
             }),
-            ("expect", ["reject", program_line]) => {
+            ("expect", ["reject", program_line, code @ ..]) if code.len() <= 1 => {
                 rejecting = true;
-                Directive::ExpectReject(number(program_line, 1, u32::MAX.into()).map_err(error)? as u32)
+                let line = number(program_line, 1, u32::MAX.into()).map_err(error)? as u32;
+                let code = match code.first() {
+                    None => None,
+                    Some(text) => Some(
+                        text.parse::<Code>()
+                            .map_err(|()| error(format!("`{text}` is not a diagnostic code such as E0013")))?,
+                    ),
+                };
+                Directive::ExpectReject { line, code }
             }
             ("expect" | "expect32", [device, value]) => {
                 let parsed = parse_device(device, keyword == "expect32").map_err(error)?;
@@ -249,8 +269,16 @@ mod tests {
         );
         assert_eq!(
             parse("program p.il\nexpect reject 3\n").unwrap().expected_reject(),
-            Some((3, 2))
+            Some((3, None, 2))
         );
+        assert_eq!(
+            parse("program p.il\nexpect reject 3 e0013\n")
+                .unwrap()
+                .expected_reject(),
+            Some((3, Some(Code::PendingBlocks), 2))
+        );
+        assert!(parse("program p.il\nexpect reject 3 E9999\n").is_err());
+        assert!(parse("program p.il\nexpect reject 3 E0013 x\n").is_err());
         assert_eq!(parse("program p.il\nexpect reject 3\nscan\n").unwrap_err().line, 3);
     }
 

@@ -94,7 +94,7 @@ pub fn run_scenario(scenario: &Scenario, source: &SourceFile, engines: &[EngineK
         });
     };
     let first_error = diagnostics.iter().find(|d| d.is_error());
-    if let Some((expected_line, at)) = scenario.expected_reject() {
+    if let Some((expected_line, expected_code, at)) = scenario.expected_reject() {
         match first_error {
             None => fail(
                 &mut outcome,
@@ -104,13 +104,18 @@ pub fn run_scenario(scenario: &Scenario, source: &SourceFile, engines: &[EngineK
             ),
             Some(error) => {
                 let line = source.line_of(error.span.start);
-                if line != expected_line {
+                let code_ok = expected_code.is_none_or(|code| code == error.code);
+                if line != expected_line || !code_ok {
+                    let expected = match expected_code {
+                        Some(code) => format!("{code} at program line {expected_line}"),
+                        None => format!("program line {expected_line}"),
+                    };
                     fail(
                         &mut outcome,
                         at,
                         "check",
                         format!(
-                            "expected the first error at program line {expected_line}, got line {line}: {} {}",
+                            "expected the first error at {expected}, got line {line}: {} {}",
                             error.code, error.message
                         ),
                     );
@@ -200,7 +205,7 @@ fn drive(scenario: &Scenario, engine: &mut dyn Engine) -> Vec<(u32, String)> {
                         ));
                     }
                 }
-                Directive::ExpectReject(_) => {}
+                Directive::ExpectReject { .. } => {}
             }
             Ok(())
         })();

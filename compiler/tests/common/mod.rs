@@ -7,6 +7,7 @@
 #![allow(dead_code)]
 
 pub mod tools;
+pub mod vocabulary;
 
 use proptest::prelude::*;
 
@@ -93,14 +94,7 @@ pub fn output() -> impl Strategy<Value = String> {
             "SET M[0-9]\\[D2\\] K[1-4]", "RST Y[0-7]\\[D1\\] K[2-3]", "RST D[4-6]\\[D2\\] K2", "PLS M[0-9]\\[D3\\]",
             "OUT Y37[0-7]\\[D1\\]", "RST M8510\\[D1\\] K2", "SET D0\\.[0-3]\\[D3\\]",
         ],
-        3 => prop_oneof![
-            "MOV (K[0-9]|D[0-3]|K1X0) (D[0-3]|K1Y0|D0\\[D1\\])", "ADD D[0-3] K[1-3] D[0-3]", "SUB D[0-3] D[0-3] D[0-3]",
-            "INCP D[0-3]", "DEC D[0-3]", "MUL D[0-3] K3 D20", "DIV D[0-3] D[0-3] D22", "CMP D[0-3] K2 M20",
-            "DMOV K[0-9]{1,6} D10", "DADD D10 K100000 D10", "ZCP K1 K3 D[0-3] M24", "MOVP K4M0 D3",
-            "BMOV D0 D30\\[D1\\] K3", "FMOV K7 D40 D2", "DINC CN200", "MOV K[0-9] D1",
-            "MOV D8510\\[D2\\] D5", "DMOV K-1 D8510\\[D1\\]", "MOV K4M0\\[D2\\] D6", "CMP D0 K3 M8509\\[D1\\]",
-            "DMOV CN200\\[D3\\] D10", "BMOV D0\\[D1\\] K4Y0 D3", "FMOV D1 K1M0\\[D2\\] K2", "DDIV D10 D2 D12",
-        ],
+        3 => vocabulary::app_instruction(),
     ]
 }
 

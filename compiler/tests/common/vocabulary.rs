@@ -1,0 +1,157 @@
+//! The generator's vocabulary of application instructions, built from the
+//! instruction table: every instruction, every form (16/32-bit, pulse), and
+//! for each operand a device drawn from its device table, sometimes with an
+//! index register. A new instruction is generated as soon as it is declared;
+//! a new operand kind or device class does not compile here until it has a
+//! vocabulary.
+
+use ladder_runtime::Width;
+use ladderc::isa::{AppOp, DeviceClass, OperandKind};
+use proptest::prelude::*;
+
+/// Devices of a class, valid for an operand of `kind` at `width` wherever
+/// the generator puts them (low numbers, so runs of units stay in range).
+fn class_operand(class: DeviceClass, kind: OperandKind, width: Width) -> BoxedStrategy<String> {
+    let wide = width == Width::Double;
+    let digits = if wide { "[1-8]" } else { "[1-4]" };
+    let regex = |pattern: String| -> BoxedStrategy<String> {
+        proptest::string::string_regex(&pattern)
+            .expect("a valid pattern")
+            .boxed()
+    };
+    let indexed = |base: String| -> BoxedStrategy<String> {
+        prop_oneof![
+            4 => Just(base.clone()),
+            1 => prop_oneof![Just("[D1]"), Just("[D2]"), Just("[D3]")].prop_map(move |r| format!("{base}{r}")),
+        ]
+        .boxed()
+    };
+    match class {
+        DeviceClass::X => "X[0-7]".boxed(),
+        DeviceClass::Y => "Y[0-7]".boxed(),
+        DeviceClass::M => prop_oneof!["M[0-9]", "M2[0-9]", Just("M8509[D1]".to_string())].boxed(),
+        DeviceClass::S => "S[1-3]".boxed(),
+        DeviceClass::Sm => "SM1[0-9]".boxed(),
+        DeviceClass::WordBit => "D0\\.[0-9A-F]".boxed(),
+        DeviceClass::KnX => regex(format!("K{digits}X0")),
+        DeviceClass::KnY => regex(format!("K{digits}Y0")),
+        DeviceClass::KnM => prop_oneof![regex(format!("K{digits}M0")), regex(format!("K{digits}M40\\[D2\\]"))].boxed(),
+        DeviceClass::KnS => regex(format!("K{digits}S0")),
+        DeviceClass::T => "T[0-3]".boxed(),
+        DeviceClass::C if wide => "C20[0-3]".boxed(),
+        DeviceClass::C => "C[0-2]".boxed(),
+        DeviceClass::WideCounter => "C20[0-3]".boxed(),
+        DeviceClass::D => match kind {
+            OperandKind::Count => prop_oneof!["D[1-3]", Just("D8511[D1]".to_string())].boxed(),
+            OperandKind::Source
+            | OperandKind::Destination
+            | OperandKind::Modified
+            | OperandKind::DoubleDestination
+            | OperandKind::BlockSource
+            | OperandKind::BlockDestination
+            | OperandKind::BitDestination
+            | OperandKind::BitTriple
+            | OperandKind::ElementSource
+            | OperandKind::ElementDestination
+            | OperandKind::RangeEnd => prop_oneof![
+                "D[0-3]".prop_flat_map(indexed),
+                "D[1-4]0".prop_flat_map(indexed),
+                Just("D8508[D2]".to_string()),
+            ]
+            .boxed(),
+        },
+        DeviceClass::R => "R[0-9]".prop_flat_map(indexed).boxed(),
+        DeviceClass::Sd => "SD1[0-9]".boxed(),
+        DeviceClass::Constant => match kind {
+            OperandKind::Count => {
+                prop_oneof![4 => "K[0-9]", 1 => Just("K600".to_string()), 1 => Just("K-1".to_string())].boxed()
+            }
+            OperandKind::Source
+            | OperandKind::Destination
+            | OperandKind::Modified
+            | OperandKind::DoubleDestination
+            | OperandKind::BlockSource
+            | OperandKind::BlockDestination
+            | OperandKind::BitDestination
+            | OperandKind::BitTriple
+            | OperandKind::ElementSource
+            | OperandKind::ElementDestination
+            | OperandKind::RangeEnd => prop_oneof![
+                "K-?[0-9]{1,3}",
+                "H[0-9A-F]{1,4}",
+                if wide { "K[0-9]{6,9}" } else { "K3276[0-7]" },
+            ]
+            .boxed(),
+        },
+    }
+}
+
+/// One operand of `kind` from the device table `classes`.
+fn operand(classes: Vec<DeviceClass>, kind: OperandKind, width: Width) -> BoxedStrategy<String> {
+    // Counts are 16-bit whatever the instruction; timer values are 16-bit
+    // only, the 32-bit counters 32-bit only.
+    let width = if kind == OperandKind::Count {
+        Width::Single
+    } else {
+        width
+    };
+    let classes: Vec<DeviceClass> = classes
+        .into_iter()
+        .filter(|class| match class {
+            DeviceClass::T => width == Width::Single,
+            DeviceClass::WideCounter => width == Width::Double,
+            DeviceClass::X
+            | DeviceClass::Y
+            | DeviceClass::M
+            | DeviceClass::S
+            | DeviceClass::Sm
+            | DeviceClass::WordBit
+            | DeviceClass::KnX
+            | DeviceClass::KnY
+            | DeviceClass::KnM
+            | DeviceClass::KnS
+            | DeviceClass::C
+            | DeviceClass::D
+            | DeviceClass::R
+            | DeviceClass::Sd
+            | DeviceClass::Constant => true,
+        })
+        .collect();
+    proptest::sample::select(classes)
+        .prop_flat_map(move |class| class_operand(class, kind, width))
+        .boxed()
+}
+
+/// Every mnemonic of every application instruction, with its operation,
+/// width and whether it is a P form.
+pub fn app_forms() -> Vec<(String, AppOp, Width)> {
+    AppOp::ALL
+        .iter()
+        .flat_map(|&op| {
+            op.spec()
+                .mnemonics()
+                .into_iter()
+                .map(move |(name, width, _pulse)| (name, op, width))
+        })
+        .collect()
+}
+
+/// A random application instruction with valid operands.
+pub fn app_instruction() -> BoxedStrategy<String> {
+    proptest::sample::select(app_forms())
+        .prop_flat_map(|(name, op, width)| {
+            let operands: Vec<BoxedStrategy<String>> = op
+                .spec()
+                .operands
+                .iter()
+                .map(|decl| operand(decl.devices.classes().collect(), decl.kind, width))
+                .collect();
+            operands.prop_map(move |operands| {
+                std::iter::once(name.clone())
+                    .chain(operands)
+                    .collect::<Vec<_>>()
+                    .join(" ")
+            })
+        })
+        .boxed()
+}
