@@ -16,6 +16,11 @@ pub enum Place {
     WideCounter(u32),
     /// 4·n bits from a start device.
     Digits(BitArea, u32, u8),
+    /// One bit device (a run of bits goes device by device).
+    Bit(BitArea, u32),
+    /// One bit of a word, numbered through the area: bit b of word n is
+    /// 16·n + b (a run of bits continues into the next word).
+    WordBit(WordArea, u32),
 }
 
 impl Place {
@@ -26,6 +31,8 @@ impl Place {
             Place::Word(area, index) => Place::Word(area, index + unit * width.words()),
             Place::WideCounter(index) => Place::WideCounter(index + unit),
             Place::Digits(area, start, digits) => Place::Digits(area, start + unit * 4 * u32::from(digits), digits),
+            Place::Bit(area, index) => Place::Bit(area, index + unit),
+            Place::WordBit(area, bit) => Place::WordBit(area, bit + unit),
         }
     }
 
@@ -45,6 +52,8 @@ impl Place {
                     Width::Single => i32::from(bits as i16),
                 }
             }
+            (Place::Bit(area, index), _) => mem.bit(area, index).map_or(0, i32::from),
+            (Place::WordBit(area, bit), _) => mem.word(area, bit / 16).map_or(0, |w| i32::from((w >> (bit % 16)) & 1)),
         }
     }
 
@@ -65,6 +74,16 @@ impl Place {
             (Place::Digits(area, start, digits), _) => {
                 mem.set_digits(area, start, u32::from(digits), value as i32);
             }
+            (Place::Bit(area, index), _) => {
+                mem.set_bit(area, index, value & 1 != 0);
+            }
+            (Place::WordBit(area, bit), _) => {
+                if let Some(word) = mem.word(area, bit / 16) {
+                    let mask = 1i16 << (bit % 16);
+                    let updated = if value & 1 != 0 { word | mask } else { word & !mask };
+                    mem.set_word(area, bit / 16, updated);
+                }
+            }
         }
     }
 
@@ -75,6 +94,8 @@ impl Place {
             Place::Word(area, _) => Some(PlaceKind::Word(area)),
             Place::WideCounter(_) => Some(PlaceKind::WideCounter),
             Place::Digits(area, _, digits) => Some(PlaceKind::Digits(area, digits)),
+            Place::Bit(area, _) => Some(PlaceKind::Bit(area)),
+            Place::WordBit(area, _) => Some(PlaceKind::WordBit(area)),
         }
     }
 
@@ -83,7 +104,11 @@ impl Place {
     pub fn pack(self) -> Option<u32> {
         let index = match self {
             Place::Constant(_) => return None,
-            Place::Word(_, index) | Place::WideCounter(index) | Place::Digits(_, index, _) => index,
+            Place::Word(_, index)
+            | Place::WideCounter(index)
+            | Place::Digits(_, index, _)
+            | Place::Bit(_, index)
+            | Place::WordBit(_, index) => index,
         };
         Some(self.kind()?.tag() | (index & PLACE_INDEX_MASK))
     }
@@ -97,13 +122,15 @@ impl Place {
             PlaceKind::Word(area) => Place::Word(area, index),
             PlaceKind::WideCounter => Place::WideCounter(index),
             PlaceKind::Digits(area, digits) => Place::Digits(area, index, digits),
+            PlaceKind::Bit(area) => Place::Bit(area, index),
+            PlaceKind::WordBit(area) => Place::WordBit(area, index),
         })
     }
 }
 
 /// Bits of a packed place that hold the index (areas have at most 32768
-/// elements).
-pub const PLACE_INDEX_MASK: u32 = 0xFFFF;
+/// elements, word bits at most 16 times that).
+pub const PLACE_INDEX_MASK: u32 = 0xF_FFFF;
 
 /// A place without its index.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -112,16 +139,24 @@ pub enum PlaceKind {
     WideCounter,
     /// A digit group of n digits (1..8).
     Digits(BitArea, u8),
+    Bit(BitArea),
+    WordBit(WordArea),
 }
 
 impl PlaceKind {
     /// Every kind that packs (digit counts 1..8).
-    const ALL_TAGS: [PlaceKind; 5 + 1 + 7 * 8] = {
-        let mut all = [PlaceKind::WideCounter; 5 + 1 + 7 * 8];
+    const ALL_TAGS: [PlaceKind; 5 + 1 + 7 * 8 + 7 + 5] = {
+        let mut all = [PlaceKind::WideCounter; 5 + 1 + 7 * 8 + 7 + 5];
         let mut i = 0;
         while i < 5 {
             all[i] = PlaceKind::Word(WordArea::ALL[i]);
+            all[6 + 7 * 8 + 7 + i] = PlaceKind::WordBit(WordArea::ALL[i]);
             i += 1;
+        }
+        let mut area = 0;
+        while area < 7 {
+            all[6 + 7 * 8 + area] = PlaceKind::Bit(BitArea::ALL[area]);
+            area += 1;
         }
         let mut area = 0;
         while area < 7 {
@@ -136,12 +171,14 @@ impl PlaceKind {
     };
 
     /// The packed place with index 0: the kind in bits 24-31, the digit
-    /// count in bits 16-19.
+    /// count in bits 20-23.
     pub const fn tag(self) -> u32 {
         match self {
             PlaceKind::Word(area) => (1 + area as u32) << 24,
             PlaceKind::WideCounter => 16 << 24,
-            PlaceKind::Digits(area, digits) => ((32 + area as u32) << 24) | ((digits as u32 & 0xF) << 16),
+            PlaceKind::Digits(area, digits) => ((32 + area as u32) << 24) | ((digits as u32 & 0xF) << 20),
+            PlaceKind::Bit(area) => (48 + area as u32) << 24,
+            PlaceKind::WordBit(area) => (64 + area as u32) << 24,
         }
     }
 }
@@ -179,6 +216,8 @@ mod tests {
             Place::WideCounter(201),
             Place::Digits(BitArea::Y, 8, 2),
             Place::Digits(BitArea::CounterContact, 250, 8),
+            Place::Bit(BitArea::Sm, 1023),
+            Place::WordBit(WordArea::R, 32767 * 16 + 15),
         ] {
             assert_eq!(Place::unpack(place.pack().unwrap()), Some(place), "{place:?}");
         }
@@ -186,9 +225,23 @@ mod tests {
         assert_eq!(Place::unpack(0), None);
         assert_eq!(Place::unpack(99 << 24), None);
         assert_eq!(
-            Place::unpack(PlaceKind::Digits(BitArea::M, 1).tag() & !(0xF << 16)),
+            Place::unpack(PlaceKind::Digits(BitArea::M, 1).tag() & !(0xF << 20)),
             None
         );
+    }
+
+    #[test]
+    fn bit_places_run_through_words() {
+        let mut mem = Memory::new_boxed();
+        let start = Place::WordBit(WordArea::D, 15);
+        start.write(&mut mem, Width::Single, 1);
+        start.nth(1, Width::Single).write(&mut mem, Width::Single, 1);
+        assert_eq!((mem.d[0], mem.d[1]), (-32768, 1));
+        assert_eq!(start.nth(1, Width::Single).read(&mem, Width::Single), 1);
+        Place::Bit(BitArea::M, 7)
+            .nth(2, Width::Single)
+            .write(&mut mem, Width::Single, 3);
+        assert_eq!(mem.m[9], 1);
     }
 
     #[test]

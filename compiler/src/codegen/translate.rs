@@ -4,7 +4,7 @@
 //! pointer. A run-time index is clamped into its area here once more, so no
 //! generated access can leave the device image whatever the lowering did.
 
-use crate::ir::{self, BinOp, Index, Inst, Terminator, Type};
+use crate::ir::{self, BinOp, Index, Inst, Terminator, Type, UnaryOp};
 use crate::isa::CompareOp;
 use cranelift_codegen::ir::condcodes::IntCC;
 use cranelift_codegen::ir::{types, FuncRef, InstBuilder, MemFlagsData, Value};
@@ -279,8 +279,24 @@ impl Translator<'_, '_> {
                     BinOp::Rem => ins.srem(a, b),
                     BinOp::And => ins.band(a, b),
                     BinOp::Or => ins.bor(a, b),
+                    BinOp::Xor => ins.bxor(a, b),
                     BinOp::Shl => ins.ishl(a, b),
                     BinOp::Shr => ins.sshr(a, b),
+                    BinOp::UShr => ins.ushr(a, b),
+                }
+            }
+            Inst::Unary { op, value } => {
+                let value = get(value);
+                match op {
+                    UnaryOp::PopCount => self.builder.ins().popcnt(value),
+                    UnaryOp::LeadingZeros => self.builder.ins().clz(value),
+                    UnaryOp::SquareRoot => {
+                        // Exact through f64 for the 32-bit values it is used on.
+                        let ty = self.builder.func.dfg.value_type(value);
+                        let float = self.builder.ins().fcvt_from_sint(types::F64, value);
+                        let root = self.builder.ins().sqrt(float);
+                        self.builder.ins().fcvt_to_sint_sat(ty, root)
+                    }
                 }
             }
             Inst::Compare { op, a, b } => self.builder.ins().icmp(condition(*op), get(a), get(b)),

@@ -5,7 +5,7 @@
 
 use crate::program::{Address, BitRef, WordRef};
 use ladder_runtime::device::FIRST_WIDE_COUNTER;
-use ladder_runtime::{BitArea, Memory, OperationError, Place, Width, WordArea};
+use ladder_runtime::{Memory, OperationError, Place, Width};
 
 /// The device number an address names now: base plus the offset register's
 /// current (signed) value.
@@ -22,48 +22,34 @@ fn clamp(index: i64, len: u32) -> (u32, bool) {
     (clamped as u32, clamped != index)
 }
 
-/// A bit after applying its offset, clamped for contacts and coils.
-#[derive(Clone, Copy, Debug)]
-pub enum BitPlace {
-    Device(BitArea, u32),
-    WordBit(WordArea, u32, u8),
+/// Where a bit lives: a bit device, or a bit of a word.
+pub fn bit_place(bit: BitRef, index: u32) -> Place {
+    match bit {
+        BitRef::Device(area, _) => Place::Bit(area, index),
+        BitRef::WordBit(area, _, b) => Place::WordBit(area, 16 * index + u32::from(b)),
+    }
 }
 
-/// Resolves a bit for a contact or coil: an out-of-range offset is clamped
-/// and recorded with `error`.
-pub fn clamp_bit(mem: &mut Memory, bit: BitRef, error: OperationError, line: u32) -> BitPlace {
-    let (place, clamped) = match bit {
-        BitRef::Device(area, address) => {
-            let (index, clamped) = clamp(effective_index(mem, address), area.count());
-            (BitPlace::Device(area, index), clamped)
-        }
-        BitRef::WordBit(area, address, b) => {
-            let (index, clamped) = clamp(effective_index(mem, address), area.count());
-            (BitPlace::WordBit(area, index, b), clamped)
-        }
+/// Resolves a bit for a contact or coil: an out-of-range index register
+/// brings the device into its area and records `error`.
+pub fn clamp_bit(mem: &mut Memory, bit: BitRef, error: OperationError, line: u32) -> Place {
+    let (address, len) = match bit {
+        BitRef::Device(area, address) => (address, area.count()),
+        BitRef::WordBit(area, address, _) => (address, area.count()),
     };
+    let (index, clamped) = clamp(effective_index(mem, address), len);
     if clamped {
         mem.record_error(error, line);
     }
-    place
+    bit_place(bit, index)
 }
 
-pub fn read_place(mem: &Memory, place: BitPlace) -> bool {
-    match place {
-        BitPlace::Device(area, index) => mem.bits(area)[index as usize] != 0,
-        BitPlace::WordBit(area, index, b) => (mem.words(area)[index as usize] >> b) & 1 != 0,
-    }
+pub fn read_place(mem: &Memory, place: Place) -> bool {
+    place.read(mem, Width::Single) != 0
 }
 
-pub fn write_place(mem: &mut Memory, place: BitPlace, on: bool) {
-    match place {
-        BitPlace::Device(area, index) => mem.bits_mut(area)[index as usize] = on as u8,
-        BitPlace::WordBit(area, index, b) => {
-            let word = &mut mem.words_mut(area)[index as usize];
-            let mask = 1i16 << b;
-            *word = if on { *word | mask } else { *word & !mask };
-        }
-    }
+pub fn write_place(mem: &mut Memory, place: Place, on: bool) {
+    place.write(mem, Width::Single, i64::from(on));
 }
 
 /// Reads a contact's bit (clamping, 4085H).

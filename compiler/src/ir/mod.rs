@@ -67,9 +67,24 @@ pub enum BinOp {
     Rem,
     And,
     Or,
+    Xor,
     Shl,
     /// Arithmetic shift right.
     Shr,
+    /// Logical shift right.
+    UShr,
+}
+
+/// Integer operations of one operand.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum UnaryOp {
+    /// The number of one bits.
+    PopCount,
+    /// The number of leading zero bits.
+    LeadingZeros,
+    /// The integer square root (rounded down) of a value that is not
+    /// negative.
+    SquareRoot,
 }
 
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -156,6 +171,10 @@ pub enum Inst {
         a: Value,
         b: Value,
     },
+    Unary {
+        op: UnaryOp,
+        value: Value,
+    },
     /// Signed comparison giving a Bit.
     Compare {
         op: CompareOp,
@@ -208,6 +227,7 @@ impl Inst {
             Inst::LoadWord { .. } => Type::I16,
             Inst::LoadWideCounter { .. } => Type::I32,
             Inst::Binary { a, .. } => value_type(*a),
+            Inst::Unary { value, .. } => value_type(*value),
             Inst::Extend { to, .. } | Inst::Truncate { to, .. } => *to,
             Inst::Select { if_true, .. } => value_type(*if_true),
             Inst::Call { helper, .. } => return helper.decl().returns.map(|_| Type::I32),
@@ -264,6 +284,7 @@ impl Inst {
             | Inst::StoreBlockActive { value, .. }
             | Inst::SetLocal { value, .. }
             | Inst::Not { value }
+            | Inst::Unary { value, .. }
             | Inst::Extend { value, .. }
             | Inst::Truncate { value, .. } => visit(value),
             Inst::And { a, b } | Inst::Or { a, b } | Inst::Binary { a, b, .. } | Inst::Compare { a, b, .. } => {

@@ -6,7 +6,7 @@
 //! - merging a block into its only predecessor;
 //! - removal of pure instructions whose values are never used.
 
-use super::{BinOp, Block, BlockId, Function, Index, Inst, Terminator, Type, Value};
+use super::{BinOp, Block, BlockId, Function, Index, Inst, Terminator, Type, UnaryOp, Value};
 use crate::isa::CompareOp;
 use ladder_runtime::helpers::Param;
 use ladder_runtime::special::{M_ALWAYS_OFF, M_ALWAYS_ON, SM_ALWAYS_OFF, SM_ALWAYS_ON};
@@ -139,8 +139,10 @@ fn written_bits(inst: &Inst, constants: &HashMap<Value, i64>) -> Vec<(BitArea, O
                     let place = constants.get(arg).and_then(|&packed| Place::unpack(packed as u32));
                     match place {
                         // A digit group writes bits of its area.
-                        Some(Place::Digits(area, ..)) => vec![(area, None, 0)],
-                        Some(Place::Word(..) | Place::WideCounter(_) | Place::Constant(_)) => Vec::new(),
+                        Some(Place::Digits(area, ..) | Place::Bit(area, _)) => vec![(area, None, 0)],
+                        Some(Place::Word(..) | Place::WordBit(..) | Place::WideCounter(_) | Place::Constant(_)) => {
+                            Vec::new()
+                        }
                         // Not known here: any bit area.
                         None => BitArea::ALL.iter().map(|&area| (area, None, 0)).collect(),
                     }
@@ -164,6 +166,7 @@ fn written_bits(inst: &Inst, constants: &HashMap<Value, i64>) -> Vec<(BitArea, O
         | Inst::And { .. }
         | Inst::Or { .. }
         | Inst::Binary { .. }
+        | Inst::Unary { .. }
         | Inst::Compare { .. }
         | Inst::Extend { .. }
         | Inst::Truncate { .. }
@@ -192,10 +195,41 @@ fn fold_binary(op: BinOp, ty: Type, a: i64, b: i64) -> Option<i64> {
         BinOp::Rem => a.wrapping_rem(b),
         BinOp::And => a & b,
         BinOp::Or => a | b,
+        BinOp::Xor => a ^ b,
         BinOp::Shl => a.wrapping_shl(b as u32),
         BinOp::Shr => a.wrapping_shr(b as u32),
+        BinOp::UShr => (unsigned(ty, a)).wrapping_shr(b as u32) as i64,
     };
     Some(wrap(ty, value))
+}
+
+/// The bits of `value` at `ty`, as an unsigned number.
+fn unsigned(ty: Type, value: i64) -> u64 {
+    match ty {
+        Type::Bit => value as u64 & 1,
+        Type::I16 => u64::from(value as u16),
+        Type::I32 => u64::from(value as u32),
+        Type::I64 => value as u64,
+    }
+}
+
+fn bits_of(ty: Type) -> u32 {
+    match ty {
+        Type::Bit => 1,
+        Type::I16 => 16,
+        Type::I32 => 32,
+        Type::I64 => 64,
+    }
+}
+
+fn fold_unary(op: UnaryOp, ty: Type, value: i64) -> Option<i64> {
+    let bits = unsigned(ty, value);
+    Some(match op {
+        UnaryOp::PopCount => i64::from(bits.count_ones()),
+        UnaryOp::LeadingZeros => i64::from(bits.leading_zeros() - (64 - bits_of(ty))),
+        UnaryOp::SquareRoot if value < 0 => return None,
+        UnaryOp::SquareRoot => (value as u64).isqrt() as i64,
+    })
 }
 
 fn compare(op: CompareOp, a: i64, b: i64) -> bool {
@@ -251,6 +285,7 @@ fn fold(
             (BinOp::Add | BinOp::Or, Some(0), None) | (BinOp::Mul, Some(1), None) => Folded::Same(*b),
             _ => Folded::Nothing,
         },
+        Inst::Unary { op, value } => constant(known(value).and_then(|v| fold_unary(*op, ty, v))),
         Inst::Compare { op, a, b } => match (known(a), known(b)) {
             (Some(x), Some(y)) => Folded::Constant(compare(*op, x, y) as i64),
             _ => Folded::Nothing,

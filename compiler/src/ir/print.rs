@@ -1,6 +1,6 @@
 //! The text form of the IR (`ladderc build --emit ir`), stable for snapshots.
 
-use super::{BinOp, Function, Index, Inst, Terminator, Type};
+use super::{BinOp, Function, Index, Inst, Terminator, Type, UnaryOp};
 use std::fmt::{self, Display, Formatter};
 
 impl Display for Type {
@@ -42,8 +42,18 @@ fn binop(op: BinOp) -> &'static str {
         BinOp::Rem => "srem",
         BinOp::And => "band",
         BinOp::Or => "bor",
+        BinOp::Xor => "bxor",
         BinOp::Shl => "shl",
         BinOp::Shr => "sshr",
+        BinOp::UShr => "ushr",
+    }
+}
+
+fn unop(op: UnaryOp) -> &'static str {
+    match op {
+        UnaryOp::PopCount => "popcnt",
+        UnaryOp::LeadingZeros => "clz",
+        UnaryOp::SquareRoot => "isqrt",
     }
 }
 
@@ -94,6 +104,7 @@ fn inst(func: &Function, constants: &Constants, inst: &Inst) -> String {
         And { a, b } => format!("and {a}, {b}"),
         Or { a, b } => format!("or {a}, {b}"),
         Binary { op, a, b } => format!("{}.{} {a}, {b}", binop(*op), func.value_type(*a)),
+        Unary { op, value } => format!("{}.{} {value}", unop(*op), func.value_type(*value)),
         Compare { op, a, b } => format!("cmp{} {a}, {b}", op.symbol()),
         Extend { value, to, signed } => {
             format!("{}.{to} {value}", if *signed { "sext" } else { "zext" })

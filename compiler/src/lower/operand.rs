@@ -10,13 +10,18 @@ use ladder_runtime::device::{COUNTER_COUNT, FIRST_WIDE_COUNTER};
 use ladder_runtime::place::PlaceKind;
 use ladder_runtime::{BitArea, Width, WordArea};
 
-/// A resolved word operand.
+/// A resolved operand: where a value lives, with its index in the IR (the
+/// lowering's counterpart of the runtime's `Place`).
 #[derive(Clone, Copy, Debug)]
 pub(super) enum Operand {
     Constant(i64),
     Word(WordArea, Index),
     WideCounter(Index),
     Digits(BitArea, Index, u8),
+    /// One bit device (value 0 or 1).
+    Bit(BitArea, Index),
+    /// One bit of a word, numbered through the area (16·word + bit).
+    WordBit(WordArea, Index),
 }
 
 /// How many values an operand covers.
@@ -94,6 +99,27 @@ impl Lowering<'_> {
             Operand::Digits(area, start, digits) => {
                 Operand::Digits(area, self.index_plus(start, unit * 4 * u32::from(digits)), digits)
             }
+            Operand::Bit(area, index) => Operand::Bit(area, self.index_plus(index, unit)),
+            Operand::WordBit(area, index) => Operand::WordBit(area, self.index_plus(index, unit)),
+        }
+    }
+
+    /// The word and the bit mask of a word bit numbered through its area.
+    fn word_bit(&mut self, index: Index) -> (Index, Value) {
+        match index {
+            Index::Fixed(n) => {
+                let mask = self.b.constant(Type::I32, 1 << (n % 16));
+                (Index::Fixed(n / 16), mask)
+            }
+            Index::Dynamic(n) => {
+                let four = self.b.constant(Type::I32, 4);
+                let word = self.b.binary(BinOp::Shr, n, four);
+                let fifteen = self.b.constant(Type::I32, 15);
+                let bit = self.b.binary(BinOp::And, n, fifteen);
+                let one = self.b.constant(Type::I32, 1);
+                let mask = self.b.binary(BinOp::Shl, one, bit);
+                (Index::Dynamic(word), mask)
+            }
         }
     }
 
@@ -142,6 +168,19 @@ impl Lowering<'_> {
                     self.b.extend(word, Type::I64, true)
                 }
             }
+            Operand::Bit(area, index) => {
+                let on = self.b.load_bit(area, index);
+                self.b.extend(on, Type::I64, false)
+            }
+            Operand::WordBit(area, index) => {
+                let (index, mask) = self.word_bit(index);
+                let word = self.b.push(Inst::LoadWord { area, index });
+                let word = self.b.extend(word, Type::I32, true);
+                let masked = self.b.binary(BinOp::And, word, mask);
+                let zero = self.b.constant(Type::I32, 0);
+                let on = self.b.compare(CompareOp::Ne, masked, zero);
+                self.b.extend(on, Type::I64, false)
+            }
         }
     }
 
@@ -185,7 +224,37 @@ impl Lowering<'_> {
                     self.b.store_bit(area, index, on);
                 }
             }
+            Operand::Bit(area, index) => {
+                let on = self.low_bit(value);
+                self.b.store_bit(area, index, on);
+            }
+            Operand::WordBit(area, index) => {
+                let on = self.low_bit(value);
+                let (index, mask) = self.word_bit(index);
+                let word = self.b.push(Inst::LoadWord { area, index });
+                let word = self.b.extend(word, Type::I32, true);
+                let all = self.b.constant(Type::I32, -1);
+                let keep = self.b.binary(BinOp::Xor, mask, all);
+                let cleared = self.b.binary(BinOp::And, word, keep);
+                let zero = self.b.constant(Type::I32, 0);
+                let set = self.b.select(on, mask, zero);
+                let updated = self.b.binary(BinOp::Or, cleared, set);
+                let updated = self.b.truncate(updated, Type::I16);
+                self.b.effect(Inst::StoreWord {
+                    area,
+                    index,
+                    value: updated,
+                });
+            }
         }
+    }
+
+    /// Bit 0 of an I64 as a Bit.
+    fn low_bit(&mut self, value: Value) -> Value {
+        let one = self.b.constant(Type::I64, 1);
+        let masked = self.b.binary(BinOp::And, value, one);
+        let zero = self.b.constant(Type::I64, 0);
+        self.b.compare(CompareOp::Ne, masked, zero)
     }
 
     /// A block operand as a packed runtime place (an I32), for helpers.
@@ -196,6 +265,8 @@ impl Lowering<'_> {
             Operand::Word(area, index) => (PlaceKind::Word(area), index),
             Operand::WideCounter(index) => (PlaceKind::WideCounter, index),
             Operand::Digits(area, index, digits) => (PlaceKind::Digits(area, digits), index),
+            Operand::Bit(area, index) => (PlaceKind::Bit(area), index),
+            Operand::WordBit(area, index) => (PlaceKind::WordBit(area), index),
         };
         match index {
             Index::Fixed(n) => self.b.constant(Type::I32, i64::from(kind.tag() | n)),

@@ -16,7 +16,7 @@ mod arithmetic;
 mod compare;
 mod moves;
 
-use super::access::{effective_index, resolve_word, write_place, BitPlace};
+use super::access::{bit_place, effective_index, resolve_word, write_place};
 use crate::isa::AppArgs;
 use crate::program::{AppInstruction, BitRef, WordRef};
 use ladder_runtime::{Memory, OperationError, Place, Width};
@@ -106,28 +106,28 @@ impl Step<'_> {
         self.resolve(word, self.width, 1, false)
     }
 
-    /// `n` consecutive bits from `bit`, written.
-    pub fn bits(&mut self, bit: &BitRef, n: u32) -> Option<Vec<BitPlace>> {
-        let places = match *bit {
-            BitRef::Device(area, address) => {
-                let start = effective_index(self.mem, address);
-                (start >= 0 && start + i64::from(n) <= i64::from(area.count()))
-                    .then(|| (0..n).map(|i| BitPlace::Device(area, start as u32 + i)).collect())
-            }
-            BitRef::WordBit(area, address, bit) => {
-                let index = effective_index(self.mem, address);
-                let last_bit = u32::from(bit) + n;
-                (index >= 0 && index < i64::from(area.count()) && last_bit <= 16).then(|| {
-                    (0..n)
-                        .map(|i| BitPlace::WordBit(area, index as u32, bit + i as u8))
-                        .collect()
-                })
-            }
+    /// The first of `n` consecutive bits from `bit` (bits of words run on
+    /// into the next word); `read` as for `resolve`.
+    pub fn bits(&mut self, bit: &BitRef, n: u32, read: bool) -> Option<Place> {
+        let (address, len) = match *bit {
+            BitRef::Device(area, address) => (address, area.count()),
+            BitRef::WordBit(area, address, _) => (address, area.count()),
         };
-        if places.is_none() {
-            self.mark(false);
+        let index = effective_index(self.mem, address);
+        let place = (index >= 0 && index < i64::from(len)).then(|| bit_place(*bit, index as u32));
+        let place = place.filter(|&start| {
+            // The last bit of the run is still in the area.
+            let last = start.nth(n.saturating_sub(1), self.width);
+            match last {
+                Place::Bit(_, i) => i < len,
+                Place::WordBit(_, b) => b / 16 < len,
+                Place::Constant(_) | Place::Word(..) | Place::WideCounter(_) | Place::Digits(..) => false,
+            }
+        });
+        if place.is_none() {
+            self.mark(read);
         }
-        places
+        place
     }
 
     /// Ends resolution: the error of the first operand out of range (reads
@@ -245,11 +245,13 @@ impl Step<'_> {
         kernel: impl FnOnce([i64; N]) -> [bool; 3],
     ) -> Outcome {
         let places = self.sources(sources);
-        let d = self.bits(d, 3);
+        let d = self.bits(d, 3, false);
         self.commit()?;
         let values = kernel(self.values(places));
-        for (place, on) in d.into_iter().flatten().zip(values) {
-            write_place(self.mem, place, on);
+        if let Some(d) = d {
+            for (unit, on) in (0..).zip(values) {
+                write_place(self.mem, d.nth(unit, self.width), on);
+            }
         }
         Ok(())
     }

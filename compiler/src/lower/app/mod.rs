@@ -14,11 +14,11 @@ mod moves;
 
 use super::operand::{Operand, Units};
 use super::Lowering;
-use crate::ir::{BlockId, Builder, Index, Inst, Terminator, Type, Value};
+use crate::ir::{BinOp, BlockId, Builder, Index, Inst, Terminator, Type, Value};
 use crate::isa::{AppArgs, CompareOp};
 use crate::program::{AppInstruction, BitRef, WordRef};
 use ladder_runtime::special::SpecialBit;
-use ladder_runtime::{BitArea, OperationError, Width, WordArea};
+use ladder_runtime::{OperationError, Width};
 
 impl Lowering<'_> {
     /// The body of an application instruction, entered when its condition
@@ -51,13 +51,6 @@ fn dispatch(step: &mut Step, args: &AppArgs) {
         AppArgs::Cmp { s1, s2, d } => step.map_bits([s1, s2], d, compare::cmp),
         AppArgs::ZoneCmp { s1, s2, s, d } => step.map_bits([s1, s2, s], d, compare::zcp),
     }
-}
-
-/// A bit an application instruction writes, after its index is resolved.
-#[derive(Clone, Copy, Debug)]
-pub(super) enum BitTarget {
-    Device(BitArea, Index),
-    WordBit(WordArea, Index, u8),
 }
 
 /// The operand step of one instruction.
@@ -108,33 +101,55 @@ impl Step<'_, '_> {
         self.resolve(word, self.width, Units::Checked(1), false)
     }
 
-    /// `n` consecutive bits from `bit`, written.
-    pub fn bits(&mut self, bit: &BitRef, n: u32) -> Vec<BitTarget> {
-        let (address, len, first_bit) = match *bit {
-            BitRef::Device(area, address) => (address, area.count(), None),
-            BitRef::WordBit(area, address, b) => (address, area.count(), Some(b)),
+    /// The first of `units` consecutive bits from `bit` (bits of words run
+    /// on into the next word); `read` as for `resolve`.
+    pub fn bits(&mut self, bit: &BitRef, units: Units, read: bool) -> Operand {
+        let (address, len, scale, first_bit) = match *bit {
+            BitRef::Device(area, address) => (address, area.count(), 1, 0),
+            BitRef::WordBit(area, address, b) => (address, area.count(), 16, u32::from(b)),
         };
-        // A run inside one word must fit in its 16 bits; the checker
-        // accepts such runs only where they do.
-        let extent = if first_bit.is_some() { 1 } else { n };
         let start = match address.index_register {
-            None => Index::Fixed(address.index),
+            None => Index::Fixed(address.index * scale + first_bit),
             Some(register) => {
                 let index = self.l.indexed(address.index, register);
-                let zero = self.b().constant(Type::I32, 0);
-                let last_start = self.b().constant(Type::I32, i64::from(len) - i64::from(extent));
-                let above_zero = self.b().compare(CompareOp::Ge, index, zero);
-                let fits = self.b().compare(CompareOp::Le, index, last_start);
-                let check = self.b().and(above_zero, fits);
-                self.note(Some(check), false);
+                let index = if scale == 1 {
+                    index
+                } else {
+                    let sixteen = self.b().constant(Type::I32, 16);
+                    let scaled = self.b().binary(BinOp::Mul, index, sixteen);
+                    let bit = self.b().constant(Type::I32, i64::from(first_bit));
+                    self.b().binary(BinOp::Add, scaled, bit)
+                };
                 Index::Dynamic(index)
             }
         };
+        let limit = i64::from(len) * i64::from(scale);
+        let check = match (start, units) {
+            (Index::Fixed(first), Units::Checked(n)) => {
+                (u64::from(first) + u64::from(n) > limit as u64).then(|| self.b().bit(false))
+            }
+            (start, units) => {
+                let b = self.b();
+                let first = match start {
+                    Index::Fixed(n) => b.constant(Type::I32, i64::from(n)),
+                    Index::Dynamic(v) => v,
+                };
+                let n = match units {
+                    Units::Checked(n) => b.constant(Type::I32, i64::from(n)),
+                    Units::Dynamic(n) => n,
+                };
+                let end = b.binary(BinOp::Add, first, n);
+                let zero = b.constant(Type::I32, 0);
+                let limit = b.constant(Type::I32, limit);
+                let above_zero = b.compare(CompareOp::Ge, first, zero);
+                let fits = b.compare(CompareOp::Le, end, limit);
+                Some(b.and(above_zero, fits))
+            }
+        };
+        self.note(check, read);
         match *bit {
-            BitRef::Device(area, _) => (0..n)
-                .map(|i| BitTarget::Device(area, self.l.index_plus(start, i)))
-                .collect(),
-            BitRef::WordBit(area, _, b) => (0..n).map(|i| BitTarget::WordBit(area, start, b + i as u8)).collect(),
+            BitRef::Device(area, _) => Operand::Bit(area, start),
+            BitRef::WordBit(area, ..) => Operand::WordBit(area, start),
         }
     }
 
@@ -187,11 +202,10 @@ impl Step<'_, '_> {
         self.l.write(operand, self.width, value);
     }
 
-    pub fn write_bit(&mut self, target: BitTarget, value: Value) {
-        match target {
-            BitTarget::Device(area, index) => self.b().store_bit(area, index, value),
-            BitTarget::WordBit(area, index, bit) => self.l.store_word_bit(area, index, bit, value),
-        }
+    /// Writes a Bit value to a bit operand.
+    pub fn write_bit(&mut self, operand: &Operand, on: Value) {
+        let value = self.b().extend(on, Type::I64, false);
+        self.l.write(operand, Width::Single, value);
     }
 
     fn values<const N: usize>(&mut self, operands: [Operand; N]) -> [Value; N] {
@@ -272,12 +286,13 @@ impl Step<'_, '_> {
         kernel: impl FnOnce(&mut Step, [Value; N]) -> [Value; 3],
     ) {
         let sources = sources.map(|s| self.source(s));
-        let d = self.bits(d, 3);
+        let d = self.bits(d, Units::Checked(3), false);
         self.commit();
         let values = self.values(sources);
         let results = kernel(self, values);
-        for (target, value) in d.into_iter().zip(results) {
-            self.write_bit(target, value);
+        for (unit, value) in (0..).zip(results) {
+            let target = self.l.nth(&d, unit, self.width);
+            self.write_bit(&target, value);
         }
     }
 }
