@@ -90,17 +90,34 @@ pub enum ResetTarget {
     Word(WordArea, Address),
 }
 
-/// The start of a run of bits or words, or one end of a device range:
-/// where an operand may be either (ENCO S, DECO D, ZRST d1/d2).
+/// The start of a run of bits, or a word: where an operand may be either
+/// (ENCO S, DECO D). A word is 16 bits.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Element {
-    /// Bit devices, one bit per unit.
+    /// Bit devices (or bits of a word), one bit per unit.
     Bits(BitRef),
-    /// Word devices, 16 bits per unit.
+    /// A word value (a device, a digit group or a constant).
     Word(WordRef),
-    /// Timers (value and contact), for ZRST.
+}
+
+/// A digit group: 4·digits bits from a start device (`K4M0`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct DigitGroup {
+    pub area: BitArea,
+    pub address: Address,
+    pub digits: u8,
+}
+
+/// One end of a device range that ZRST/ZSET write.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum RangeEnd {
+    /// A bit device or a bit of a word.
+    Bit(BitRef),
+    /// A data register (D, R, SD).
+    Word(WordArea, Address),
+    /// A timer: value, contact and bookkeeping.
     Timer(Address),
-    /// Counters (value and contact), for ZRST.
+    /// A counter: value, contact and bookkeeping.
     Counter(Address),
 }
 
@@ -111,6 +128,20 @@ pub enum AppOperand {
     Word(WordRef),
     Bit(BitRef),
     Element(Element),
+    RangeEnd(RangeEnd),
+    Digits(DigitGroup),
+}
+
+impl From<DigitGroup> for AppOperand {
+    fn from(group: DigitGroup) -> Self {
+        AppOperand::Digits(group)
+    }
+}
+
+impl From<RangeEnd> for AppOperand {
+    fn from(end: RangeEnd) -> Self {
+        AppOperand::RangeEnd(end)
+    }
 }
 
 impl From<WordRef> for AppOperand {
@@ -223,9 +254,13 @@ impl Op {
                 .zip(app.args.op().spec().operands)
                 .filter(|(_, decl)| decl.kind.writes_bits())
                 .filter_map(|(operand, _)| match operand {
-                    AppOperand::Bit(bit) | AppOperand::Element(Element::Bits(bit)) => Some(bit),
+                    AppOperand::Bit(bit)
+                    | AppOperand::Element(Element::Bits(bit))
+                    | AppOperand::RangeEnd(RangeEnd::Bit(bit)) => Some(bit),
+                    AppOperand::Digits(group) => Some(BitRef::Device(group.area, group.address)),
                     AppOperand::Word(_)
-                    | AppOperand::Element(Element::Word(_) | Element::Timer(_) | Element::Counter(_)) => None,
+                    | AppOperand::Element(Element::Word(_))
+                    | AppOperand::RangeEnd(RangeEnd::Word(..) | RangeEnd::Timer(_) | RangeEnd::Counter(_)) => None,
                 })
                 .collect(),
             Op::Load { .. }

@@ -48,6 +48,8 @@ pub const WIDE_COUNTER_COUNT: u32 = COUNTER_COUNT - FIRST_WIDE_COUNTER;
 pub const TIMER_COUNT: u32 = 512;
 /// Number of STL states.
 pub const STATE_COUNT: u32 = 4096;
+/// Largest unit count of BMOV/FMOV (more is operation error 4084H).
+pub const MAX_BLOCK_UNITS: u32 = 512;
 /// Number of previous-scan slots available to edge instructions of one program.
 pub const EDGE_SLOT_COUNT: u32 = 16384;
 

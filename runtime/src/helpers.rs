@@ -12,6 +12,7 @@
 //! The reference interpreter does not call these: it implements the same
 //! rules on its own, and the differential test compares the two.
 
+use crate::compiled::{self, Zone};
 use crate::device::BitArea;
 use crate::host::Width;
 use crate::memory::Memory;
@@ -151,7 +152,7 @@ macro_rules! helpers {
         #[doc = $doc:literal]
         $(#[doc = $more:literal])*
         $variant:ident = fn $name:ident($mem:ident $(, $param:ident: $kind:ident)*) -> $ret:ident
-            writes [$($writes:ident),*] $body:block
+            writes [$($writes:tt)*] $body:block
     )*) => {
         /// The runtime helpers compiled code calls.
         #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -170,7 +171,11 @@ macro_rules! helpers {
                             name: stringify!($name),
                             params: &[$((stringify!($param), param_kind!($kind))),*],
                             returns: returns!($ret),
-                            writes: &[$(Writes::$writes),*],
+                            writes: {
+                                #[allow(unused_imports)]
+                                use Writes::*;
+                                &[$($writes)*]
+                            },
                             doc: $doc,
                         };
                         &DECL
@@ -240,7 +245,7 @@ helpers! {
         mem, source: source_place, destination: destination_place, n: u32, width: u32
     ) -> none writes [] {
         if let (Some(source), Some(destination)) = (Place::unpack(source), Place::unpack(destination)) {
-            mem.block_move(source, destination, n, width_of(width), false)
+            compiled::block_move(mem, source, destination, n, width_of(width), false)
         }
     }
 
@@ -248,7 +253,31 @@ helpers! {
     Fill = fn ladder_rt_fill(mem, destination: destination_place, n: u32, width: u32, value: i32) -> none
         writes [] {
         if let Some(destination) = Place::unpack(destination) {
-            mem.block_move(Place::Constant(value), destination, n, width_of(width), true)
+            compiled::block_move(mem, Place::Constant(value), destination, n, width_of(width), true)
+        }
+    }
+
+    /// BTOW (`split` 0) or WTOB (`split` 1) of `n` bytes between checked word places.
+    Bytes = fn ladder_rt_bytes(mem, source: source_place, destination: destination_place, n: u32, split: u32)
+        -> none writes [] {
+        if let (Some(source), Some(destination)) = (Place::unpack(source), Place::unpack(destination)) {
+            compiled::bytes(mem, source, destination, n, split != 0)
+        }
+    }
+
+    /// The number of the highest ON bit of `count` bits from a checked place, or -1 (ENCO).
+    HighestOn = fn ladder_rt_highest_on(mem, source: source_place, count: u32) -> i32 writes [] {
+        match Place::unpack(source) {
+            Some(source) => compiled::highest_on(mem, source, count),
+            None => -1,
+        }
+    }
+
+    /// ZRST (`on` 0) or ZSET (`on` 1) of a checked zone from `first` to `last` (or `first` alone).
+    Zone = fn ladder_rt_zone(mem, zone: u32, first: u32, last: u32, on: u32) -> none
+        writes [Timers, Counters, Bits(BitArea::Y), Bits(BitArea::M), Bits(BitArea::S), Bits(BitArea::Sm)] {
+        if let Some(zone) = Zone::from_code(zone) {
+            compiled::zone(mem, zone, first, last, on != 0)
         }
     }
 

@@ -3,6 +3,7 @@
 //! interpreter and compiled code share.
 
 pub mod capi;
+pub mod compiled;
 pub mod counter;
 pub mod device;
 pub mod force;

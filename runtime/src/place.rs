@@ -183,27 +183,6 @@ impl PlaceKind {
     }
 }
 
-/// Largest word count of BMOV/FMOV.
-pub const MAX_BLOCK_UNITS: u32 = 512;
-
-impl Memory {
-    /// BMOV (`fill` false) or FMOV (`fill` true) of `n` units, after the
-    /// caller checked that both places hold `n` units. Overlapping blocks move
-    /// as a whole; nothing is allocated.
-    pub fn block_move(&mut self, source: Place, destination: Place, n: u32, width: Width, fill: bool) {
-        let n = n.min(MAX_BLOCK_UNITS);
-        let mut values = [0i32; MAX_BLOCK_UNITS as usize];
-        for (unit, value) in values.iter_mut().enumerate().take(n as usize) {
-            *value = source.nth(if fill { 0 } else { unit as u32 }, width).read(self, width);
-        }
-        for (unit, value) in values.iter().enumerate().take(n as usize) {
-            destination
-                .nth(unit as u32, width)
-                .write(self, width, i64::from(*value));
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -242,27 +221,5 @@ mod tests {
             .nth(2, Width::Single)
             .write(&mut mem, Width::Single, 3);
         assert_eq!(mem.m[9], 1);
-    }
-
-    #[test]
-    fn overlapping_block_moves_move_as_a_whole() {
-        let mut mem = Memory::new_boxed();
-        mem.d[..3].copy_from_slice(&[1, 2, 3]);
-        mem.block_move(
-            Place::Word(WordArea::D, 0),
-            Place::Word(WordArea::D, 1),
-            3,
-            Width::Single,
-            false,
-        );
-        assert_eq!(&mem.d[..4], &[1, 1, 2, 3]);
-        mem.block_move(
-            Place::Constant(7),
-            Place::Digits(BitArea::M, 0, 1),
-            2,
-            Width::Single,
-            true,
-        );
-        assert_eq!(mem.digits(BitArea::M, 0, 2), Some(0x77));
     }
 }

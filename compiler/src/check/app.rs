@@ -5,7 +5,7 @@ use super::operands::{self, Resolved};
 use crate::diagnostics::{Code, Diagnostic, Diagnostics};
 use crate::isa::app::ResolveOperand;
 use crate::isa::{DeviceClass, Devices, OperandKind};
-use crate::program::{AppOperand, BitRef, Element, WordRef};
+use crate::program::{AppOperand, BitRef, Element, RangeEnd, WordRef};
 use crate::syntax::Operand;
 use ladder_runtime::{BitArea, Width, WordArea};
 
@@ -48,20 +48,16 @@ pub fn bit_class(bit: &BitRef) -> DeviceClass {
     }
 }
 
-fn element_class(element: &Element) -> DeviceClass {
-    match element {
-        Element::Bits(bit) => bit_class(bit),
-        Element::Word(word) => word_class(word),
-        Element::Timer(_) => DeviceClass::T,
-        Element::Counter(_) => DeviceClass::C,
-    }
-}
-
 fn class_of(operand: &AppOperand) -> DeviceClass {
     match operand {
-        AppOperand::Word(word) => word_class(word),
-        AppOperand::Bit(bit) => bit_class(bit),
-        AppOperand::Element(element) => element_class(element),
+        AppOperand::Word(word) | AppOperand::Element(Element::Word(word)) => word_class(word),
+        AppOperand::Bit(bit) | AppOperand::Element(Element::Bits(bit)) | AppOperand::RangeEnd(RangeEnd::Bit(bit)) => {
+            bit_class(bit)
+        }
+        AppOperand::RangeEnd(RangeEnd::Word(area, address)) => word_class(&WordRef::Word(*area, *address)),
+        AppOperand::RangeEnd(RangeEnd::Timer(_)) => DeviceClass::T,
+        AppOperand::RangeEnd(RangeEnd::Counter(_)) => DeviceClass::C,
+        AppOperand::Digits(group) => word_class(&WordRef::Digits(group.area, group.address, group.digits)),
     }
 }
 
@@ -80,7 +76,14 @@ fn resolve_kind(operand: &Operand, kind: OperandKind, width: Width) -> Resolved<
         OperandKind::BitTriple => AppOperand::Bit(operands::bit_triple(operand)?),
         OperandKind::ElementSource => AppOperand::Element(operands::element(operand, false)?),
         OperandKind::ElementDestination => AppOperand::Element(operands::element(operand, true)?),
-        OperandKind::RangeEnd => AppOperand::Element(operands::range_end(operand)?),
+        OperandKind::RangeEnd => AppOperand::RangeEnd(operands::range_end(operand)?),
+        OperandKind::DigitSource => {
+            AppOperand::Digits(operands::digit_group(operands::word_source(operand, width)?, operand)?)
+        }
+        OperandKind::DigitDestination => AppOperand::Digits(operands::digit_group(
+            operands::word_destination(operand, width, 1)?,
+            operand,
+        )?),
     })
 }
 
@@ -103,6 +106,10 @@ impl ResolveOperand for AppResolver<'_> {
                 return None;
             }
         };
+        debug_assert!(
+            crate::isa::app::fits(kind, resolved),
+            "{kind:?} resolved to {resolved:?}, which is not its type"
+        );
         let class = class_of(&resolved);
         if !devices.contains(class) {
             self.diagnostics.push(
@@ -122,5 +129,44 @@ impl ResolveOperand for AppResolver<'_> {
             return None;
         }
         Some(resolved)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::syntax::operand::parse_operand;
+
+    /// Every kind resolves to the type `AppArgs` gives it.
+    #[test]
+    fn every_kind_resolves_to_its_type() {
+        let samples: &[(OperandKind, &[&str])] = &[
+            (OperandKind::Source, &["K5", "D0", "K4M0", "TN0"]),
+            (OperandKind::Count, &["K5", "D1"]),
+            (OperandKind::Destination, &["D0", "K4Y0"]),
+            (OperandKind::Modified, &["D0"]),
+            (OperandKind::DoubleDestination, &["D0", "K4M0"]),
+            (OperandKind::BlockSource, &["D0", "K1X0"]),
+            (OperandKind::BlockDestination, &["R0"]),
+            (OperandKind::BitDestination, &["M0", "D0.3"]),
+            (OperandKind::BitTriple, &["M0"]),
+            (OperandKind::ElementSource, &["X0", "D0", "K3"]),
+            (OperandKind::ElementDestination, &["M0", "D0"]),
+            (OperandKind::RangeEnd, &["M0", "T3", "C4", "D5", "D0.1"]),
+            (OperandKind::DigitSource, &["K4X0"]),
+            (OperandKind::DigitDestination, &["K2M0"]),
+        ];
+        for kind in OperandKind::ALL {
+            let (_, texts) = samples
+                .iter()
+                .find(|(k, _)| *k == kind)
+                .expect("a sample for every kind");
+            for text in *texts {
+                let operand = parse_operand(text, 0).unwrap();
+                let resolved =
+                    resolve_kind(&operand, kind, Width::Single).unwrap_or_else(|d| panic!("{kind:?} {text}: {d:?}"));
+                assert!(crate::isa::app::fits(kind, resolved), "{kind:?} {text}: {resolved:?}");
+            }
+        }
     }
 }

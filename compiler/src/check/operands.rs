@@ -2,7 +2,7 @@
 //! accepts, to the devices of the runtime's areas.
 
 use crate::diagnostics::{Code, Diagnostic};
-use crate::program::{Address, BitRef, Element, IndexRegister, WordRef};
+use crate::program::{Address, BitRef, DigitGroup, Element, IndexRegister, RangeEnd, WordRef};
 use crate::syntax::{Constant, DeviceSyntax, Operand, OperandSyntax, Prefix};
 use ladder_runtime::device::{FIRST_WIDE_COUNTER, TIMER_COUNT};
 use ladder_runtime::{BitArea, Width, WordArea};
@@ -610,7 +610,7 @@ pub fn element(operand: &Operand, written: bool) -> Resolved<Element> {
 
 /// One end of a device range that ZRST/ZSET write: Y M S SM bits, timers,
 /// counters, or D R SD words.
-pub fn range_end(operand: &Operand) -> Resolved<Element> {
+pub fn range_end(operand: &Operand) -> Resolved<RangeEnd> {
     let Some(d) = device(operand) else {
         return Err(kind_error(
             operand,
@@ -634,13 +634,18 @@ pub fn range_end(operand: &Operand) -> Resolved<Element> {
         Ok(address)
     };
     match d.prefix {
-        Prefix::T | Prefix::Ts | Prefix::Tn if d.bit.is_none() => Ok(Element::Timer(numbered(BitArea::TimerContact)?)),
+        Prefix::T | Prefix::Ts | Prefix::Tn if d.bit.is_none() => Ok(RangeEnd::Timer(numbered(BitArea::TimerContact)?)),
         Prefix::C | Prefix::Cs | Prefix::Cn if d.bit.is_none() => {
-            Ok(Element::Counter(numbered(BitArea::CounterContact)?))
+            Ok(RangeEnd::Counter(numbered(BitArea::CounterContact)?))
         }
-        Prefix::D | Prefix::Sd | Prefix::R if d.bit.is_none() => {
-            Ok(Element::Word(word_destination(operand, Width::Single, 1)?))
-        }
+        Prefix::D | Prefix::Sd | Prefix::R if d.bit.is_none() => match word_destination(operand, Width::Single, 1)? {
+            WordRef::Word(area, address) => Ok(RangeEnd::Word(area, address)),
+            WordRef::Constant(_) | WordRef::WideCounter(_) | WordRef::Digits(..) => Err(kind_error(
+                operand,
+                "a range end is a device such as D0",
+                "not a register",
+            )),
+        },
         Prefix::X
         | Prefix::Y
         | Prefix::M
@@ -656,7 +661,19 @@ pub fn range_end(operand: &Operand) -> Resolved<Element> {
         | Prefix::Sd
         | Prefix::R
         | Prefix::P
-        | Prefix::N => Ok(Element::Bits(bit_target(operand)?)),
+        | Prefix::N => Ok(RangeEnd::Bit(bit_target(operand)?)),
+    }
+}
+
+/// A word operand that must be a digit group (PRUN).
+pub fn digit_group(word: WordRef, operand: &Operand) -> Resolved<DigitGroup> {
+    match word {
+        WordRef::Digits(area, address, digits) => Ok(DigitGroup { area, address, digits }),
+        WordRef::Constant(_) | WordRef::Word(..) | WordRef::WideCounter(_) => Err(kind_error(
+            operand,
+            "this operand is a digit group such as K4M0",
+            "not a digit group",
+        )),
     }
 }
 

@@ -16,28 +16,46 @@
 //! The semantics are written twice on purpose: once in `interp::app` (the
 //! specification) and once in `lower::app`, in files named after the family.
 
-use super::operand::{tables::*, Devices, OperandKind};
-use crate::program::{AppOperand, BitRef, Element, WordRef};
+use super::operand::{tables::*, DeviceClass, Devices, OperandKind};
+use crate::program::{AppOperand, BitRef, DigitGroup, Element, RangeEnd, WordRef};
 use ladder_runtime::special::{self, SpecialBit};
 
 /// Groups instructions in the language reference and the engines' kernel
 /// files (`interp/app/<family>.rs`, `lower/app/<family>.rs`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Family {
-    /// MOV, BMOV, FMOV and other transfers.
+    /// MOV, BMOV, FMOV, PRUN.
     Move,
-    /// ADD, SUB, MUL, DIV, INC, DEC and other arithmetic.
+    /// ADD, SUB, MUL, DIV, INC, DEC, NEG, SQR.
     Arithmetic,
+    /// WAND, WOR, WXOR, BON, SUM.
+    Logic,
+    /// SWAP, ENCO, DECO, BTOW, WTOB, DIS, UNI.
+    Convert,
     /// CMP, ZCP.
     Compare,
+    /// ZRST, ZSET.
+    Zone,
 }
 
 impl Family {
+    pub const ALL: [Family; 6] = [
+        Family::Move,
+        Family::Arithmetic,
+        Family::Logic,
+        Family::Convert,
+        Family::Compare,
+        Family::Zone,
+    ];
+
     pub fn title(self) -> &'static str {
         match self {
             Family::Move => "Transfers",
             Family::Arithmetic => "Arithmetic",
+            Family::Logic => "Logic and bits",
+            Family::Convert => "Conversions",
             Family::Compare => "Comparisons",
+            Family::Zone => "Zones",
         }
     }
 }
@@ -115,7 +133,16 @@ impl FromOperand for WordRef {
     fn from_operand(operand: AppOperand) -> Option<Self> {
         match operand {
             AppOperand::Word(word) => Some(word),
-            AppOperand::Bit(_) | AppOperand::Element(_) => None,
+            AppOperand::Bit(_) | AppOperand::Element(_) | AppOperand::RangeEnd(_) | AppOperand::Digits(_) => None,
+        }
+    }
+}
+
+impl FromOperand for DigitGroup {
+    fn from_operand(operand: AppOperand) -> Option<Self> {
+        match operand {
+            AppOperand::Digits(group) => Some(group),
+            AppOperand::Word(_) | AppOperand::Bit(_) | AppOperand::Element(_) | AppOperand::RangeEnd(_) => None,
         }
     }
 }
@@ -124,7 +151,7 @@ impl FromOperand for BitRef {
     fn from_operand(operand: AppOperand) -> Option<Self> {
         match operand {
             AppOperand::Bit(bit) => Some(bit),
-            AppOperand::Word(_) | AppOperand::Element(_) => None,
+            AppOperand::Word(_) | AppOperand::Element(_) | AppOperand::RangeEnd(_) | AppOperand::Digits(_) => None,
         }
     }
 }
@@ -133,7 +160,16 @@ impl FromOperand for Element {
     fn from_operand(operand: AppOperand) -> Option<Self> {
         match operand {
             AppOperand::Element(element) => Some(element),
-            AppOperand::Word(_) | AppOperand::Bit(_) => None,
+            AppOperand::Word(_) | AppOperand::Bit(_) | AppOperand::RangeEnd(_) | AppOperand::Digits(_) => None,
+        }
+    }
+}
+
+impl FromOperand for RangeEnd {
+    fn from_operand(operand: AppOperand) -> Option<Self> {
+        match operand {
+            AppOperand::RangeEnd(end) => Some(end),
+            AppOperand::Word(_) | AppOperand::Bit(_) | AppOperand::Element(_) | AppOperand::Digits(_) => None,
         }
     }
 }
@@ -180,8 +216,42 @@ macro_rules! operand_type {
         Element
     };
     (RangeEnd) => {
-        Element
+        RangeEnd
     };
+    (DigitSource) => {
+        DigitGroup
+    };
+    (DigitDestination) => {
+        DigitGroup
+    };
+}
+
+/// Whether a checked operand has the type its kind gives it in `AppArgs`
+/// (the checker asserts it for every operand it resolves).
+pub fn fits(kind: OperandKind, operand: AppOperand) -> bool {
+    macro_rules! fits {
+        ($($kind:ident),*) => {
+            match kind {
+                $(OperandKind::$kind => <operand_type!($kind) as FromOperand>::from_operand(operand).is_some(),)*
+            }
+        };
+    }
+    fits!(
+        Source,
+        Count,
+        Destination,
+        Modified,
+        DoubleDestination,
+        BlockSource,
+        BlockDestination,
+        BitDestination,
+        BitTriple,
+        ElementSource,
+        ElementDestination,
+        RangeEnd,
+        DigitSource,
+        DigitDestination
+    )
 }
 
 macro_rules! wide_name {
@@ -286,6 +356,21 @@ macro_rules! app_instructions {
 
 /// Word destinations of multiple units: registers and digit groups.
 const MULTI_WORD_DESTINATION: Devices = REGISTERS.with(WRITABLE_DIGITS);
+/// Bits and values: where ENCO reads and DECO writes.
+const BITS_OR_VALUES: Devices = ANY_BIT.with(ANY_VALUE);
+const BITS_OR_WORDS: Devices = WRITABLE_BITS.with(WRITABLE_WORD);
+/// Word registers and timer/counter values, no digit groups (BTOW, WTOB).
+const WORD_REGISTERS: Devices = WORDS;
+const OCTAL_SOURCE: Devices = Devices::of(DeviceClass::KnX).with(Devices::of(DeviceClass::KnM));
+const OCTAL_DESTINATION: Devices = Devices::of(DeviceClass::KnY).with(Devices::of(DeviceClass::KnM));
+/// What ZRST resets: bits, timers, counters, registers.
+const RESET_ZONE: Devices = Devices::of(DeviceClass::Y)
+    .with(Devices::of(DeviceClass::M))
+    .with(Devices::of(DeviceClass::S))
+    .with(Devices::of(DeviceClass::Sm))
+    .with(Devices::of(DeviceClass::T))
+    .with(Devices::of(DeviceClass::C))
+    .with(REGISTERS);
 
 app_instructions! {
     /// MOV S D: D = S.
@@ -343,6 +428,91 @@ app_instructions! {
         (s1: Source(ANY_VALUE), s2: Source(ANY_VALUE), s: Source(ANY_VALUE), d: BitTriple(RESULT_BITS))
         reads [] writes []
         "D, D+1, D+2 = S < S1, S1 ≤ S ≤ S2, S > S2";
+    /// NEG D: D = -D (two's complement; the smallest value stays).
+    Neg: "NEG" "DNEG" pulse Arithmetic
+        (d: Modified(WRITABLE_WORD))
+        reads [] writes []
+        "D = −D";
+    /// SQR S D: D = the square root of S, rounded down.
+    Sqr: "SQR" "DSQR" pulse Arithmetic
+        (s: Source(REGISTERS.with(CONSTANT)), d: Destination(REGISTERS))
+        reads [] writes [SM_BORROW_FLAG, SM_ZERO_FLAG]
+        "D = √S rounded down; SM152 when a fraction was dropped, SM153 when D is 0; S < 0 is 4084H";
+    /// WAND S1 S2 D: bitwise AND.
+    Wand: "WAND" "DAND" pulse Logic
+        (s1: Source(ANY_VALUE), s2: Source(ANY_VALUE), d: Destination(WRITABLE_WORD))
+        reads [] writes []
+        "D = S1 AND S2, bit by bit";
+    /// WOR S1 S2 D: bitwise OR.
+    Wor: "WOR" "DOR" pulse Logic
+        (s1: Source(ANY_VALUE), s2: Source(ANY_VALUE), d: Destination(WRITABLE_WORD))
+        reads [] writes []
+        "D = S1 OR S2, bit by bit";
+    /// WXOR S1 S2 D: bitwise exclusive OR.
+    Wxor: "WXOR" "DXOR" pulse Logic
+        (s1: Source(ANY_VALUE), s2: Source(ANY_VALUE), d: Destination(WRITABLE_WORD))
+        reads [] writes []
+        "D = S1 XOR S2, bit by bit";
+    /// BON S N D: D = bit N of S.
+    Bon: "BON" "DBON" pulse Logic
+        (s: Source(ANY_VALUE), n: Source(ANY_VALUE), d: BitDestination(WRITABLE_BITS))
+        reads [] writes []
+        "D = bit N of S (N 0-15, 0-31 for DBON; else 4084H)";
+    /// SUM S D: the number of ON bits of S.
+    Sum: "SUM" "DSUM" pulse Logic
+        (s: Source(ANY_VALUE), d: Destination(WRITABLE_WORD))
+        reads [] writes [SM_ZERO_FLAG]
+        "D = the number of ON bits of S; SM153 when S is 0";
+    /// SWAP D: the high and low byte of each word of D change places.
+    Swap: "SWAP" "DSWAP" pulse Convert
+        (d: Modified(WRITABLE_WORD))
+        reads [] writes []
+        "swaps the high and low byte of each word of D";
+    /// ENCO S N D: D = the number of the highest ON bit among 2^N bits of S.
+    Encode: "ENCO" _ pulse Convert
+        (s: ElementSource(BITS_OR_VALUES), n: Count(COUNT), d: Destination(WRITABLE_WORD))
+        reads [] writes []
+        "D = the position of the highest ON bit among 2^N bits from S";
+    /// DECO S N D: turns ON bit (low N bits of S) of 2^N bits from D, the rest OFF.
+    Decode: "DECO" _ pulse Convert
+        (s: ElementSource(BITS_OR_VALUES), n: Count(COUNT), d: ElementDestination(BITS_OR_WORDS))
+        reads [] writes []
+        "of 2^N bits from D, turns ON the one numbered by the low N bits of S";
+    /// BTOW S D N: the low bytes of N words packed into words.
+    BytesToWords: "BTOW" _ pulse Convert
+        (s: BlockSource(WORD_REGISTERS), d: BlockDestination(WORD_REGISTERS), n: Count(COUNT))
+        reads [] writes []
+        "packs the low bytes of N words from S into words from D";
+    /// WTOB S D N: N bytes of words split into words.
+    WordsToBytes: "WTOB" _ pulse Convert
+        (s: BlockSource(WORD_REGISTERS), d: BlockDestination(WORD_REGISTERS), n: Count(COUNT))
+        reads [] writes []
+        "splits N bytes of words from S into N words from D";
+    /// DIS S D N: the low N nibbles of S into N words.
+    Distribute: "DIS" _ pulse Convert
+        (s: Source(ANY_VALUE), d: BlockDestination(WRITABLE_WORD), n: Count(COUNT))
+        reads [] writes []
+        "the low N 4-bit digits of S into N words from D";
+    /// UNI S D N: the low nibbles of N words combined.
+    Unite: "UNI" _ pulse Convert
+        (s: BlockSource(ANY_WORD), d: Destination(WRITABLE_WORD), n: Count(COUNT))
+        reads [] writes []
+        "the low 4 bits of N words from S combined into D";
+    /// PRUN S D: digit groups transferred with octal device numbering.
+    OctalMove: "PRUN" _ pulse Move
+        (s: DigitSource(OCTAL_SOURCE), d: DigitDestination(OCTAL_DESTINATION))
+        reads [] writes []
+        "copies a digit group, numbering M in octal steps (M0-M7, M10-M17, ...)";
+    /// ZRST D1 D2: resets every device from D1 to D2.
+    ZoneReset: "ZRST" _ pulse Zone
+        (d1: RangeEnd(RESET_ZONE), d2: RangeEnd(RESET_ZONE))
+        reads [] writes []
+        "resets D1 to D2 (bits OFF, words 0, timers and counters cleared)";
+    /// ZSET D1 D2: sets every bit from D1 to D2.
+    ZoneSet: "ZSET" _ pulse Zone
+        (d1: RangeEnd(WRITABLE_BITS), d2: RangeEnd(WRITABLE_BITS))
+        reads [] writes []
+        "turns ON every bit from D1 to D2";
 }
 
 #[cfg(test)]

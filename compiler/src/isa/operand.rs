@@ -42,6 +42,10 @@ pub enum OperandKind {
     /// One end of a device range that is written (ZRST d1, d2; ZSET d1, d2):
     /// a bit, a word, a timer or a counter.
     RangeEnd,
+    /// A digit group read bit by bit (PRUN S).
+    DigitSource,
+    /// A digit group written bit by bit (PRUN D).
+    DigitDestination,
 }
 
 impl OperandKind {
@@ -53,14 +57,16 @@ impl OperandKind {
             | OperandKind::Count
             | OperandKind::Modified
             | OperandKind::BlockSource
-            | OperandKind::ElementSource => true,
+            | OperandKind::ElementSource
+            | OperandKind::DigitSource => true,
             OperandKind::Destination
             | OperandKind::DoubleDestination
             | OperandKind::BlockDestination
             | OperandKind::BitDestination
             | OperandKind::BitTriple
             | OperandKind::ElementDestination
-            | OperandKind::RangeEnd => false,
+            | OperandKind::RangeEnd
+            | OperandKind::DigitDestination => false,
         }
     }
 
@@ -70,7 +76,8 @@ impl OperandKind {
             OperandKind::BitDestination
             | OperandKind::BitTriple
             | OperandKind::ElementDestination
-            | OperandKind::RangeEnd => true,
+            | OperandKind::RangeEnd
+            | OperandKind::DigitDestination => true,
             OperandKind::Source
             | OperandKind::Count
             | OperandKind::Destination
@@ -78,11 +85,12 @@ impl OperandKind {
             | OperandKind::DoubleDestination
             | OperandKind::BlockSource
             | OperandKind::BlockDestination
-            | OperandKind::ElementSource => false,
+            | OperandKind::ElementSource
+            | OperandKind::DigitSource => false,
         }
     }
 
-    pub const ALL: [OperandKind; 12] = [
+    pub const ALL: [OperandKind; 14] = [
         OperandKind::Source,
         OperandKind::Count,
         OperandKind::Destination,
@@ -95,6 +103,8 @@ impl OperandKind {
         OperandKind::ElementSource,
         OperandKind::ElementDestination,
         OperandKind::RangeEnd,
+        OperandKind::DigitSource,
+        OperandKind::DigitDestination,
     ];
 }
 

@@ -90,6 +90,15 @@ impl Lowering<'_> {
         }
     }
 
+    /// `index` plus an I32 computed at run time.
+    pub(super) fn index_plus_value(&mut self, index: Index, delta: Value) -> Index {
+        let base = match index {
+            Index::Fixed(n) => self.b.constant(Type::I32, i64::from(n)),
+            Index::Dynamic(value) => value,
+        };
+        Index::Dynamic(self.b.binary(BinOp::Add, base, delta))
+    }
+
     /// The `unit`-th value from an operand.
     pub(super) fn nth(&mut self, operand: &Operand, unit: u32, width: Width) -> Operand {
         match *operand {

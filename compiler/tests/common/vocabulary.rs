@@ -53,7 +53,9 @@ fn class_operand(class: DeviceClass, kind: OperandKind, width: Width) -> BoxedSt
             | OperandKind::BitTriple
             | OperandKind::ElementSource
             | OperandKind::ElementDestination
-            | OperandKind::RangeEnd => prop_oneof![
+            | OperandKind::RangeEnd
+            | OperandKind::DigitSource
+            | OperandKind::DigitDestination => prop_oneof![
                 "D[0-3]".prop_flat_map(indexed),
                 "D[1-4]0".prop_flat_map(indexed),
                 Just("D8508[D2]".to_string()),
@@ -76,7 +78,9 @@ fn class_operand(class: DeviceClass, kind: OperandKind, width: Width) -> BoxedSt
             | OperandKind::BitTriple
             | OperandKind::ElementSource
             | OperandKind::ElementDestination
-            | OperandKind::RangeEnd => prop_oneof![
+            | OperandKind::RangeEnd
+            | OperandKind::DigitSource
+            | OperandKind::DigitDestination => prop_oneof![
                 "K-?[0-9]{1,3}",
                 "H[0-9A-F]{1,4}",
                 if wide { "K[0-9]{6,9}" } else { "K3276[0-7]" },

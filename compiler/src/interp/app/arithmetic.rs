@@ -1,4 +1,4 @@
-//! Arithmetic: ADD, SUB, MUL, DIV, INC, DEC.
+//! Arithmetic: ADD, SUB, MUL, DIV, INC, DEC, NEG, SQR.
 
 use super::wrap;
 use ladder_runtime::{OperationError, Width};
@@ -47,4 +47,29 @@ pub fn inc(d: i64, _: Width) -> i64 {
 
 pub fn dec(d: i64, _: Width) -> i64 {
     d - 1
+}
+
+/// Two's complement; the smallest value wraps to itself.
+pub fn neg(d: i64, _: Width) -> i64 {
+    -d
+}
+
+/// The square root rounded down, and the flags borrow (SM152: a fraction
+/// was dropped) and zero (SM153: the root is 0). A negative S is 4084H.
+pub fn sqr([s]: [i64; 1], _: Width) -> Result<(i64, [bool; 2]), OperationError> {
+    if s < 0 {
+        return Err(OperationError::DataOutOfRange);
+    }
+    // The largest r with r·r <= s, by bisection: the specification needs no
+    // floating point.
+    let (mut low, mut high) = (0i64, s.min(46341) + 1);
+    while high - low > 1 {
+        let middle = (low + high) / 2;
+        if middle * middle <= s {
+            low = middle;
+        } else {
+            high = middle;
+        }
+    }
+    Ok((low, [low * low != s, low == 0]))
 }

@@ -14,7 +14,10 @@
 
 mod arithmetic;
 mod compare;
+mod convert;
+mod logic;
 mod moves;
+mod zone;
 
 use super::access::{bit_place, effective_index, resolve_word, write_place};
 use crate::isa::AppArgs;
@@ -51,6 +54,23 @@ fn dispatch(step: &mut Step, args: &AppArgs) -> Outcome {
         AppArgs::Dec { d } => step.modify(d, arithmetic::dec),
         AppArgs::Cmp { s1, s2, d } => step.map_bits([s1, s2], d, compare::cmp),
         AppArgs::ZoneCmp { s1, s2, s, d } => step.map_bits([s1, s2, s], d, compare::zcp),
+        AppArgs::Neg { d } => step.modify(d, arithmetic::neg),
+        AppArgs::Sqr { s, d } => step.map_flags([s], d, flags, arithmetic::sqr),
+        AppArgs::Wand { s1, s2, d } => step.map([s1, s2], d, logic::wand),
+        AppArgs::Wor { s1, s2, d } => step.map([s1, s2], d, logic::wor),
+        AppArgs::Wxor { s1, s2, d } => step.map([s1, s2], d, logic::wxor),
+        AppArgs::Bon { s, n, d } => step.map_bit([s, n], d, logic::bon),
+        AppArgs::Sum { s, d } => step.map_flags([s], d, flags, logic::sum),
+        AppArgs::Swap { d } => step.modify(d, convert::swap),
+        AppArgs::Encode { s, n, d } => convert::encode(step, s, n, d),
+        AppArgs::Decode { s, n, d } => convert::decode(step, s, n, d),
+        AppArgs::BytesToWords { s, d, n } => convert::bytes(step, s, d, n, false),
+        AppArgs::WordsToBytes { s, d, n } => convert::bytes(step, s, d, n, true),
+        AppArgs::Distribute { s, d, n } => convert::distribute(step, s, d, n),
+        AppArgs::Unite { s, d, n } => convert::unite(step, s, d, n),
+        AppArgs::OctalMove { s, d } => moves::octal_move(step, s, d),
+        AppArgs::ZoneReset { d1, d2 } => zone::reset(step, d1, d2),
+        AppArgs::ZoneSet { d1, d2 } => zone::set(step, d1, d2),
     }
 }
 
@@ -130,6 +150,14 @@ impl Step<'_> {
         place
     }
 
+    /// The value of a 16-bit count operand, resolved on its own: counts are
+    /// read first, as they decide how many units the other operands cover.
+    pub fn count_value(&mut self, n: &WordRef) -> Result<i64, OperationError> {
+        let place = self.count(n);
+        self.commit()?;
+        Ok(place.map_or(0, |p| self.read_at(p, Width::Single)))
+    }
+
     /// Ends resolution: the error of the first operand out of range (reads
     /// before writes), if any.
     pub fn commit(&self) -> Outcome {
@@ -200,6 +228,23 @@ impl Step<'_> {
         debug_assert_eq!(flags.len(), F, "the kernel returns every declared flag");
         for (flag, on) in flags.iter().zip(on) {
             self.mem.set_bit(flag.area, flag.number, on);
+        }
+        Ok(())
+    }
+
+    /// Bit D = kernel(S1, ..., Sn).
+    pub fn map_bit<const N: usize>(
+        &mut self,
+        sources: [&WordRef; N],
+        d: &BitRef,
+        kernel: impl FnOnce([i64; N], Width) -> Result<bool, OperationError>,
+    ) -> Outcome {
+        let places = self.sources(sources);
+        let d = self.bits(d, 1, false);
+        self.commit()?;
+        let on = kernel(self.values(places), self.width)?;
+        if let Some(d) = d {
+            write_place(self.mem, d, on);
         }
         Ok(())
     }

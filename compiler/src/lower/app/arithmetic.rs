@@ -1,7 +1,7 @@
-//! Arithmetic: ADD, SUB, MUL, DIV, INC, DEC.
+//! Arithmetic: ADD, SUB, MUL, DIV, INC, DEC, NEG, SQR.
 
 use super::Step;
-use crate::ir::{BinOp, Type, Value};
+use crate::ir::{BinOp, Type, UnaryOp, Value};
 use crate::isa::CompareOp;
 use ladder_runtime::{OperationError, Width};
 
@@ -66,4 +66,26 @@ pub fn inc(step: &mut Step, d: Value) -> Value {
 
 pub fn dec(step: &mut Step, d: Value) -> Value {
     add_constant(step, d, -1)
+}
+
+pub fn neg(step: &mut Step, d: Value) -> Value {
+    let zero = step.b().constant(Type::I64, 0);
+    step.b().binary(BinOp::Sub, zero, d)
+}
+
+/// The root rounded down, with SM152 (a fraction was dropped) and SM153
+/// (the root is 0); a negative S records 4084H.
+pub fn sqr(step: &mut Step, [s]: [Value; 1]) -> (Value, [Value; 2]) {
+    let zero = step.b().constant(Type::I64, 0);
+    let valid = step.b().compare(CompareOp::Ge, s, zero);
+    step.require(valid, OperationError::DataOutOfRange);
+    let b = step.b();
+    let root = b.push(crate::ir::Inst::Unary {
+        op: UnaryOp::SquareRoot,
+        value: s,
+    });
+    let square = b.binary(BinOp::Mul, root, root);
+    let dropped = b.compare(CompareOp::Ne, square, s);
+    let is_zero = b.compare(CompareOp::Eq, root, zero);
+    (root, [dropped, is_zero])
 }

@@ -10,7 +10,10 @@
 
 mod arithmetic;
 mod compare;
+mod convert;
+mod logic;
 mod moves;
+mod zone;
 
 use super::operand::{Operand, Units};
 use super::Lowering;
@@ -50,6 +53,23 @@ fn dispatch(step: &mut Step, args: &AppArgs) {
         AppArgs::Dec { d } => step.modify(d, arithmetic::dec),
         AppArgs::Cmp { s1, s2, d } => step.map_bits([s1, s2], d, compare::cmp),
         AppArgs::ZoneCmp { s1, s2, s, d } => step.map_bits([s1, s2, s], d, compare::zcp),
+        AppArgs::Neg { d } => step.modify(d, arithmetic::neg),
+        AppArgs::Sqr { s, d } => step.map_flags([s], d, flags, arithmetic::sqr),
+        AppArgs::Wand { s1, s2, d } => step.map([s1, s2], d, logic::wand),
+        AppArgs::Wor { s1, s2, d } => step.map([s1, s2], d, logic::wor),
+        AppArgs::Wxor { s1, s2, d } => step.map([s1, s2], d, logic::wxor),
+        AppArgs::Bon { s, n, d } => step.map_bit([s, n], d, logic::bon),
+        AppArgs::Sum { s, d } => step.map_flags([s], d, flags, logic::sum),
+        AppArgs::Swap { d } => step.modify(d, convert::swap),
+        AppArgs::Encode { s, n, d } => convert::encode(step, s, n, d),
+        AppArgs::Decode { s, n, d } => convert::decode(step, s, n, d),
+        AppArgs::BytesToWords { s, d, n } => convert::bytes(step, s, d, n, false),
+        AppArgs::WordsToBytes { s, d, n } => convert::bytes(step, s, d, n, true),
+        AppArgs::Distribute { s, d, n } => convert::distribute(step, s, d, n),
+        AppArgs::Unite { s, d, n } => convert::unite(step, s, d, n),
+        AppArgs::OctalMove { s, d } => moves::octal_move(step, s, d),
+        AppArgs::ZoneReset { d1, d2 } => zone::reset(step, d1, d2),
+        AppArgs::ZoneSet { d1, d2 } => zone::set(step, d1, d2),
     }
 }
 
@@ -68,6 +88,11 @@ pub(super) struct Step<'l, 'p> {
 impl Step<'_, '_> {
     pub fn b(&mut self) -> &mut Builder {
         &mut self.l.b
+    }
+
+    /// Notes the in-range test of an operand the instruction reads.
+    pub fn note_read_check(&mut self, check: Value) {
+        self.note(Some(check), true);
     }
 
     fn note(&mut self, check: Option<Value>, read: bool) {
@@ -171,6 +196,40 @@ impl Step<'_, '_> {
         b.switch_to(pass);
     }
 
+    /// Leaves the instruction without an error unless `condition` holds
+    /// (N = 0: no processing).
+    pub fn skip_unless(&mut self, condition: Value) {
+        let after = self.after;
+        let b = self.b();
+        let go_on = b.create_block();
+        b.terminate(Terminator::Branch {
+            condition,
+            then: go_on,
+            otherwise: after,
+        });
+        b.switch_to(go_on);
+    }
+
+    /// The value of a 16-bit count operand as an I64, resolved on its own:
+    /// counts are read first, as they decide how many units the other
+    /// operands cover.
+    pub fn count_value(&mut self, n: &WordRef) -> Value {
+        let n = self.count(n);
+        self.commit();
+        self.read_at(&n, Width::Single)
+    }
+
+    /// Requires `low <= value <= high` (an I64), else 4084H.
+    pub fn require_within(&mut self, value: Value, low: i64, high: i64) {
+        let b = self.b();
+        let low = b.constant(Type::I64, low);
+        let high = b.constant(Type::I64, high);
+        let above = b.compare(CompareOp::Ge, value, low);
+        let below = b.compare(CompareOp::Le, value, high);
+        let within = b.and(above, below);
+        self.require(within, OperationError::DataOutOfRange);
+    }
+
     fn all(&mut self, checks: Vec<Value>) -> Option<Value> {
         checks.into_iter().reduce(|a, b| self.l.b.and(a, b))
     }
@@ -246,6 +305,21 @@ impl Step<'_, '_> {
         for (flag, on) in flags.iter().zip(on) {
             self.b().store_bit(flag.area, Index::Fixed(flag.number), on);
         }
+    }
+
+    /// Bit D = kernel(S1, ..., Sn).
+    pub fn map_bit<const N: usize>(
+        &mut self,
+        sources: [&WordRef; N],
+        d: &BitRef,
+        kernel: impl FnOnce(&mut Step, [Value; N]) -> Value,
+    ) {
+        let sources = sources.map(|s| self.source(s));
+        let d = self.bits(d, Units::Checked(1), false);
+        self.commit();
+        let values = self.values(sources);
+        let on = kernel(self, values);
+        self.write_bit(&d, on);
     }
 
     /// D = kernel(D).

@@ -1,12 +1,12 @@
-//! Transfers: MOV, BMOV, FMOV.
+//! Transfers: MOV, BMOV, FMOV, PRUN.
 
 use super::Step;
 use crate::ir::{Type, Value};
 use crate::isa::CompareOp;
 use crate::lower::operand::Units;
-use crate::program::WordRef;
+use crate::program::{BitRef, DigitGroup, WordRef};
+use ladder_runtime::device::MAX_BLOCK_UNITS;
 use ladder_runtime::helpers::{self, Helper};
-use ladder_runtime::place::MAX_BLOCK_UNITS;
 use ladder_runtime::{OperationError, Width};
 
 pub fn mov(_: &mut Step, [s]: [Value; 1]) -> Value {
@@ -53,4 +53,35 @@ pub fn fill_move(step: &mut Step, s: &WordRef, d: &WordRef, n: &WordRef) {
     let destination = step.l.place(&destination);
     let width = step.b().number(helpers::width_arg(width));
     step.b().call(Helper::Fill, vec![destination, n, width, value]);
+}
+
+/// Where bit `k` of a digit group lies from its start: X and Y count in
+/// octal already; on M the octal digits of k read as decimal (8 is M10).
+fn octal_position(group: &DigitGroup, k: u32) -> u32 {
+    if group.area.is_octal() {
+        k
+    } else {
+        (k / 64) * 100 + ((k / 8) % 8) * 10 + k % 8
+    }
+}
+
+/// PRUN S D, unrolled: bit k of S to bit k of D with octal numbering on M;
+/// D's group decides the bits, those beyond S's own are 0.
+pub fn octal_move(step: &mut Step, s: &DigitGroup, d: &DigitGroup) {
+    let (s_bits, d_bits) = (4 * u32::from(s.digits), 4 * u32::from(d.digits));
+    let s_extent = octal_position(s, s_bits - 1) + 1;
+    let d_extent = octal_position(d, d_bits - 1) + 1;
+    let source = step.bits(&BitRef::Device(s.area, s.address), Units::Checked(s_extent), true);
+    let destination = step.bits(&BitRef::Device(d.area, d.address), Units::Checked(d_extent), false);
+    step.commit();
+    for k in 0..d_bits {
+        let value = if k < s_bits {
+            let unit = step.l.nth(&source, octal_position(s, k), Width::Single);
+            step.read_at(&unit, Width::Single)
+        } else {
+            step.b().constant(Type::I64, 0)
+        };
+        let unit = step.l.nth(&destination, octal_position(d, k), Width::Single);
+        step.l.write(&unit, Width::Single, value);
+    }
 }

@@ -1,0 +1,30 @@
+//! Logic and bits: WAND, WOR, WXOR, BON, SUM.
+
+use ladder_runtime::{OperationError, Width};
+
+pub fn wand([a, b]: [i64; 2], _: Width) -> Result<i64, OperationError> {
+    Ok(a & b)
+}
+
+pub fn wor([a, b]: [i64; 2], _: Width) -> Result<i64, OperationError> {
+    Ok(a | b)
+}
+
+pub fn wxor([a, b]: [i64; 2], _: Width) -> Result<i64, OperationError> {
+    Ok(a ^ b)
+}
+
+/// Bit N of S; N outside the width's bits (0-15, 0-31) is 4084H.
+pub fn bon([s, n]: [i64; 2], width: Width) -> Result<bool, OperationError> {
+    if !(0..i64::from(width.bits())).contains(&n) {
+        return Err(OperationError::DataOutOfRange);
+    }
+    Ok((s >> n) & 1 != 0)
+}
+
+/// The number of ON bits of S at the width, and the zero flag (SM153: S
+/// has no ON bit).
+pub fn sum([s]: [i64; 1], width: Width) -> Result<(i64, [bool; 1]), OperationError> {
+    let bits = s as u64 & (u64::MAX >> (64 - width.bits()));
+    Ok((i64::from(bits.count_ones()), [bits == 0]))
+}
