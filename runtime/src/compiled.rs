@@ -75,7 +75,15 @@ pub fn bytes(mem: &mut Memory, source: Place, destination: Place, n: u32, split:
         // destination starts at or after the source, the rest upwards.
         let out = |mem: &mut Memory, j: u32| {
             let value = word(mem, source, j / 2);
-            put(mem, j, if j % 2 == 0 { value & 0xFF } else { (value >> 8) & 0xFF });
+            put(
+                mem,
+                j,
+                if j.is_multiple_of(2) {
+                    value & 0xFF
+                } else {
+                    (value >> 8) & 0xFF
+                },
+            );
         };
         let split_at = if d >= s {
             0
