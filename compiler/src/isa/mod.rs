@@ -14,6 +14,7 @@
 pub mod app;
 pub mod bits;
 pub mod operand;
+pub mod reference;
 mod table;
 
 pub use app::{AppArgs, AppOp, AppSpec, Family, OperandDecl};
