@@ -14,15 +14,24 @@ use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 fn workspace() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).parent().expect("workspace").to_path_buf()
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("workspace")
+        .to_path_buf()
 }
 
 /// Replaces (bless) or checks the block after `<!-- generated: NAME -->`.
 fn generated_block(text: &mut String, name: &str, content: &str, bless: bool) -> Result<(), String> {
     let start_marker = format!("<!-- generated: {name} -->\n");
     let end_marker = "<!-- end of generated block -->";
-    let start = text.find(&start_marker).ok_or(format!("no `{start_marker}` in docs/language.md"))? + start_marker.len();
-    let end = start + text[start..].find(end_marker).ok_or("an unterminated generated block")?;
+    let start = text
+        .find(&start_marker)
+        .ok_or(format!("no `{start_marker}` in docs/language.md"))?
+        + start_marker.len();
+    let end = start
+        + text[start..]
+            .find(end_marker)
+            .ok_or("an unterminated generated block")?;
     if bless {
         text.replace_range(start..end, content);
         return Ok(());
@@ -62,7 +71,10 @@ fn every_mnemonic_is_in_the_language_reference() {
     let words: BTreeSet<&str> = text
         .split(|c: char| c.is_whitespace() || "`|,.;:()".contains(c))
         .collect();
-    let missing: Vec<&str> = ladderc::isa::mnemonics().into_iter().filter(|m| !words.contains(m)).collect();
+    let missing: Vec<&str> = ladderc::isa::mnemonics()
+        .into_iter()
+        .filter(|m| !words.contains(m))
+        .collect();
     assert!(missing.is_empty(), "not in docs/language.md: {missing:?}");
 }
 
@@ -110,10 +122,16 @@ fn every_mnemonic_is_used_by_a_scenario() {
 
 #[test]
 fn the_generator_knows_every_application_form() {
-    let forms: BTreeSet<String> = common::vocabulary::app_forms().into_iter().map(|(name, ..)| name).collect();
+    let forms: BTreeSet<String> = common::vocabulary::app_forms()
+        .into_iter()
+        .map(|(name, ..)| name)
+        .collect();
     for mnemonic in ladderc::isa::mnemonics() {
         if let Some(ladderc::isa::Mnemonic::App(_)) = ladderc::isa::lookup(mnemonic) {
-            assert!(forms.contains(mnemonic), "the differential generator cannot produce {mnemonic}");
+            assert!(
+                forms.contains(mnemonic),
+                "the differential generator cannot produce {mnemonic}"
+            );
         }
     }
 }

@@ -19,7 +19,11 @@ fn devices(decl: &super::OperandDecl, has_wide_form: bool) -> String {
 pub fn application_tables() -> String {
     let mut out = String::new();
     for family in Family::ALL {
-        let ops: Vec<AppOp> = AppOp::ALL.iter().copied().filter(|op| op.spec().family == family).collect();
+        let ops: Vec<AppOp> = AppOp::ALL
+            .iter()
+            .copied()
+            .filter(|op| op.spec().family == family)
+            .collect();
         if ops.is_empty() {
             continue;
         }
@@ -49,7 +53,11 @@ pub fn application_tables() -> String {
                 spec.format(),
                 forms.join(" "),
                 does,
-                if operands.is_empty() { "none".to_string() } else { operands.join("; ") }
+                if operands.is_empty() {
+                    "none".to_string()
+                } else {
+                    operands.join("; ")
+                }
             ));
         }
         out.push('\n');
