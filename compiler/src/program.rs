@@ -130,6 +130,14 @@ pub enum AppOperand {
     Element(Element),
     RangeEnd(RangeEnd),
     Digits(DigitGroup),
+    /// A timer by number (ANS S).
+    Timer(Address),
+}
+
+impl From<Address> for AppOperand {
+    fn from(timer: Address) -> Self {
+        AppOperand::Timer(timer)
+    }
 }
 
 impl From<DigitGroup> for AppOperand {
@@ -259,6 +267,7 @@ impl Op {
                     | AppOperand::RangeEnd(RangeEnd::Bit(bit)) => Some(bit),
                     AppOperand::Digits(group) => Some(BitRef::Device(group.area, group.address)),
                     AppOperand::Word(_)
+                    | AppOperand::Timer(_)
                     | AppOperand::Element(Element::Word(_))
                     | AppOperand::RangeEnd(RangeEnd::Word(..) | RangeEnd::Timer(_) | RangeEnd::Counter(_)) => None,
                 })
@@ -291,6 +300,8 @@ pub struct AppInstruction {
     pub args: AppArgs,
     /// The P form's previous-scan slot (the condition at its last execution).
     pub pulse_slot: Option<u32>,
+    /// The instruction's job in the image (SORT, SORT2, DSORT2).
+    pub job: Option<u32>,
 }
 
 #[derive(Clone, Debug, PartialEq, Eq)]

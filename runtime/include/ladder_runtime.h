@@ -25,7 +25,7 @@
 /**
  * Bytes of storage a device image needs.
  */
-#define LADDER_MEMORY_SIZE 137856
+#define LADDER_MEMORY_SIZE 137984
 
 /**
  * Alignment the storage needs.

@@ -20,7 +20,7 @@ pub struct LadderMemory {
 }
 
 /// Bytes of storage a device image needs.
-pub const LADDER_MEMORY_SIZE: usize = 137856;
+pub const LADDER_MEMORY_SIZE: usize = 137984;
 /// Alignment the storage needs.
 pub const LADDER_MEMORY_ALIGN: usize = 4;
 

@@ -197,6 +197,234 @@ pub fn zone(mem: &mut Memory, zone: Zone, first: u32, last: u32, on: bool) {
     }
 }
 
+/// What `table` computes over a run of values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TableOp {
+    Max,
+    Min,
+    /// The mean, truncated toward zero.
+    Mean,
+    /// The sum, written at twice the width.
+    Sum,
+}
+
+impl TableOp {
+    pub const ALL: [TableOp; 4] = [TableOp::Max, TableOp::Min, TableOp::Mean, TableOp::Sum];
+
+    /// The operation as a helper argument.
+    pub const fn code(self) -> u32 {
+        self as u32
+    }
+
+    pub fn from_code(code: u32) -> Option<TableOp> {
+        TableOp::ALL.into_iter().find(|op| op.code() == code)
+    }
+}
+
+/// MAX, MIN, MEAN, WSUM over `count` values of `width` from `source`,
+/// written to `destination` (WSUM at twice the width: a pair, or for DWSUM
+/// two pairs; a digit group keeps its own bits).
+pub fn table(mem: &mut Memory, op: TableOp, source: Place, count: u32, width: Width, destination: Place) {
+    if count == 0 && op != TableOp::Sum {
+        return;
+    }
+    let values = (0..count).map(|unit| i64::from(source.nth(unit, width).read(mem, width)));
+    let result = match op {
+        TableOp::Max => values.max().unwrap_or(0),
+        TableOp::Min => values.min().unwrap_or(0),
+        TableOp::Mean => values.sum::<i64>() / i64::from(count),
+        TableOp::Sum => values.sum::<i64>(),
+    };
+    match (op, width) {
+        (TableOp::Max | TableOp::Min | TableOp::Mean, _) => destination.write(mem, width, result),
+        (TableOp::Sum, Width::Single) => destination.write(mem, Width::Double, result),
+        (TableOp::Sum, Width::Double) => {
+            destination.write(mem, Width::Double, result);
+            if !matches!(destination, Place::Digits(..)) {
+                destination
+                    .nth(1, Width::Double)
+                    .write(mem, Width::Double, result >> 32);
+            }
+        }
+    }
+}
+
+/// A SORT, SORT2 or DSORT2 table and how to sort it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SortJob {
+    pub source: Place,
+    pub destination: Place,
+    /// N1: rows (1..32), N2: columns (1..6), N3: the key column (1..N2).
+    pub rows: u32,
+    pub columns: u32,
+    pub key: u32,
+    /// SORT2/DSORT2 lay the table out row by row; SORT column by column.
+    pub row_major: bool,
+    pub width: Width,
+    /// SM165: descending (SORT2/DSORT2).
+    pub descending: bool,
+    /// The P form sorts at once in the scan its input rises.
+    pub at_once: bool,
+}
+
+/// Most rows and columns of a sort table.
+pub const SORT_MAX_ROWS: u32 = 32;
+pub const SORT_MAX_COLUMNS: u32 = 6;
+/// SORTs and SORT2/DSORT2s that may be in progress at once.
+pub const SORT_LIMIT: u32 = 1;
+pub const SORT2_LIMIT: u32 = 2;
+
+impl SortJob {
+    /// The unit of row `row`, column `column` (0-based).
+    fn unit(&self, row: u32, column: u32) -> u32 {
+        if self.row_major {
+            row * self.columns + column
+        } else {
+            column * self.rows + row
+        }
+    }
+}
+
+/// One execution, with its input ON, of the sort instruction `instance`
+/// whose operands the compiled code checked: start it (unless too many of
+/// its kind are in progress: 4089H against `line`), count its scans, and in
+/// its N1-th scan (at once for the P form) sort S into D and set SM229.
+/// SM229 shows afterwards whether this instance has finished.
+pub fn sort_scan(mem: &mut Memory, instance: u32, job: &SortJob, line: u32) {
+    use crate::memory::{SORT2_RUNNING, SORT_DONE, SORT_IDLE, SORT_RUNNING};
+    use crate::special::{OperationError, SM_SORT_DONE};
+    let Some(index) = usize::try_from(instance).ok().filter(|&i| i < mem.sort_state.len()) else {
+        return;
+    };
+    let running = if job.row_major { SORT2_RUNNING } else { SORT_RUNNING };
+    if mem.sort_state[index] == SORT_IDLE {
+        let limit = if job.row_major { SORT2_LIMIT } else { SORT_LIMIT };
+        let busy = mem.sort_state.iter().filter(|&&state| state == running).count() as u32;
+        if busy >= limit {
+            mem.record_error(OperationError::TooManyInstructions, line);
+            mem.sm[SM_SORT_DONE.number as usize] = 0;
+            return;
+        }
+        mem.sort_state[index] = running;
+        mem.sort_scans[index] = 0;
+    }
+    if mem.sort_state[index] == running {
+        mem.sort_scans[index] = mem.sort_scans[index].saturating_add(1);
+        if job.at_once || u32::from(mem.sort_scans[index]) >= job.rows {
+            sort_table(mem, job);
+            mem.sort_state[index] = SORT_DONE;
+        }
+    }
+    mem.sm[SM_SORT_DONE.number as usize] = u8::from(mem.sort_state[index] == SORT_DONE);
+}
+
+/// The sort instruction `instance` executed with its input OFF: whatever it
+/// was doing ends, and it may start again.
+pub fn sort_stop(mem: &mut Memory, instance: u32) {
+    let Some(index) = usize::try_from(instance).ok().filter(|&i| i < mem.sort_state.len()) else {
+        return;
+    };
+    mem.sort_state[index] = crate::memory::SORT_IDLE;
+    mem.sort_scans[index] = 0;
+}
+
+/// Sorts the rows of the table by the key column, stably, from S into D
+/// (every value read before any is written, so S may be D).
+fn sort_table(mem: &mut Memory, job: &SortJob) {
+    const CELLS: usize = (SORT_MAX_ROWS * SORT_MAX_COLUMNS) as usize;
+    let rows = job.rows.min(SORT_MAX_ROWS);
+    let columns = job.columns.min(SORT_MAX_COLUMNS);
+    let key = job.key.clamp(1, columns.max(1)) - 1;
+    let mut cells = [0i32; CELLS];
+    for row in 0..rows {
+        for column in 0..columns {
+            let place = job.source.nth(job.unit(row, column), job.width);
+            cells[(row * columns + column) as usize] = place.read(mem, job.width);
+        }
+    }
+    // Insertion sort of row numbers: stable, and no allocation.
+    let mut order = [0u8; SORT_MAX_ROWS as usize];
+    for (row, slot) in order.iter_mut().enumerate() {
+        *slot = row as u8;
+    }
+    let key_of = |row: u8| cells[(u32::from(row) * columns + key) as usize];
+    for i in 1..rows as usize {
+        let mut j = i;
+        while j > 0 {
+            let (before, here) = (key_of(order[j - 1]), key_of(order[j]));
+            let out_of_order = if job.descending { before < here } else { before > here };
+            if !out_of_order {
+                break;
+            }
+            order.swap(j - 1, j);
+            j -= 1;
+        }
+    }
+    for (row, &from) in order.iter().take(rows as usize).enumerate() {
+        for column in 0..columns {
+            let value = cells[(u32::from(from) * columns + column) as usize];
+            let place = job.destination.nth(job.unit(row as u32, column), job.width);
+            place.write(mem, job.width, i64::from(value));
+        }
+    }
+}
+
+/// The bytes BCC and CRC work on: in 16-bit mode the low then the high byte
+/// of each word from `source`; in 8-bit mode (SM161) the low byte of each.
+fn check_byte(mem: &Memory, source: Place, k: u32, eight_bit: bool) -> u8 {
+    let (unit, shift) = if eight_bit { (k, 0) } else { (k / 2, 8 * (k % 2)) };
+    (source.nth(unit, Width::Single).read(mem, Width::Single) >> shift) as u8
+}
+
+fn eight_bit_mode(mem: &Memory) -> bool {
+    mem.sm[crate::special::SM_EIGHT_BIT_MODE.number as usize] != 0
+}
+
+/// BCC: the block check of `count` bytes from `source` by `method` (0 add,
+/// 1 subtract from 0, 2 exclusive OR) into the low byte of `destination`,
+/// whose high byte stays.
+pub fn block_check(mem: &mut Memory, method: u32, source: Place, count: u32, destination: Place) {
+    let eight_bit = eight_bit_mode(mem);
+    let bytes = (0..count).map(|k| check_byte(mem, source, k, eight_bit));
+    let code = match method {
+        0 => bytes.fold(0u8, u8::wrapping_add),
+        1 => bytes.fold(0u8, u8::wrapping_sub),
+        2 => bytes.fold(0u8, |a, b| a ^ b),
+        _ => return,
+    };
+    let high = destination.read(mem, Width::Single) & !0xFF;
+    destination.write(mem, Width::Single, i64::from(high | i32::from(code)));
+}
+
+/// CRC-16/MODBUS of `count` bytes from `source`: in 16-bit mode the CRC
+/// word to `destination`; in 8-bit mode its low byte to `destination` and
+/// its high byte to the next word.
+pub fn crc(mem: &mut Memory, source: Place, count: u32, destination: Place) {
+    const MODBUS: crc::Crc<u16> = crc::Crc::<u16>::new(&crc::CRC_16_MODBUS);
+    let eight_bit = eight_bit_mode(mem);
+    let mut digest = MODBUS.digest();
+    for k in 0..count {
+        digest.update(&[check_byte(mem, source, k, eight_bit)]);
+    }
+    let code = digest.finalize();
+    if eight_bit {
+        destination.write(mem, Width::Single, i64::from(code & 0xFF));
+        destination
+            .nth(1, Width::Single)
+            .write(mem, Width::Single, i64::from(code >> 8));
+    } else {
+        destination.write(mem, Width::Single, i64::from(code));
+    }
+}
+
+/// ANR: the lowest alarm state S900-S999 that is ON turns OFF.
+pub fn alarm_reset(mem: &mut Memory) {
+    use crate::special::{FIRST_ALARM_STATE, LAST_ALARM_STATE};
+    if let Some(state) = (FIRST_ALARM_STATE..=LAST_ALARM_STATE).find(|&s| mem.s[s as usize] != 0) {
+        mem.s[state as usize] = 0;
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -302,6 +530,69 @@ mod tests {
             false,
         );
         assert_eq!(mem.digits(BitArea::M, 104, 4), Some(0x0A05));
+    }
+
+    #[test]
+    fn crc_of_the_seed_example() {
+        let mut mem = Memory::new_boxed();
+        mem.d[100..103].copy_from_slice(&[0x0301, 0x0203, 0x1400]);
+        crc(&mut mem, Place::Word(WordArea::D, 100), 6, Place::Word(WordArea::D, 0));
+        assert_eq!(mem.d[0] as u16, 0x41E4);
+        mem.sm[161] = 1;
+        mem.d[100..106].copy_from_slice(&[0x01, 0x03, 0x03, 0x02, 0x00, 0x14]);
+        crc(&mut mem, Place::Word(WordArea::D, 100), 6, Place::Word(WordArea::D, 0));
+        assert_eq!((mem.d[0], mem.d[1]), (0xE4, 0x41));
+    }
+
+    #[test]
+    fn block_checks_of_the_seed_example() {
+        let mut mem = Memory::new_boxed();
+        // "%01#RC": D0 = H3025, D1 = H2331, D2 = H4352.
+        mem.d[..3].copy_from_slice(&[0x3025, 0x2331, 0x4352]);
+        mem.d[6] = 0x7700;
+        for (method, code) in [(2, 0x16), (0, 0x3E), (1, 0xC2)] {
+            block_check(
+                &mut mem,
+                method,
+                Place::Word(WordArea::D, 0),
+                6,
+                Place::Word(WordArea::D, 6),
+            );
+            assert_eq!(mem.d[6], 0x7700 | code, "method {method}");
+        }
+    }
+
+    #[test]
+    fn sorts_are_stable_and_follow_the_layout() {
+        let mut mem = Memory::new_boxed();
+        // The seed's SORT2 table: 5 rows x 4 columns, sorted by column 2.
+        let table = [
+            [1, 150, 45, 20],
+            [2, 180, 50, 40],
+            [3, 160, 70, 30],
+            [4, 100, 20, 8],
+            [5, 150, 50, 45],
+        ];
+        for (r, row) in table.iter().enumerate() {
+            for (c, &v) in row.iter().enumerate() {
+                mem.d[r * 4 + c] = v;
+            }
+        }
+        let job = SortJob {
+            source: Place::Word(WordArea::D, 0),
+            destination: Place::Word(WordArea::D, 100),
+            rows: 5,
+            columns: 4,
+            key: 2,
+            row_major: true,
+            width: Width::Single,
+            descending: false,
+            at_once: true,
+        };
+        sort_scan(&mut mem, 0, &job, 1);
+        let firsts: Vec<i16> = (0..5).map(|r| mem.d[100 + 4 * r]).collect();
+        assert_eq!(firsts, [4, 1, 5, 3, 2], "equal keys 150 keep their order");
+        assert_eq!(mem.sm[229], 1);
     }
 
     #[test]

@@ -48,6 +48,9 @@ pub const WIDE_COUNTER_COUNT: u32 = COUNTER_COUNT - FIRST_WIDE_COUNTER;
 pub const TIMER_COUNT: u32 = 512;
 /// Number of STL states.
 pub const STATE_COUNT: u32 = 4096;
+/// SORT, SORT2 and DSORT2 instructions one program may hold (each keeps its
+/// progress in the image).
+pub const SORT_INSTANCES: u32 = 64;
 /// Largest unit count of BMOV/FMOV (more is operation error 4084H).
 pub const MAX_BLOCK_UNITS: u32 = 512;
 /// Number of previous-scan slots available to edge instructions of one program.

@@ -12,7 +12,7 @@
 //! The reference interpreter does not call these: it implements the same
 //! rules on its own, and the differential test compares the two.
 
-use crate::compiled::{self, Zone};
+use crate::compiled::{self, SortJob, TableOp, Zone};
 use crate::device::BitArea;
 use crate::host::Width;
 use crate::memory::Memory;
@@ -281,6 +281,68 @@ helpers! {
         }
     }
 
+    /// MAX (`op` 0), MIN (1), MEAN (2) or WSUM (3) of `count` values of `width` from checked places.
+    Table = fn ladder_rt_table(
+        mem, op: u32, source: source_place, count: u32, width: u32, destination: destination_place
+    ) -> none writes [] {
+        if let (Some(op), Some(source), Some(destination)) =
+            (TableOp::from_code(op), Place::unpack(source), Place::unpack(destination))
+        {
+            compiled::table(mem, op, source, count, width_of(width), destination)
+        }
+    }
+
+    /// One scan of sort instruction `instance` with its input ON (`flags`: 1 row by row, 2 32-bit, 4 at once).
+    /// The places and N1, N2, N3 are checked; SM165 decides the order of SORT2/DSORT2. Too many
+    /// sorts in progress record 4089H against `line`.
+    SortScan = fn ladder_rt_sort_scan(
+        mem, instance: u32, source: source_place, destination: destination_place, rows: u32, columns: u32,
+        key: u32, flags: u32, line: u32
+    ) -> none writes [OperationError, Bits(BitArea::Sm)] {
+        if let (Some(source), Some(destination)) = (Place::unpack(source), Place::unpack(destination)) {
+            let row_major = flags & SORT_ROW_MAJOR != 0;
+            let job = SortJob {
+                source,
+                destination,
+                rows,
+                columns,
+                key,
+                row_major,
+                width: if flags & SORT_WIDE != 0 { Width::Double } else { Width::Single },
+                descending: row_major && mem.sm[crate::special::SM_DESCENDING.number as usize] != 0,
+                at_once: flags & SORT_AT_ONCE != 0,
+            };
+            compiled::sort_scan(mem, instance, &job, line)
+        }
+    }
+
+    /// Sort instruction `instance` executed with its input OFF: its job ends.
+    SortStop = fn ladder_rt_sort_stop(mem, instance: u32) -> none writes [] {
+        compiled::sort_stop(mem, instance)
+    }
+
+    /// BCC: `method` (0 add, 1 subtract, 2 XOR) over `count` bytes into the low byte of a checked place.
+    BlockCheck = fn ladder_rt_block_check(
+        mem, method: u32, source: source_place, count: u32, destination: destination_place
+    ) -> none writes [] {
+        if let (Some(source), Some(destination)) = (Place::unpack(source), Place::unpack(destination)) {
+            compiled::block_check(mem, method, source, count, destination)
+        }
+    }
+
+    /// CRC: the CRC-16/MODBUS of `count` bytes from a checked place (SM161: low bytes only).
+    Crc = fn ladder_rt_crc(mem, source: source_place, count: u32, destination: destination_place) -> none
+        writes [] {
+        if let (Some(source), Some(destination)) = (Place::unpack(source), Place::unpack(destination)) {
+            compiled::crc(mem, source, count, destination)
+        }
+    }
+
+    /// ANR: the lowest alarm state S900-S999 that is ON turns OFF.
+    AlarmReset = fn ladder_rt_alarm_reset(mem) -> none writes [Bits(BitArea::S)] {
+        compiled::alarm_reset(mem)
+    }
+
     /// Records an operation error: M8067 ON, D8067 = `code`, D8069 = `line`.
     RecordError = fn ladder_rt_record_error(mem, code: u32, line: u32) -> none writes [OperationError] {
         if let Some(error) = OperationError::from_code(code) {
@@ -288,6 +350,13 @@ helpers! {
         }
     }
 }
+
+/// `ladder_rt_sort_scan` flag: the table is laid out row by row (SORT2/DSORT2).
+pub const SORT_ROW_MAJOR: u32 = 1;
+/// `ladder_rt_sort_scan` flag: 32-bit values (DSORT2).
+pub const SORT_WIDE: u32 = 2;
+/// `ladder_rt_sort_scan` flag: sort at once (P forms).
+pub const SORT_AT_ONCE: u32 = 4;
 
 /// The width a helper's `width` argument names: 2 is 32-bit, else 16-bit.
 fn width_of(width: u32) -> Width {
@@ -308,7 +377,7 @@ pub fn width_arg(width: Width) -> u32 {
 ///
 /// # Safety
 /// `mem` is null or the program's device image.
-#[export_name = "ladder_rt_begin_scan_v1_137856"]
+#[export_name = "ladder_rt_begin_scan_v2_137984"]
 pub unsafe extern "C" fn ladder_rt_begin_scan(mem: *mut Memory, elapsed_ms: u32) {
     // SAFETY: the caller passes the image it was given.
     if let Some(mem) = unsafe { mem.as_mut() } {

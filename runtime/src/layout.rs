@@ -16,10 +16,10 @@ pub const MEMORY_ALIGN: usize = align_of::<Memory>();
 /// (`ladder_rt_begin_scan_<tag>`), so that an object linked against a runtime
 /// with another layout fails to link instead of corrupting memory. Change it
 /// whenever an offset changes; `layout_fingerprint_is_recorded` insists.
-pub const LAYOUT_TAG: &str = "v1_137856";
+pub const LAYOUT_TAG: &str = "v2_137984";
 
 /// The begin-scan entry compiled objects call; carries the layout tag.
-pub const TAGGED_BEGIN_SCAN: &str = "ladder_rt_begin_scan_v1_137856";
+pub const TAGGED_BEGIN_SCAN: &str = "ladder_rt_begin_scan_v2_137984";
 
 /// The end-scan entry compiled objects call (the C API's `ladder_end_scan`).
 pub const END_SCAN: &str = "ladder_end_scan";
@@ -81,6 +81,8 @@ mod tests {
             offset_of!(Memory, stl_pending_off),
             offset_of!(Memory, stl_block_active),
             offset_of!(Memory, edge_slot),
+            offset_of!(Memory, sort_state),
+            offset_of!(Memory, sort_scans),
             offset_of!(Memory, input_image),
             offset_of!(Memory, output_image),
             offset_of!(Memory, force_x),
@@ -101,7 +103,7 @@ mod tests {
     fn layout_fingerprint_is_recorded() {
         assert_eq!(
             fingerprint(),
-            "0,256,512,9024,13120,14144,14656,14912,31936,33984,99520,100544,100944,101168,102192,102704,102960,107056,111152,127536,127792,128048,128304,128560,137072,137584,137840,137844,137848,137852,137856",
+            "0,256,512,9024,13120,14144,14656,14912,31936,33984,99520,100544,100944,101168,102192,102704,102960,107056,111152,127536,127600,127664,127920,128176,128432,128688,137200,137712,137968,137972,137976,137980,137984",
             "the memory layout changed: bump LAYOUT_TAG (and the tagged symbol) and record the new fingerprint"
         );
         assert_eq!(TAGGED_BEGIN_SCAN, format!("ladder_rt_begin_scan_{LAYOUT_TAG}"));

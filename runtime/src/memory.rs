@@ -5,7 +5,9 @@
 //! fixed offsets (see `layout`). All-zero bytes are a valid, freshly
 //! initialised image: that is the state a firmware host gets from `memset`.
 
-use crate::device::{BitArea, WordArea, COUNTER_COUNT, EDGE_SLOT_COUNT, STATE_COUNT, TIMER_COUNT, WIDE_COUNTER_COUNT};
+use crate::device::{
+    BitArea, WordArea, COUNTER_COUNT, EDGE_SLOT_COUNT, SORT_INSTANCES, STATE_COUNT, TIMER_COUNT, WIDE_COUNTER_COUNT,
+};
 use crate::special::{OperationError, D_ERROR_CODE, D_ERROR_LINE, M_OPERATION_ERROR};
 use bytemuck::{Pod, Zeroable};
 
@@ -49,6 +51,11 @@ pub struct Memory {
     pub stl_block_active: [u8; STATES],
     /// Previous-scan slots of the program's edge instructions.
     pub edge_slot: [u8; EDGE_SLOT_COUNT as usize],
+    /// Each SORT/SORT2/DSORT2 instruction's job: `SORT_IDLE`,
+    /// `SORT_RUNNING`, `SORT2_RUNNING` or `SORT_DONE`.
+    pub sort_state: [u8; SORT_INSTANCES as usize],
+    /// Scans a running sort has executed.
+    pub sort_scans: [u8; SORT_INSTANCES as usize],
     /// What the host last wrote to the inputs; copied to X at each scan.
     pub input_image: [u8; IO_POINTS],
     /// Y as it was at the end of the latest scan.
@@ -68,6 +75,15 @@ pub struct Memory {
     /// Completed scans since initialisation (saturating).
     pub scan_count: u32,
 }
+
+/// Sort job: not started (its input was OFF, or it could not start).
+pub const SORT_IDLE: u8 = 0;
+/// Sort job: a SORT in progress.
+pub const SORT_RUNNING: u8 = 1;
+/// Sort job: a SORT2 or DSORT2 in progress.
+pub const SORT2_RUNNING: u8 = 2;
+/// Sort job: finished; starts again only after its input was OFF.
+pub const SORT_DONE: u8 = 3;
 
 /// Force-table entry: the device follows the program and the host.
 pub const FORCE_NONE: u8 = 0;

@@ -7,8 +7,8 @@
 
 use crate::memory::Memory;
 use crate::special::{
-    M_ALWAYS_OFF, M_ALWAYS_ON, M_FIRST_SCAN, M_NOT_FIRST_SCAN, SM_ALWAYS_OFF, SM_ALWAYS_ON, SM_FIRST_SCAN,
-    SM_NOT_FIRST_SCAN,
+    FIRST_ALARM_STATE, LAST_ALARM_STATE, M_ALWAYS_OFF, M_ALWAYS_ON, M_FIRST_SCAN, M_NOT_FIRST_SCAN, SD_ALARM_LOWEST,
+    SM_ALARM_ACTIVE, SM_ALARM_MONITOR, SM_ALWAYS_OFF, SM_ALWAYS_ON, SM_FIRST_SCAN, SM_NOT_FIRST_SCAN,
 };
 
 impl Memory {
@@ -27,6 +27,9 @@ impl Memory {
 
     /// Step 4: everything that happens after the program ran.
     pub fn end_scan(&mut self) {
+        if self.sm[SM_ALARM_MONITOR.number as usize] != 0 {
+            self.update_alarm_monitor();
+        }
         if self.forced_count > 0 {
             self.apply_forced_outputs();
         }
@@ -48,6 +51,14 @@ impl Memory {
             *flag = 1;
             self.stl_pending_any = 1;
         }
+    }
+
+    /// With SM249 ON: SM248 shows whether an alarm state S900-S999 is ON
+    /// and SD249 the lowest one that is (0 when none is).
+    fn update_alarm_monitor(&mut self) {
+        let lowest = (FIRST_ALARM_STATE..=LAST_ALARM_STATE).find(|&s| self.s[s as usize] != 0);
+        self.sm[SM_ALARM_ACTIVE.number as usize] = u8::from(lowest.is_some());
+        self.sd[SD_ALARM_LOWEST as usize] = lowest.map_or(0, |s| s as i16);
     }
 
     fn turn_off_pending_states(&mut self) {
@@ -100,6 +111,22 @@ mod tests {
         mem.input_image[3] = 1;
         mem.scan_with(10, |m| m.y[5] = m.x[3]);
         assert_eq!(mem.output_image[5], 1);
+    }
+
+    #[test]
+    fn alarm_monitor_follows_the_alarm_states_while_enabled() {
+        let mut mem = Memory::new_boxed();
+        mem.s[905] = 1;
+        mem.scan_with(10, |_| {});
+        assert_eq!((mem.sm[248], mem.sd[249]), (0, 0), "SM249 OFF: not monitored");
+        mem.sm[249] = 1;
+        mem.s[901] = 1;
+        mem.scan_with(10, |_| {});
+        assert_eq!((mem.sm[248], mem.sd[249]), (1, 901));
+        mem.s[901] = 0;
+        mem.s[905] = 0;
+        mem.scan_with(10, |_| {});
+        assert_eq!((mem.sm[248], mem.sd[249]), (0, 0));
     }
 
     #[test]

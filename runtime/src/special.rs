@@ -48,6 +48,11 @@ pub const SM_DESCENDING: SpecialBit = SpecialBit::sm(165);
 pub const SM_SORT_DONE: SpecialBit = SpecialBit::sm(229);
 /// SM248: some alarm state S900-S999 is ON (while SM249 is ON).
 pub const SM_ALARM_ACTIVE: SpecialBit = SpecialBit::sm(248);
+/// The alarm states ANS sets and ANR resets.
+pub const FIRST_ALARM_STATE: u32 = 900;
+pub const LAST_ALARM_STATE: u32 = 999;
+/// SD249: the lowest alarm state that is ON (while SM249 is ON).
+pub const SD_ALARM_LOWEST: u32 = 249;
 /// SM249: alarm monitoring enabled (SM248 and SD249 follow S900-S999).
 pub const SM_ALARM_MONITOR: SpecialBit = SpecialBit::sm(249);
 

@@ -50,3 +50,21 @@ fn every_scenario_passes_on_every_engine() {
         println!("aot engine skipped: no C compiler on this machine");
     }
 }
+
+#[test]
+fn every_reject_scenario_names_its_diagnostic_code() {
+    let files = ladderc::scenario::collect_files(&scenarios_dir()).expect("the scenario folder");
+    let mut missing = Vec::new();
+    for file in files {
+        let text = std::fs::read_to_string(&file).unwrap();
+        let scenario = ladderc::scenario::parse_scenario(&file, &text).expect("scenarios parse");
+        if let Some((_, None, line)) = scenario.expected_reject() {
+            missing.push(format!("{}:{line}", file.display()));
+        }
+    }
+    assert!(
+        missing.is_empty(),
+        "`expect reject LINE` without its code (E0013, ...):\n{}",
+        missing.join("\n")
+    );
+}

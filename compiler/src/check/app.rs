@@ -58,6 +58,7 @@ fn class_of(operand: &AppOperand) -> DeviceClass {
         AppOperand::RangeEnd(RangeEnd::Timer(_)) => DeviceClass::T,
         AppOperand::RangeEnd(RangeEnd::Counter(_)) => DeviceClass::C,
         AppOperand::Digits(group) => word_class(&WordRef::Digits(group.area, group.address, group.digits)),
+        AppOperand::Timer(_) => DeviceClass::T,
     }
 }
 
@@ -84,6 +85,9 @@ fn resolve_kind(operand: &Operand, kind: OperandKind, width: Width) -> Resolved<
             operands::word_destination(operand, width, 1)?,
             operand,
         )?),
+        OperandKind::TableEnd => AppOperand::Word(operands::word_device_source(operand, width)?),
+        OperandKind::ByteSource => AppOperand::Word(operands::byte_source(operand)?),
+        OperandKind::Timer => AppOperand::Timer(operands::timer(operand)?),
     })
 }
 
@@ -155,6 +159,9 @@ mod tests {
             (OperandKind::RangeEnd, &["M0", "T3", "C4", "D5", "D0.1"]),
             (OperandKind::DigitSource, &["K4X0"]),
             (OperandKind::DigitDestination, &["K2M0"]),
+            (OperandKind::TableEnd, &["D0", "R5"]),
+            (OperandKind::ByteSource, &["D100", "K4M0"]),
+            (OperandKind::Timer, &["T3", "T0[D1]"]),
         ];
         for kind in OperandKind::ALL {
             let (_, texts) = samples

@@ -13,12 +13,13 @@ pub mod operands;
 mod rung;
 
 use crate::diagnostics::{Code, Diagnostic, Diagnostics};
+use crate::isa::app::Runs;
 use crate::isa::{self, AppArgs, AppForm, BitClass, BitSpec, Mnemonic, Role, Sense};
 use crate::program::*;
 use crate::source::{SourceFile, Span};
 use crate::syntax::{self, InstructionSyntax, ParsedProgram, Statement, StatementKind};
 use blocks::{BlockTracker, PendingJump};
-use ladder_runtime::device::EDGE_SLOT_COUNT;
+use ladder_runtime::device::{EDGE_SLOT_COUNT, SORT_INSTANCES};
 use ladder_runtime::{BitArea, Width};
 use operands::{Coil, Resolved};
 use rung::RungTracker;
@@ -68,6 +69,7 @@ struct Checker {
     /// Block id (from the tracker) to index in `stl_blocks`.
     emitted_blocks: HashMap<usize, usize>,
     next_slot: u32,
+    next_job: u32,
     /// END was seen: later statements are checked but not executed.
     ended: bool,
     warned_after_end: bool,
@@ -154,9 +156,17 @@ impl Checker {
                     block.reset_outputs.push(index);
                     block.reset_slots.push(*slot);
                 }
-                Op::App(AppInstruction {
-                    pulse_slot: Some(slot), ..
-                }) => block.reset_slots.push(*slot),
+                Op::App(app) => {
+                    // Instructions that run every scan see the reset as a
+                    // scan with their rung OFF (a sort stops, a timer clears).
+                    match app.args.op().spec().runs {
+                        Runs::EveryScan | Runs::EveryScanWithJob => block.reset_outputs.push(index),
+                        Runs::WhenOn => {}
+                    }
+                    if let Some(slot) = app.pulse_slot {
+                        block.reset_slots.push(slot);
+                    }
+                }
                 Op::Load { .. }
                 | Op::And(_)
                 | Op::Or(_)
@@ -174,8 +184,7 @@ impl Checker {
                 | Op::Jump { .. }
                 | Op::Label
                 | Op::StlBegin { .. }
-                | Op::StlEnd
-                | Op::App(_) => {}
+                | Op::StlEnd => {}
             }
         }
         self.lints.observe(&op, site.span, in_block.is_some());
@@ -185,6 +194,19 @@ impl Checker {
             span: site.span,
         });
         Some(index)
+    }
+
+    /// A fresh job for a SORT, SORT2 or DSORT2.
+    fn job(&mut self, span: Span) -> u32 {
+        let job = self.next_job;
+        if job == SORT_INSTANCES {
+            self.report(
+                Diagnostic::new(Code::TooManyJobs, span, "too many sort instructions")
+                    .with_label(format!("a program holds at most {SORT_INSTANCES} SORT/SORT2/DSORT2")),
+            );
+        }
+        self.next_job = self.next_job.saturating_add(1);
+        job.min(SORT_INSTANCES - 1)
     }
 
     /// A fresh previous-scan slot for an edge instruction.
@@ -446,11 +468,16 @@ impl Checker {
             return;
         };
         let pulse_slot = form.pulse.then(|| self.slot(site.span));
+        let job = match spec.runs {
+            Runs::EveryScanWithJob => Some(self.job(site.span)),
+            Runs::WhenOn | Runs::EveryScan => None,
+        };
         self.emit(
             Op::App(AppInstruction {
                 width: form.width,
                 args,
                 pulse_slot,
+                job,
             }),
             site,
         );

@@ -677,6 +677,43 @@ pub fn digit_group(word: WordRef, operand: &Operand) -> Resolved<DigitGroup> {
     }
 }
 
+/// The first of a run of words whose bytes an instruction reads (BCC,
+/// CRC): a word device, or a digit group of a whole word (K4).
+pub fn byte_source(operand: &Operand) -> Resolved<WordRef> {
+    let word = word_device_source(operand, Width::Single)?;
+    if let WordRef::Digits(_, _, digits) = word {
+        if digits != 4 {
+            return Err(kind_error(
+                operand,
+                format!("a digit group read as bytes is a whole word: K4, not K{digits}"),
+                "not K4",
+            ));
+        }
+    }
+    Ok(word)
+}
+
+/// A timer by number: `T3`, `T0[D1]`.
+pub fn timer(operand: &Operand) -> Resolved<Address> {
+    match device(operand) {
+        Some(d) if matches!(d.prefix, Prefix::T | Prefix::Ts | Prefix::Tn) && d.digits.is_none() && d.bit.is_none() => {
+            check_extent(
+                operand,
+                &text_of(d),
+                d.number,
+                1,
+                TIMER_COUNT,
+                &area_text_bits(BitArea::TimerContact),
+            )?;
+            Ok(Address {
+                index: d.number,
+                index_register: index_register(d)?,
+            })
+        }
+        Some(_) | None => Err(kind_error(operand, "expected a timer such as T0", "not a timer")),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -163,6 +163,10 @@ because the block's state gating or the region's MC would be skipped.";
 "Each edge instruction (LDP, PLS, MOVP, ...) owns one previous-scan slot,
 and a program has 16384 of them.";
 
+    TooManyJobs = "E0031", Error, "too many sort instructions",
+"A program holds at most 64 SORT, SORT2 and DSORT2 instructions: each keeps
+its progress in the device image between scans.";
+
     CodeAfterEnd = "W0001", Warning, "code after END",
 "Instructions after END are never executed.";
 

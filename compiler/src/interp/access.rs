@@ -68,12 +68,14 @@ pub fn write_bit(mem: &mut Memory, bit: BitRef, on: bool, line: u32) {
 /// values of `width` (a MUL result is 2 units, BMOV n is n units).
 /// `None` when any of it is outside its area.
 pub fn resolve_word(mem: &Memory, word: WordRef, width: Width, units: u32) -> Option<Place> {
-    let in_range = |index: i64, needed: u32, len: u32| index >= 0 && index + i64::from(needed) <= i64::from(len);
+    // In 64 bits: a unit count can be as large as an I32 holds.
+    let in_range = |index: i64, needed: u64, len: u32| index >= 0 && index as u64 + needed <= u64::from(len);
+    let units = u64::from(units);
     match word {
         WordRef::Constant(value) => Some(Place::Constant(value)),
         WordRef::Word(area, address) => {
             let index = effective_index(mem, address);
-            in_range(index, width.words() * units, area.count()).then_some(Place::Word(area, index as u32))
+            in_range(index, u64::from(width.words()) * units, area.count()).then_some(Place::Word(area, index as u32))
         }
         WordRef::WideCounter(address) => {
             let index = effective_index(mem, address);
@@ -84,7 +86,7 @@ pub fn resolve_word(mem: &Memory, word: WordRef, width: Width, units: u32) -> Op
         }
         WordRef::Digits(area, address, digits) => {
             let index = effective_index(mem, address);
-            in_range(index, 4 * u32::from(digits) * units, area.count()).then_some(Place::Digits(
+            in_range(index, 4 * u64::from(digits) * units, area.count()).then_some(Place::Digits(
                 area,
                 index as u32,
                 digits,

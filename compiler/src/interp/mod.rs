@@ -175,13 +175,11 @@ impl Run<'_> {
                 write_bit(self.mem, *relay, power, line);
             }
             Op::App(app) => {
-                let run = match app.pulse_slot {
+                let power = match app.pulse_slot {
                     Some(slot) => self.edge(slot, power, false),
                     None => power,
                 };
-                if run {
-                    app::execute(self.mem, app, line);
-                }
+                app::execute(self.mem, app, power, line);
             }
             // Not outputs: `step` handles them, and an STL block's reset list
             // holds outputs only.

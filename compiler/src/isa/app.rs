@@ -7,17 +7,18 @@
 //! A declaration reads
 //!
 //! ```text
-//! Variant: "NAME" "DNAME" pulse Family (operand: Kind(device table), ...)
+//! Variant: "NAME" "DNAME" pulse Family on (operand: Kind(device table), ...)
 //!     reads [special bits] writes [special bits] "summary";
 //! ```
 //!
-//! with `_` where there is no 32-bit form and `no_pulse` where there is no P
-//! form. Operands are in the order of the seed's instruction format line.
+//! with `_` where there is no 32-bit form, `no_pulse` where there is no P
+//! form, and `always` (or `job`) instead of `on` for instructions that run
+//! every scan with their rung's power (see `Runs`). Operands are in the order of the seed's instruction format line.
 //! The semantics are written twice on purpose: once in `interp::app` (the
 //! specification) and once in `lower::app`, in files named after the family.
 
 use super::operand::{tables::*, DeviceClass, Devices, OperandKind};
-use crate::program::{AppOperand, BitRef, DigitGroup, Element, RangeEnd, WordRef};
+use crate::program::{Address, AppOperand, BitRef, DigitGroup, Element, RangeEnd, WordRef};
 use ladder_runtime::special::{self, SpecialBit};
 
 /// Groups instructions in the language reference and the engines' kernel
@@ -36,16 +37,25 @@ pub enum Family {
     Compare,
     /// ZRST, ZSET.
     Zone,
+    /// MAX, MIN, MEAN, WSUM, SORT, SORT2.
+    Table,
+    /// BCC, CRC.
+    Check,
+    /// ANS, ANR.
+    Alarm,
 }
 
 impl Family {
-    pub const ALL: [Family; 6] = [
+    pub const ALL: [Family; 9] = [
         Family::Move,
         Family::Arithmetic,
         Family::Logic,
         Family::Convert,
         Family::Compare,
+        Family::Table,
         Family::Zone,
+        Family::Check,
+        Family::Alarm,
     ];
 
     pub fn title(self) -> &'static str {
@@ -56,8 +66,23 @@ impl Family {
             Family::Convert => "Conversions",
             Family::Compare => "Comparisons",
             Family::Zone => "Zones",
+            Family::Table => "Tables and sorting",
+            Family::Check => "Check codes",
+            Family::Alarm => "Alarms",
         }
     }
+}
+
+/// When an instruction runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Runs {
+    /// While its rung is ON (once per rising edge for the P form).
+    WhenOn,
+    /// Every scan, with its rung's power (the P form: ON only in the scan
+    /// the rung rose): it keeps state across scans, like a timer.
+    EveryScan,
+    /// Every scan, keeping a job in the image (SORT, SORT2, DSORT2).
+    EveryScanWithJob,
 }
 
 /// One operand position of an instruction.
@@ -81,6 +106,7 @@ pub struct AppSpec {
     /// There are P (pulse) forms: `NAMEP`, `DNAMEP`.
     pub pulse: bool,
     pub family: Family,
+    pub runs: Runs,
     pub summary: &'static str,
     pub operands: &'static [OperandDecl],
     /// Special relays the instruction reads (modes).
@@ -133,7 +159,11 @@ impl FromOperand for WordRef {
     fn from_operand(operand: AppOperand) -> Option<Self> {
         match operand {
             AppOperand::Word(word) => Some(word),
-            AppOperand::Bit(_) | AppOperand::Element(_) | AppOperand::RangeEnd(_) | AppOperand::Digits(_) => None,
+            AppOperand::Bit(_)
+            | AppOperand::Element(_)
+            | AppOperand::RangeEnd(_)
+            | AppOperand::Digits(_)
+            | AppOperand::Timer(_) => None,
         }
     }
 }
@@ -142,7 +172,11 @@ impl FromOperand for DigitGroup {
     fn from_operand(operand: AppOperand) -> Option<Self> {
         match operand {
             AppOperand::Digits(group) => Some(group),
-            AppOperand::Word(_) | AppOperand::Bit(_) | AppOperand::Element(_) | AppOperand::RangeEnd(_) => None,
+            AppOperand::Word(_)
+            | AppOperand::Bit(_)
+            | AppOperand::Element(_)
+            | AppOperand::RangeEnd(_)
+            | AppOperand::Timer(_) => None,
         }
     }
 }
@@ -151,7 +185,11 @@ impl FromOperand for BitRef {
     fn from_operand(operand: AppOperand) -> Option<Self> {
         match operand {
             AppOperand::Bit(bit) => Some(bit),
-            AppOperand::Word(_) | AppOperand::Element(_) | AppOperand::RangeEnd(_) | AppOperand::Digits(_) => None,
+            AppOperand::Word(_)
+            | AppOperand::Element(_)
+            | AppOperand::RangeEnd(_)
+            | AppOperand::Digits(_)
+            | AppOperand::Timer(_) => None,
         }
     }
 }
@@ -160,7 +198,24 @@ impl FromOperand for Element {
     fn from_operand(operand: AppOperand) -> Option<Self> {
         match operand {
             AppOperand::Element(element) => Some(element),
-            AppOperand::Word(_) | AppOperand::Bit(_) | AppOperand::RangeEnd(_) | AppOperand::Digits(_) => None,
+            AppOperand::Word(_)
+            | AppOperand::Bit(_)
+            | AppOperand::RangeEnd(_)
+            | AppOperand::Digits(_)
+            | AppOperand::Timer(_) => None,
+        }
+    }
+}
+
+impl FromOperand for Address {
+    fn from_operand(operand: AppOperand) -> Option<Self> {
+        match operand {
+            AppOperand::Timer(timer) => Some(timer),
+            AppOperand::Word(_)
+            | AppOperand::Bit(_)
+            | AppOperand::Element(_)
+            | AppOperand::RangeEnd(_)
+            | AppOperand::Digits(_) => None,
         }
     }
 }
@@ -169,7 +224,11 @@ impl FromOperand for RangeEnd {
     fn from_operand(operand: AppOperand) -> Option<Self> {
         match operand {
             AppOperand::RangeEnd(end) => Some(end),
-            AppOperand::Word(_) | AppOperand::Bit(_) | AppOperand::Element(_) | AppOperand::Digits(_) => None,
+            AppOperand::Word(_)
+            | AppOperand::Bit(_)
+            | AppOperand::Element(_)
+            | AppOperand::Digits(_)
+            | AppOperand::Timer(_) => None,
         }
     }
 }
@@ -224,6 +283,15 @@ macro_rules! operand_type {
     (DigitDestination) => {
         DigitGroup
     };
+    (TableEnd) => {
+        WordRef
+    };
+    (ByteSource) => {
+        WordRef
+    };
+    (Timer) => {
+        Address
+    };
 }
 
 /// Whether a checked operand has the type its kind gives it in `AppArgs`
@@ -250,7 +318,10 @@ pub fn fits(kind: OperandKind, operand: AppOperand) -> bool {
         ElementDestination,
         RangeEnd,
         DigitSource,
-        DigitDestination
+        DigitDestination,
+        TableEnd,
+        ByteSource,
+        Timer
     )
 }
 
@@ -260,6 +331,18 @@ macro_rules! wide_name {
     };
     ($name:literal) => {
         Some($name)
+    };
+}
+
+macro_rules! runs {
+    (on) => {
+        Runs::WhenOn
+    };
+    (always) => {
+        Runs::EveryScan
+    };
+    (job) => {
+        Runs::EveryScanWithJob
     };
 }
 
@@ -275,7 +358,7 @@ macro_rules! pulse_form {
 macro_rules! app_instructions {
     ($(
         $(#[doc = $doc:literal])*
-        $variant:ident: $name:literal $wide:tt $pulse:ident $family:ident
+        $variant:ident: $name:literal $wide:tt $pulse:ident $family:ident $runs:ident
             ($($field:ident: $kind:ident($devices:expr)),* $(,)?)
             reads [$($read:ident),* $(,)?] writes [$($flag:ident),* $(,)?]
             $summary:literal;
@@ -299,6 +382,7 @@ macro_rules! app_instructions {
                             wide_name: wide_name!($wide),
                             pulse: pulse_form!($pulse),
                             family: Family::$family,
+                            runs: runs!($runs),
                             summary: $summary,
                             operands: &[$(OperandDecl {
                                 name: stringify!($field),
@@ -374,145 +458,200 @@ const RESET_ZONE: Devices = Devices::of(DeviceClass::Y)
 
 app_instructions! {
     /// MOV S D: D = S.
-    Mov: "MOV" "DMOV" pulse Move
+    Mov: "MOV" "DMOV" pulse Move on
         (s: Source(ANY_VALUE), d: Destination(WRITABLE_WORD))
         reads [] writes []
         "copies S to D";
     /// BMOV S D n: n words from S to D; overlapping blocks move as a whole.
-    BlockMov: "BMOV" _ pulse Move
+    BlockMov: "BMOV" _ pulse Move on
         (s: BlockSource(ANY_WORD), d: BlockDestination(WRITABLE_WORD), n: Count(COUNT))
         reads [] writes []
         "copies n words from S to D";
     /// FMOV S D n: S into n units from D.
-    FillMov: "FMOV" "DFMOV" pulse Move
+    FillMov: "FMOV" "DFMOV" pulse Move on
         (s: Source(ANY_VALUE), d: BlockDestination(WRITABLE_WORD), n: Count(COUNT))
         reads [] writes []
         "writes S into n units from D";
     /// ADD S1 S2 D: D = S1 + S2, wrapping.
-    Add: "ADD" "DADD" pulse Arithmetic
+    Add: "ADD" "DADD" pulse Arithmetic on
         (s1: Source(ANY_VALUE), s2: Source(ANY_VALUE), d: Destination(WRITABLE_WORD))
         reads [] writes [ZERO_FLAG, BORROW_FLAG, CARRY_FLAG]
         "D = S1 + S2";
     /// SUB S1 S2 D: D = S1 - S2, wrapping.
-    Sub: "SUB" "DSUB" pulse Arithmetic
+    Sub: "SUB" "DSUB" pulse Arithmetic on
         (s1: Source(ANY_VALUE), s2: Source(ANY_VALUE), d: Destination(WRITABLE_WORD))
         reads [] writes [ZERO_FLAG, BORROW_FLAG, CARRY_FLAG]
         "D = S1 - S2";
     /// MUL S1 S2 D: the double-width product to D.
-    Mul: "MUL" "DMUL" pulse Arithmetic
+    Mul: "MUL" "DMUL" pulse Arithmetic on
         (s1: Source(ANY_VALUE), s2: Source(ANY_VALUE), d: DoubleDestination(MULTI_WORD_DESTINATION))
         reads [] writes []
         "the double-width product S1 × S2 to D";
     /// DIV S1 S2 D: quotient to D, remainder to the next unit.
-    Div: "DIV" "DDIV" pulse Arithmetic
+    Div: "DIV" "DDIV" pulse Arithmetic on
         (s1: Source(ANY_VALUE), s2: Source(ANY_VALUE), d: DoubleDestination(MULTI_WORD_DESTINATION))
         reads [] writes []
         "quotient of S1 / S2 to D, remainder to the next unit";
     /// INC D: D + 1, wrapping.
-    Inc: "INC" "DINC" pulse Arithmetic
+    Inc: "INC" "DINC" pulse Arithmetic on
         (d: Modified(WRITABLE_WORD))
         reads [] writes []
         "D = D + 1";
     /// DEC D: D - 1, wrapping.
-    Dec: "DEC" "DDEC" pulse Arithmetic
+    Dec: "DEC" "DDEC" pulse Arithmetic on
         (d: Modified(WRITABLE_WORD))
         reads [] writes []
         "D = D - 1";
     /// CMP S1 S2 D: D, D+1, D+2 = S1>S2, S1=S2, S1<S2.
-    Cmp: "CMP" "DCMP" pulse Compare
+    Cmp: "CMP" "DCMP" pulse Compare on
         (s1: Source(ANY_VALUE), s2: Source(ANY_VALUE), d: BitTriple(RESULT_BITS))
         reads [] writes []
         "D, D+1, D+2 = S1 > S2, S1 = S2, S1 < S2";
     /// ZCP S1 S2 S D: D, D+1, D+2 = S<S1, S1<=S<=S2, S>S2.
-    ZoneCmp: "ZCP" "DZCP" pulse Compare
+    ZoneCmp: "ZCP" "DZCP" pulse Compare on
         (s1: Source(ANY_VALUE), s2: Source(ANY_VALUE), s: Source(ANY_VALUE), d: BitTriple(RESULT_BITS))
         reads [] writes []
         "D, D+1, D+2 = S < S1, S1 ≤ S ≤ S2, S > S2";
     /// NEG D: D = -D (two's complement; the smallest value stays).
-    Neg: "NEG" "DNEG" pulse Arithmetic
+    Neg: "NEG" "DNEG" pulse Arithmetic on
         (d: Modified(WRITABLE_WORD))
         reads [] writes []
         "D = −D";
     /// SQR S D: D = the square root of S, rounded down.
-    Sqr: "SQR" "DSQR" pulse Arithmetic
+    Sqr: "SQR" "DSQR" pulse Arithmetic on
         (s: Source(REGISTERS.with(CONSTANT)), d: Destination(REGISTERS))
         reads [] writes [SM_BORROW_FLAG, SM_ZERO_FLAG]
         "D = √S rounded down; SM152 when a fraction was dropped, SM153 when D is 0; S < 0 is 4084H";
     /// WAND S1 S2 D: bitwise AND.
-    Wand: "WAND" "DAND" pulse Logic
+    Wand: "WAND" "DAND" pulse Logic on
         (s1: Source(ANY_VALUE), s2: Source(ANY_VALUE), d: Destination(WRITABLE_WORD))
         reads [] writes []
         "D = S1 AND S2, bit by bit";
     /// WOR S1 S2 D: bitwise OR.
-    Wor: "WOR" "DOR" pulse Logic
+    Wor: "WOR" "DOR" pulse Logic on
         (s1: Source(ANY_VALUE), s2: Source(ANY_VALUE), d: Destination(WRITABLE_WORD))
         reads [] writes []
         "D = S1 OR S2, bit by bit";
     /// WXOR S1 S2 D: bitwise exclusive OR.
-    Wxor: "WXOR" "DXOR" pulse Logic
+    Wxor: "WXOR" "DXOR" pulse Logic on
         (s1: Source(ANY_VALUE), s2: Source(ANY_VALUE), d: Destination(WRITABLE_WORD))
         reads [] writes []
         "D = S1 XOR S2, bit by bit";
+    /// CML S D: D = NOT S.
+    Cml: "CML" "DCML" pulse Logic on
+        (s: Source(ANY_VALUE), d: Destination(WRITABLE_WORD))
+        reads [] writes []
+        "D = NOT S, bit by bit";
     /// BON S N D: D = bit N of S.
-    Bon: "BON" "DBON" pulse Logic
+    Bon: "BON" "DBON" pulse Logic on
         (s: Source(ANY_VALUE), n: Source(ANY_VALUE), d: BitDestination(WRITABLE_BITS))
         reads [] writes []
         "D = bit N of S (N 0-15, 0-31 for DBON; else 4084H)";
     /// SUM S D: the number of ON bits of S.
-    Sum: "SUM" "DSUM" pulse Logic
+    Sum: "SUM" "DSUM" pulse Logic on
         (s: Source(ANY_VALUE), d: Destination(WRITABLE_WORD))
         reads [] writes [SM_ZERO_FLAG]
         "D = the number of ON bits of S; SM153 when S is 0";
     /// SWAP D: the high and low byte of each word of D change places.
-    Swap: "SWAP" "DSWAP" pulse Convert
+    Swap: "SWAP" "DSWAP" pulse Convert on
         (d: Modified(WRITABLE_WORD))
         reads [] writes []
         "swaps the high and low byte of each word of D";
     /// ENCO S N D: D = the number of the highest ON bit among 2^N bits of S.
-    Encode: "ENCO" _ pulse Convert
+    Encode: "ENCO" _ pulse Convert on
         (s: ElementSource(BITS_OR_VALUES), n: Count(COUNT), d: Destination(WRITABLE_WORD))
         reads [] writes []
         "D = the position of the highest ON bit among 2^N bits from S";
     /// DECO S N D: turns ON bit (low N bits of S) of 2^N bits from D, the rest OFF.
-    Decode: "DECO" _ pulse Convert
+    Decode: "DECO" _ pulse Convert on
         (s: ElementSource(BITS_OR_VALUES), n: Count(COUNT), d: ElementDestination(BITS_OR_WORDS))
         reads [] writes []
         "of 2^N bits from D, turns ON the one numbered by the low N bits of S";
     /// BTOW S D N: the low bytes of N words packed into words.
-    BytesToWords: "BTOW" _ pulse Convert
+    BytesToWords: "BTOW" _ pulse Convert on
         (s: BlockSource(WORD_REGISTERS), d: BlockDestination(WORD_REGISTERS), n: Count(COUNT))
         reads [] writes []
         "packs the low bytes of N words from S into words from D";
     /// WTOB S D N: N bytes of words split into words.
-    WordsToBytes: "WTOB" _ pulse Convert
+    WordsToBytes: "WTOB" _ pulse Convert on
         (s: BlockSource(WORD_REGISTERS), d: BlockDestination(WORD_REGISTERS), n: Count(COUNT))
         reads [] writes []
         "splits N bytes of words from S into N words from D";
     /// DIS S D N: the low N nibbles of S into N words.
-    Distribute: "DIS" _ pulse Convert
+    Distribute: "DIS" _ pulse Convert on
         (s: Source(ANY_VALUE), d: BlockDestination(WRITABLE_WORD), n: Count(COUNT))
         reads [] writes []
         "the low N 4-bit digits of S into N words from D";
     /// UNI S D N: the low nibbles of N words combined.
-    Unite: "UNI" _ pulse Convert
+    Unite: "UNI" _ pulse Convert on
         (s: BlockSource(ANY_WORD), d: Destination(WRITABLE_WORD), n: Count(COUNT))
         reads [] writes []
         "the low 4 bits of N words from S combined into D";
     /// PRUN S D: digit groups transferred with octal device numbering.
-    OctalMove: "PRUN" _ pulse Move
+    OctalMove: "PRUN" _ pulse Move on
         (s: DigitSource(OCTAL_SOURCE), d: DigitDestination(OCTAL_DESTINATION))
         reads [] writes []
         "copies a digit group, numbering M in octal steps (M0-M7, M10-M17, ...)";
     /// ZRST D1 D2: resets every device from D1 to D2.
-    ZoneReset: "ZRST" _ pulse Zone
+    ZoneReset: "ZRST" _ pulse Zone on
         (d1: RangeEnd(RESET_ZONE), d2: RangeEnd(RESET_ZONE))
         reads [] writes []
         "resets D1 to D2 (bits OFF, words 0, timers and counters cleared)";
     /// ZSET D1 D2: sets every bit from D1 to D2.
-    ZoneSet: "ZSET" _ pulse Zone
+    ZoneSet: "ZSET" _ pulse Zone on
         (d1: RangeEnd(WRITABLE_BITS), d2: RangeEnd(WRITABLE_BITS))
         reads [] writes []
         "turns ON every bit from D1 to D2";
+    /// MAX S1 S2 D: the largest value from device S1 to device S2.
+    Max: "MAX" "DMAX" pulse Table on
+        (s1: TableEnd(WORDS), s2: TableEnd(WORDS), d: Destination(WORDS))
+        reads [] writes []
+        "D = the largest value from device S1 to device S2 (4093H: not the same device; 4094H: S1 after S2)";
+    /// MIN S1 S2 D: the smallest value from device S1 to device S2.
+    Min: "MIN" "DMIN" pulse Table on
+        (s1: TableEnd(WORDS), s2: TableEnd(WORDS), d: Destination(WORDS))
+        reads [] writes []
+        "D = the smallest value from device S1 to device S2 (4093H, 4094H as MAX)";
+    /// MEAN S D N: the mean of N values from S.
+    Mean: "MEAN" "DMEAN" pulse Table on
+        (s: BlockSource(ANY_WORD), d: Destination(WRITABLE_WORD), n: Source(COUNT))
+        reads [] writes []
+        "D = the mean of N values from S, truncated toward 0 (N ≤ 0: 4084H)";
+    /// WSUM S D N: the sum of N values from S, at twice the width.
+    Wsum: "WSUM" "DWSUM" pulse Table on
+        (s: BlockSource(ANY_WORD), d: DoubleDestination(MULTI_WORD_DESTINATION), n: Source(COUNT))
+        reads [] writes []
+        "D (twice the width) = the sum of N values from S (N < 0: 4084H)";
+    /// SORT S N1 N2 D N3: the column-major table sorted by column N3.
+    Sort: "SORT" _ no_pulse Table job
+        (s: BlockSource(WORDS), n1: Count(COUNT), n2: Count(COUNT), d: BlockDestination(WORDS), n3: Count(COUNT))
+        reads [] writes [SM_SORT_DONE]
+        "sorts the rows of an N1 × N2 table stored column by column, ascending by column N3, in N1 scans";
+    /// SORT2 S N1 N2 D N3: the row-major table sorted by column N3.
+    Sort2: "SORT2" "DSORT2" pulse Table job
+        (s: BlockSource(WORDS), n1: Source(COUNT), n2: Source(COUNT), d: BlockDestination(WORDS), n3: Source(COUNT))
+        reads [SM_DESCENDING] writes [SM_SORT_DONE]
+        "sorts the rows of an N1 × N2 table stored row by row by column N3 (SM165: descending), in N1 scans";
+    /// BCC S1 S2 S3 D: the block check code of S3 bytes from S2.
+    Bcc: "BCC" _ pulse Check on
+        (s1: Count(COUNT), s2: ByteSource(ANY_WORD), s3: Count(COUNT), d: Destination(WRITABLE_WORD))
+        reads [SM_EIGHT_BIT_MODE] writes []
+        "the low byte of D = the check code of S3 bytes from S2: S1 = 0 add, 1 subtract, 2 XOR";
+    /// CRC S D N: the CRC-16 of N bytes from S.
+    Crc: "CRC" _ pulse Check on
+        (s: ByteSource(ANY_WORD), d: Destination(WRITABLE_WORD), n: Count(COUNT))
+        reads [SM_EIGHT_BIT_MODE] writes []
+        "D = the CRC-16/MODBUS of N bytes from S (N 1-256)";
+    /// ANS S N D: sets alarm D after the rung was ON for N × 100 ms on timer S.
+    Ans: "ANS" _ pulse Alarm always
+        (s: Timer(Devices::of(DeviceClass::T)), n: Count(COUNT), d: BitDestination(Devices::of(DeviceClass::S)))
+        reads [] writes []
+        "sets the alarm state D (S900-S999) once the rung has been ON for N × 100 ms, timed by T0-T199 S";
+    /// ANR: resets the lowest alarm state that is ON.
+    Anr: "ANR" _ pulse Alarm on
+        ()
+        reads [] writes []
+        "turns OFF the lowest alarm state S900-S999 that is ON";
 }
 
 #[cfg(test)]

@@ -44,6 +44,14 @@ pub enum OperandKind {
     RangeEnd,
     /// A digit group read bit by bit (PRUN S).
     DigitSource,
+    /// One end of a run of words whose values are read (MAX S1, S2): the
+    /// device, not its value, is the operand.
+    TableEnd,
+    /// The first of a run of words whose bytes are read (BCC, CRC); a digit
+    /// group must be a whole word (K4).
+    ByteSource,
+    /// A timer the instruction drives (ANS S).
+    Timer,
     /// A digit group written bit by bit (PRUN D).
     DigitDestination,
 }
@@ -58,7 +66,10 @@ impl OperandKind {
             | OperandKind::Modified
             | OperandKind::BlockSource
             | OperandKind::ElementSource
-            | OperandKind::DigitSource => true,
+            | OperandKind::DigitSource
+            | OperandKind::TableEnd
+            | OperandKind::ByteSource
+            | OperandKind::Timer => true,
             OperandKind::Destination
             | OperandKind::DoubleDestination
             | OperandKind::BlockDestination
@@ -86,11 +97,14 @@ impl OperandKind {
             | OperandKind::BlockSource
             | OperandKind::BlockDestination
             | OperandKind::ElementSource
-            | OperandKind::DigitSource => false,
+            | OperandKind::DigitSource
+            | OperandKind::TableEnd
+            | OperandKind::ByteSource
+            | OperandKind::Timer => false,
         }
     }
 
-    pub const ALL: [OperandKind; 14] = [
+    pub const ALL: [OperandKind; 17] = [
         OperandKind::Source,
         OperandKind::Count,
         OperandKind::Destination,
@@ -105,6 +119,9 @@ impl OperandKind {
         OperandKind::RangeEnd,
         OperandKind::DigitSource,
         OperandKind::DigitDestination,
+        OperandKind::TableEnd,
+        OperandKind::ByteSource,
+        OperandKind::Timer,
     ];
 }
 

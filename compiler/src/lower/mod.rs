@@ -11,6 +11,7 @@ mod app;
 mod operand;
 
 use crate::ir::{Builder, Function, Inst, Local, Terminator, Type, Value};
+use crate::isa::app::Runs;
 use crate::isa::Sense;
 use crate::program::{CheckedProgram, Contact, Instruction, Op, ResetTarget, StlBlock};
 use ladder_runtime::helpers::Helper;
@@ -326,12 +327,19 @@ impl<'p> Lowering<'p> {
                 self.write_bit(*relay, power, line);
             }
             Op::App(app) => {
-                let run = match app.pulse_slot {
+                let power = match app.pulse_slot {
                     Some(slot) => self.edge(slot, power, false),
                     None => power,
                 };
                 // A failed operand check leaves the body early, to `after`.
-                self.when(run, |this, after| this.app(app, line, after));
+                match app.args.op().spec().runs {
+                    Runs::WhenOn => self.when(power, |this, after| this.app(app, power, line, after)),
+                    Runs::EveryScan | Runs::EveryScanWithJob => {
+                        let after = self.b.create_block();
+                        self.app(app, power, line, after);
+                        self.b.jump_to(after);
+                    }
+                }
             }
             // Not outputs: `instruction` handles them, and an STL block's
             // reset list holds outputs only.

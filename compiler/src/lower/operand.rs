@@ -51,15 +51,18 @@ impl Lowering<'_> {
                 Some(register) => self.indexed(address.index, register),
                 None => self.b.constant(Type::I32, i64::from(address.index)),
             };
+            // The end in 64 bits: a count known only at run time may be
+            // as large as an I32 holds, and must not wrap.
             let units = match units {
-                Units::Checked(n) => self.b.constant(Type::I32, i64::from(n)),
-                Units::Dynamic(n) => n,
+                Units::Checked(n) => self.b.constant(Type::I64, i64::from(n)),
+                Units::Dynamic(n) => self.b.extend(n, Type::I64, true),
             };
-            let per_unit = self.b.constant(Type::I32, i64::from(per_unit));
+            let per_unit = self.b.constant(Type::I64, i64::from(per_unit));
             let span = self.b.binary(BinOp::Mul, units, per_unit);
-            let end = self.b.binary(BinOp::Add, index, span);
+            let start = self.b.extend(index, Type::I64, true);
+            let end = self.b.binary(BinOp::Add, start, span);
             let low = self.b.constant(Type::I32, i64::from(first));
-            let high = self.b.constant(Type::I32, i64::from(len));
+            let high = self.b.constant(Type::I64, i64::from(len));
             let above_first = self.b.compare(CompareOp::Ge, index, low);
             let fits = self.b.compare(CompareOp::Le, end, high);
             (Index::Dynamic(index), Some(self.b.and(above_first, fits)))

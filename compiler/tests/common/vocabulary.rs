@@ -13,7 +13,12 @@ use proptest::prelude::*;
 /// the generator puts them (low numbers, so runs of units stay in range).
 fn class_operand(class: DeviceClass, kind: OperandKind, width: Width) -> BoxedStrategy<String> {
     let wide = width == Width::Double;
-    let digits = if wide { "[1-8]" } else { "[1-4]" };
+    let digits = match (kind, wide) {
+        // Bytes are read from whole words.
+        (OperandKind::ByteSource, _) => "4",
+        (_, true) => "[1-8]",
+        (_, false) => "[1-4]",
+    };
     let regex = |pattern: String| -> BoxedStrategy<String> {
         proptest::string::string_regex(&pattern)
             .expect("a valid pattern")
@@ -30,7 +35,7 @@ fn class_operand(class: DeviceClass, kind: OperandKind, width: Width) -> BoxedSt
         DeviceClass::X => "X[0-7]".boxed(),
         DeviceClass::Y => "Y[0-7]".boxed(),
         DeviceClass::M => prop_oneof!["M[0-9]", "M2[0-9]", Just("M8509[D1]".to_string())].boxed(),
-        DeviceClass::S => "S[1-3]".boxed(),
+        DeviceClass::S => prop_oneof!["S[1-3]", "S90[0-3]"].boxed(),
         DeviceClass::Sm => "SM1[0-9]".boxed(),
         DeviceClass::WordBit => "D0\\.[0-9A-F]".boxed(),
         DeviceClass::KnX => regex(format!("K{digits}X0")),
@@ -55,7 +60,10 @@ fn class_operand(class: DeviceClass, kind: OperandKind, width: Width) -> BoxedSt
             | OperandKind::ElementDestination
             | OperandKind::RangeEnd
             | OperandKind::DigitSource
-            | OperandKind::DigitDestination => prop_oneof![
+            | OperandKind::DigitDestination
+            | OperandKind::TableEnd
+            | OperandKind::ByteSource
+            | OperandKind::Timer => prop_oneof![
                 "D[0-3]".prop_flat_map(indexed),
                 "D[1-4]0".prop_flat_map(indexed),
                 Just("D8508[D2]".to_string()),
@@ -80,7 +88,10 @@ fn class_operand(class: DeviceClass, kind: OperandKind, width: Width) -> BoxedSt
             | OperandKind::ElementDestination
             | OperandKind::RangeEnd
             | OperandKind::DigitSource
-            | OperandKind::DigitDestination => prop_oneof![
+            | OperandKind::DigitDestination
+            | OperandKind::TableEnd
+            | OperandKind::ByteSource
+            | OperandKind::Timer => prop_oneof![
                 "K-?[0-9]{1,3}",
                 "H[0-9A-F]{1,4}",
                 if wide { "K[0-9]{6,9}" } else { "K3276[0-7]" },

@@ -1,4 +1,4 @@
-//! Logic and bits: WAND, WOR, WXOR, BON, SUM.
+//! Logic and bits: WAND, WOR, WXOR, CML, BON, SUM.
 
 use ladder_runtime::{OperationError, Width};
 
@@ -12,6 +12,10 @@ pub fn wor([a, b]: [i64; 2], _: Width) -> Result<i64, OperationError> {
 
 pub fn wxor([a, b]: [i64; 2], _: Width) -> Result<i64, OperationError> {
     Ok(a ^ b)
+}
+
+pub fn cml([s]: [i64; 1], _: Width) -> Result<i64, OperationError> {
+    Ok(!s)
 }
 
 /// Bit N of S; N outside the width's bits (0-15, 0-31) is 4084H.

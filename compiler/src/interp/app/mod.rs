@@ -12,35 +12,59 @@
 //! compiled code: this is the specification the native engines are tested
 //! against.
 
+mod alarm;
 mod arithmetic;
+mod check;
 mod compare;
 mod convert;
 mod logic;
 mod moves;
+mod table;
 mod zone;
 
 use super::access::{bit_place, effective_index, resolve_word, write_place};
+use crate::isa::app::Runs;
 use crate::isa::AppArgs;
 use crate::program::{AppInstruction, BitRef, WordRef};
 use ladder_runtime::{Memory, OperationError, Place, Width};
 
-/// Runs one application instruction whose condition is ON; an operation
-/// error is recorded against `line`.
-pub fn execute(mem: &mut Memory, app: &AppInstruction, line: u32) {
+/// Runs one application instruction with its rung's `power` (for a P form,
+/// ON only in the scan the rung rose): instructions that run while ON do
+/// nothing without it; the others (ANS, SORT) see it. An operation error is
+/// recorded against `line`.
+pub fn execute(mem: &mut Memory, app: &AppInstruction, power: bool, line: u32) {
+    match app.args.op().spec().runs {
+        Runs::WhenOn if !power => return,
+        Runs::WhenOn | Runs::EveryScan | Runs::EveryScanWithJob => {}
+    }
     let mut step = Step {
         mem,
         width: app.width,
         read_failed: false,
         write_failed: false,
     };
-    if let Err(error) = dispatch(&mut step, &app.args) {
+    let run = Execution {
+        power,
+        pulse: app.pulse_slot.is_some(),
+        job: app.job.unwrap_or(0),
+    };
+    if let Err(error) = dispatch(&mut step, &app.args, &run) {
         step.mem.record_error(error, line);
     }
 }
 
+/// What an instruction that runs every scan needs to know of this one.
+pub struct Execution {
+    pub power: bool,
+    /// The P form.
+    pub pulse: bool,
+    /// Its job in the image (sorts).
+    pub job: u32,
+}
+
 type Outcome = Result<(), OperationError>;
 
-fn dispatch(step: &mut Step, args: &AppArgs) -> Outcome {
+fn dispatch(step: &mut Step, args: &AppArgs, run: &Execution) -> Outcome {
     let flags = args.op().spec().writes;
     match args {
         AppArgs::Mov { s, d } => step.map([s], d, moves::mov),
@@ -59,6 +83,7 @@ fn dispatch(step: &mut Step, args: &AppArgs) -> Outcome {
         AppArgs::Wand { s1, s2, d } => step.map([s1, s2], d, logic::wand),
         AppArgs::Wor { s1, s2, d } => step.map([s1, s2], d, logic::wor),
         AppArgs::Wxor { s1, s2, d } => step.map([s1, s2], d, logic::wxor),
+        AppArgs::Cml { s, d } => step.map([s], d, logic::cml),
         AppArgs::Bon { s, n, d } => step.map_bit([s, n], d, logic::bon),
         AppArgs::Sum { s, d } => step.map_flags([s], d, flags, logic::sum),
         AppArgs::Swap { d } => step.modify(d, convert::swap),
@@ -71,6 +96,16 @@ fn dispatch(step: &mut Step, args: &AppArgs) -> Outcome {
         AppArgs::OctalMove { s, d } => moves::octal_move(step, s, d),
         AppArgs::ZoneReset { d1, d2 } => zone::reset(step, d1, d2),
         AppArgs::ZoneSet { d1, d2 } => zone::set(step, d1, d2),
+        AppArgs::Max { s1, s2, d } => table::extreme(step, s1, s2, d, true),
+        AppArgs::Min { s1, s2, d } => table::extreme(step, s1, s2, d, false),
+        AppArgs::Mean { s, d, n } => table::mean(step, s, d, n),
+        AppArgs::Wsum { s, d, n } => table::sum(step, s, d, n),
+        AppArgs::Sort { s, n1, n2, d, n3 } => table::sort(step, run, [s, n1, n2, d, n3], false),
+        AppArgs::Sort2 { s, n1, n2, d, n3 } => table::sort(step, run, [s, n1, n2, d, n3], true),
+        AppArgs::Bcc { s1, s2, s3, d } => check::block_check(step, s1, s2, s3, d),
+        AppArgs::Crc { s, d, n } => check::crc(step, s, d, n),
+        AppArgs::Ans { s, n, d } => alarm::set(step, run, s, n, d),
+        AppArgs::Anr {} => alarm::reset(step),
     }
 }
 
@@ -93,6 +128,12 @@ pub struct Step<'m> {
 }
 
 impl Step<'_> {
+    /// Notes an operand that is read and lies outside its area (4085H at
+    /// `commit`).
+    pub fn fail_read(&mut self) {
+        self.read_failed = true;
+    }
+
     fn mark(&mut self, read: bool) {
         if read {
             self.read_failed = true;
@@ -156,6 +197,14 @@ impl Step<'_> {
         let place = self.count(n);
         self.commit()?;
         Ok(place.map_or(0, |p| self.read_at(p, Width::Single)))
+    }
+
+    /// A value at the instruction's width that decides how many units the
+    /// other operands cover, resolved on its own (like `count_value`).
+    pub fn source_value(&mut self, word: &WordRef) -> Result<i64, OperationError> {
+        let place = self.source(word);
+        self.commit()?;
+        Ok(place.map_or(0, |p| self.read(p)))
     }
 
     /// Ends resolution: the error of the first operand out of range (reads

@@ -1,4 +1,4 @@
-//! Logic and bits: WAND, WOR, WXOR, BON, SUM.
+//! Logic and bits: WAND, WOR, WXOR, CML, BON, SUM.
 
 use super::Step;
 use crate::ir::{BinOp, Inst, Type, UnaryOp, Value};
@@ -14,6 +14,11 @@ pub fn wor(step: &mut Step, [a, b]: [Value; 2]) -> Value {
 
 pub fn wxor(step: &mut Step, [a, b]: [Value; 2]) -> Value {
     step.b().binary(BinOp::Xor, a, b)
+}
+
+pub fn cml(step: &mut Step, [s]: [Value; 1]) -> Value {
+    let all = step.b().constant(Type::I64, -1);
+    step.b().binary(BinOp::Xor, s, all)
 }
 
 /// Bit N of S (sign-extended, so an arithmetic shift finds every bit of the

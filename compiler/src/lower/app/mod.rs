@@ -8,25 +8,29 @@
 //! (`map`, `modify`, ...) resolve, read, call the kernel with IR values and
 //! write what it returns. Kernels live in one file per family.
 
+mod alarm;
 mod arithmetic;
+mod check;
 mod compare;
 mod convert;
 mod logic;
 mod moves;
+mod table;
 mod zone;
 
 use super::operand::{Operand, Units};
 use super::Lowering;
 use crate::ir::{BinOp, BlockId, Builder, Index, Inst, Terminator, Type, Value};
 use crate::isa::{AppArgs, CompareOp};
-use crate::program::{AppInstruction, BitRef, WordRef};
+use crate::program::{Address, AppInstruction, BitRef, WordRef};
 use ladder_runtime::special::SpecialBit;
 use ladder_runtime::{OperationError, Width};
 
 impl Lowering<'_> {
-    /// The body of an application instruction, entered when its condition
-    /// holds; every failure continues at `after`.
-    pub(super) fn app(&mut self, app: &AppInstruction, line: u32, after: BlockId) {
+    /// The body of an application instruction: entered when its rung is ON,
+    /// or every scan with `power` for instructions that run every scan;
+    /// every failure continues at `after`.
+    pub(super) fn app(&mut self, app: &AppInstruction, power: Value, line: u32, after: BlockId) {
         let mut step = Step {
             l: self,
             width: app.width,
@@ -35,11 +39,26 @@ impl Lowering<'_> {
             reads: Vec::new(),
             writes: Vec::new(),
         };
-        dispatch(&mut step, &app.args);
+        let run = Execution {
+            power,
+            pulse: app.pulse_slot.is_some(),
+            job: app.job.unwrap_or(0),
+        };
+        dispatch(&mut step, &app.args, &run);
     }
 }
 
-fn dispatch(step: &mut Step, args: &AppArgs) {
+/// What an instruction that runs every scan needs to know of this one.
+pub(super) struct Execution {
+    /// A Bit: the rung's power (for a P form, its rising edge).
+    pub power: Value,
+    /// The P form.
+    pub pulse: bool,
+    /// Its job in the image (sorts).
+    pub job: u32,
+}
+
+fn dispatch(step: &mut Step, args: &AppArgs, run: &Execution) {
     let flags = args.op().spec().writes;
     match args {
         AppArgs::Mov { s, d } => step.map([s], d, moves::mov),
@@ -58,6 +77,7 @@ fn dispatch(step: &mut Step, args: &AppArgs) {
         AppArgs::Wand { s1, s2, d } => step.map([s1, s2], d, logic::wand),
         AppArgs::Wor { s1, s2, d } => step.map([s1, s2], d, logic::wor),
         AppArgs::Wxor { s1, s2, d } => step.map([s1, s2], d, logic::wxor),
+        AppArgs::Cml { s, d } => step.map([s], d, logic::cml),
         AppArgs::Bon { s, n, d } => step.map_bit([s, n], d, logic::bon),
         AppArgs::Sum { s, d } => step.map_flags([s], d, flags, logic::sum),
         AppArgs::Swap { d } => step.modify(d, convert::swap),
@@ -70,6 +90,16 @@ fn dispatch(step: &mut Step, args: &AppArgs) {
         AppArgs::OctalMove { s, d } => moves::octal_move(step, s, d),
         AppArgs::ZoneReset { d1, d2 } => zone::reset(step, d1, d2),
         AppArgs::ZoneSet { d1, d2 } => zone::set(step, d1, d2),
+        AppArgs::Max { s1, s2, d } => table::extreme(step, s1, s2, d, true),
+        AppArgs::Min { s1, s2, d } => table::extreme(step, s1, s2, d, false),
+        AppArgs::Mean { s, d, n } => table::mean(step, s, d, n),
+        AppArgs::Wsum { s, d, n } => table::sum(step, s, d, n),
+        AppArgs::Sort { s, n1, n2, d, n3 } => table::sort(step, run, [s, n1, n2, d, n3], false),
+        AppArgs::Sort2 { s, n1, n2, d, n3 } => table::sort(step, run, [s, n1, n2, d, n3], true),
+        AppArgs::Bcc { s1, s2, s3, d } => check::block_check(step, s1, s2, s3, d),
+        AppArgs::Crc { s, d, n } => check::crc(step, s, d, n),
+        AppArgs::Ans { s, n, d } => alarm::set(step, run, s, n, d),
+        AppArgs::Anr {} => alarm::reset(step),
     }
 }
 
@@ -78,7 +108,8 @@ pub(super) struct Step<'l, 'p> {
     pub l: &'l mut Lowering<'p>,
     /// The instruction's width.
     pub width: Width,
-    line: u32,
+    /// The instruction's source line (what an operation error records).
+    pub line: u32,
     after: BlockId,
     /// In-range tests of operands that are read, and of those written.
     reads: Vec<Value>,
@@ -93,6 +124,46 @@ impl Step<'_, '_> {
     /// Notes the in-range test of an operand the instruction reads.
     pub fn note_read_check(&mut self, check: Value) {
         self.note(Some(check), true);
+    }
+
+    /// The number an address names as an I32, its in-range test (from
+    /// `first` up to `len`) noted as an operand that is read.
+    pub fn address_number(&mut self, address: Address, first: u32, len: u32) -> Value {
+        let Some(register) = address.index_register else {
+            return self.b().constant(Type::I32, i64::from(address.index));
+        };
+        let index = self.l.indexed(address.index, register);
+        let b = self.b();
+        let low = b.constant(Type::I32, i64::from(first));
+        let last = b.constant(Type::I32, i64::from(len) - 1);
+        let above = b.compare(CompareOp::Ge, index, low);
+        let below = b.compare(CompareOp::Le, index, last);
+        let within = b.and(above, below);
+        self.note_read_check(within);
+        index
+    }
+
+    /// A value at the instruction's width that decides how many units the
+    /// other operands cover, resolved on its own (like `count_value`).
+    pub fn source_value(&mut self, word: &WordRef) -> Value {
+        let operand = self.source(word);
+        self.commit();
+        self.read(&operand)
+    }
+
+    /// Runs `then` only while `condition` holds, then goes on here.
+    pub fn when(&mut self, condition: Value, then: impl FnOnce(&mut Step)) {
+        let b = self.b();
+        let body = b.create_block();
+        let next = b.create_block();
+        b.terminate(Terminator::Branch {
+            condition,
+            then: body,
+            otherwise: next,
+        });
+        b.switch_to(body);
+        then(self);
+        self.b().jump_to(next);
     }
 
     fn note(&mut self, check: Option<Value>, read: bool) {

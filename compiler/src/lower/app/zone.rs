@@ -2,8 +2,7 @@
 
 use super::Step;
 use crate::ir::{BinOp, Type, Value};
-use crate::isa::CompareOp;
-use crate::program::{Address, BitRef, RangeEnd};
+use crate::program::{BitRef, RangeEnd};
 use ladder_runtime::compiled::Zone;
 use ladder_runtime::device::{COUNTER_COUNT, TIMER_COUNT};
 use ladder_runtime::helpers::Helper;
@@ -21,28 +20,12 @@ fn end(step: &mut Step, end: &RangeEnd) -> (Zone, Value) {
         RangeEnd::Timer(address) => (Zone::Timers, address, TIMER_COUNT, 1, 0),
         RangeEnd::Counter(address) => (Zone::Counters, address, COUNTER_COUNT, 1, 0),
     };
-    let index = number(step, address, len);
+    let index = step.address_number(address, 0, len);
     let b = step.b();
     let scale = b.constant(Type::I32, i64::from(scale));
     let scaled = b.binary(BinOp::Mul, index, scale);
     let bit = b.constant(Type::I32, i64::from(bit));
     (zone, b.binary(BinOp::Add, scaled, bit))
-}
-
-/// The address's number as an I32, with its in-range test noted.
-fn number(step: &mut Step, address: Address, len: u32) -> Value {
-    let Some(register) = address.index_register else {
-        return step.b().constant(Type::I32, i64::from(address.index));
-    };
-    let index = step.l.indexed(address.index, register);
-    let b = step.b();
-    let zero = b.constant(Type::I32, 0);
-    let last = b.constant(Type::I32, i64::from(len) - 1);
-    let above = b.compare(CompareOp::Ge, index, zero);
-    let below = b.compare(CompareOp::Le, index, last);
-    let within = b.and(above, below);
-    step.note_read_check(within);
-    index
 }
 
 fn zone(step: &mut Step, d1: &RangeEnd, d2: &RangeEnd, on: bool) {
