@@ -73,6 +73,39 @@ fn scan_time(c: &mut Criterion) {
     group.finish();
 }
 
+/// The instructions compiled code hands to runtime helpers, each in a
+/// program of its own: SORT2P of a 32 × 6 table (M0 toggles every scan, so
+/// the P form sorts the whole table every other scan), CRC of 256 bytes and
+/// MEAN of 512 words every scan. D0 changes every scan.
+fn helper_instructions(c: &mut Criterion) {
+    let programs = [
+        (
+            "sort2_32x6",
+            "LDI M0\nOUT M0\nLD SM0\nINC D0\nLD M0\nSORT2P D0 K32 K6 D300 K2\n",
+        ),
+        ("crc_256_bytes", "LD SM0\nINC D0\nCRC D0 D1000 K256\n"),
+        ("mean_512_words", "LD SM0\nINC D0\nMEAN D0 D1000 K512\n"),
+    ];
+    let mut group = c.benchmark_group("helpers");
+    for (name, text) in programs {
+        let program = checked(name, text);
+        let interpreter = Interpreter::new(&program);
+        let jit = ladderc::pipeline::jit(&program).expect("compiles");
+        let mut mem = Memory::new_boxed();
+        for (i, word) in mem.d.iter_mut().take(600).enumerate() {
+            *word = (i as i16).wrapping_mul(7919);
+        }
+        let mut jit_mem = mem.clone();
+        group.bench_function(BenchmarkId::new("interp", name), |b| {
+            b.iter(|| interpreter.scan(black_box(&mut mem), 10))
+        });
+        group.bench_function(BenchmarkId::new("jit", name), |b| {
+            b.iter(|| jit_mem.scan_with(10, |m| jit.run(black_box(m))))
+        });
+    }
+    group.finish();
+}
+
 fn compile_time(c: &mut Criterion) {
     let text = ladderc_benches::plant(100);
     let program = checked("plant", &text);
@@ -91,6 +124,6 @@ fn compile_time(c: &mut Criterion) {
 criterion_group! {
     name = benches;
     config = Criterion::default().warm_up_time(std::time::Duration::from_secs(1)).measurement_time(std::time::Duration::from_secs(3));
-    targets = scan_time, compile_time
+    targets = scan_time, helper_instructions, compile_time
 }
 criterion_main!(benches);

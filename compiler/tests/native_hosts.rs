@@ -158,3 +158,77 @@ fn guarded_host_never_touches_memory_outside_the_image() {
     let interp = interpreter_csv(&program, 300, 10, &["X0=1"]);
     assert_eq!(text(&output.stdout), interp);
 }
+
+/// SORT2, SORT, CRC, BCC, MEAN, ANS and ANR in a firmware build: the
+/// example host (static storage) prints what the interpreter prints, and a
+/// driver that hashes the whole image after every scan, linked with the same
+/// runtime library, sees exactly the interpreter's image.
+#[test]
+fn firmware_host_runs_tables_checks_and_alarms_like_the_interpreter() {
+    let dir = scratch("tables");
+    let program = workspace().join("testsuite/programs/tables_and_alarms.il");
+    let host = example_host(&program, dir.path());
+    let output = Command::new(&host)
+        .args(["120", "10", "X0=1", "X1=1"])
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let csv = text(&output.stdout);
+    assert_eq!(csv, interpreter_csv(&program, 120, 10, &["X0=1", "X1=1"]));
+    assert!(
+        csv.lines().nth(4).unwrap().starts_with("4,1,"),
+        "SORT2 done at scan 4:\n{csv}"
+    );
+    assert!(
+        csv.lines().any(|l| l.split(',').nth(2) == Some("1")),
+        "the alarm set SM248:\n{csv}"
+    );
+
+    let object = dir.path().join("program.o");
+    std::fs::write(dir.path().join("layout.h"), tools::layout_header()).unwrap();
+    let driver = dir.path().join("digest");
+    let mut flags = vec!["-I".to_string(), dir.path().display().to_string()];
+    flags.push("-Wno-unused-parameter".into());
+    let flags: Vec<&str> = flags.iter().map(String::as_str).collect();
+    link_host_with(
+        &flags,
+        &[&workspace().join("testsuite/cross/image_digest.c"), &object],
+        &driver,
+    );
+    let output = Command::new(&driver).arg("300").output().unwrap();
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    // The driver's input pattern does reach the interesting states.
+    let seen = states_seen(&program, 300);
+    assert_eq!(seen, [true; 4], "SORT2 done, S900 set, S900 reset by ANR, CRC computed");
+    let expected = tools::interpreter_digests(&program, 300);
+    let actual = text(&output.stdout);
+    let first_difference = expected.lines().zip(actual.lines()).find(|(e, a)| e != a);
+    assert!(
+        first_difference.is_none() && expected.lines().count() == actual.lines().count(),
+        "the compiled image differs from the interpreter's, first at {first_difference:?}"
+    );
+}
+
+/// Whether, under the digest driver's input pattern, SM229 turned ON, S900
+/// turned ON, S900 turned OFF again, and D300 (the CRC) was written.
+fn states_seen(program: &Path, scans: u32) -> [bool; 4] {
+    let source = ladderc::source::SourceFile::read(program).unwrap();
+    let (checked, _) = ladderc::check::compile_source(&source);
+    let checked = checked.expect("the program compiles");
+    let interpreter = ladderc::interp::Interpreter::new(&checked);
+    let mut mem = ladder_runtime::Memory::new_boxed();
+    let mut seen = [false; 4];
+    for scan in 1..=scans {
+        let pattern = scan.wrapping_mul(2654435761) >> 13;
+        for x in 0..8 {
+            mem.input_image[x] = ((pattern >> x) & 1) as u8;
+        }
+        let alarm_before = mem.s[900];
+        interpreter.scan(&mut mem, 10);
+        seen[0] |= mem.sm[229] == 1;
+        seen[1] |= mem.s[900] == 1;
+        seen[2] |= alarm_before == 1 && mem.s[900] == 0;
+        seen[3] |= mem.d[300] != 0;
+    }
+    seen
+}
