@@ -8,7 +8,6 @@ mod common;
 
 use common::tools::{self, interpreter_csv, interpreter_digests, ladderc, layout_header, scratch, workspace};
 use ladder_runtime::layout;
-use ladder_runtime::Memory;
 use object::{Architecture, Object, ObjectSymbol};
 use std::fmt::Write as _;
 use std::path::Path;
