@@ -49,10 +49,13 @@ impl SourceFile {
         }
     }
 
-    /// Reads a file; bytes that are not UTF-8 become U+FFFD so that the
-    /// front end can still point at them.
-    pub fn read(path: &std::path::Path) -> std::io::Result<SourceFile> {
-        let bytes = std::fs::read(path)?;
+    /// Reads a program file of at most `MAX_SOURCE_BYTES`; bytes that are
+    /// not UTF-8 become U+FFFD so that the front end can still point at them.
+    /// Reading stops at the first NUL byte of a file that is not UTF-16 (it
+    /// is not a text file; the front end reports it), so `/dev/zero` ends at
+    /// once.
+    pub fn read(path: &std::path::Path) -> Result<SourceFile, ReadError> {
+        let bytes = read_bounded(path)?;
         Ok(SourceFile::new(
             path.display().to_string(),
             String::from_utf8_lossy(&bytes).into_owned(),
@@ -81,9 +84,63 @@ impl SourceFile {
     }
 }
 
+/// The largest program or scenario file ladderc reads (64 MiB): generous
+/// for real programs (a million instructions are about 12 MiB), and a bound
+/// for everything else.
+pub const MAX_SOURCE_BYTES: u64 = 64 * 1024 * 1024;
+
+/// Why a file could not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum ReadError {
+    #[error("cannot read {path}: {source}")]
+    Io { path: String, source: std::io::Error },
+    #[error("{path} is larger than 64 MiB, the most ladderc reads from a program or scenario file")]
+    TooLarge { path: String },
+}
+
+/// The bytes of a file, at most `MAX_SOURCE_BYTES`; stops after the first
+/// NUL byte unless the file starts with a UTF-16 byte-order mark.
+pub fn read_bounded(path: &std::path::Path) -> Result<Vec<u8>, ReadError> {
+    use std::io::Read;
+    let io = |source| ReadError::Io {
+        path: path.display().to_string(),
+        source,
+    };
+    let file = std::fs::File::open(path).map_err(io)?;
+    let mut reader = file.take(MAX_SOURCE_BYTES + 1);
+    let mut bytes = Vec::new();
+    let mut chunk = [0u8; 64 * 1024];
+    loop {
+        let read = reader.read(&mut chunk).map_err(io)?;
+        if read == 0 {
+            break;
+        }
+        let utf16 = matches!(bytes.get(..2).or(chunk.get(..2)), Some([0xFF, 0xFE] | [0xFE, 0xFF]));
+        match chunk[..read].iter().position(|&b| b == 0) {
+            Some(nul) if !utf16 => {
+                bytes.extend_from_slice(&chunk[..=nul]);
+                return Ok(bytes);
+            }
+            _ => bytes.extend_from_slice(&chunk[..read]),
+        }
+    }
+    if bytes.len() as u64 > MAX_SOURCE_BYTES {
+        return Err(ReadError::TooLarge {
+            path: path.display().to_string(),
+        });
+    }
+    Ok(bytes)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn reading_stops_at_binary_data() {
+        let bytes = read_bounded(std::path::Path::new("/dev/zero")).unwrap();
+        assert_eq!(bytes, [0]);
+    }
 
     #[test]
     fn lines_and_columns_are_one_based() {

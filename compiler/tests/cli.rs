@@ -113,3 +113,172 @@ fn explain_prints_the_explanation() {
     assert!(text(&output.stdout).starts_with("E0010: ANB/ORB without two blocks"));
     assert_eq!(ladderc(&["explain", "E9999"], &dir).status.code(), Some(2));
 }
+
+mod file_safety {
+    //! `ladderc build` never destroys a file: the findings of the
+    //! reliability review, one test each.
+
+    use super::{ladderc, temp_dir, text};
+    use std::path::Path;
+
+    const GOOD: &str = "LD X0\nOUT Y0\n";
+    const BAD: &str = "LD X0\nOUT X1\n";
+
+    fn is_object(path: &Path) -> bool {
+        std::fs::read(path).is_ok_and(|b| b.starts_with(b"\x7fELF"))
+    }
+
+    #[test]
+    fn the_program_is_never_its_own_output() {
+        let dir = temp_dir("same-file");
+        for (program, text_of_program) in [("mine.il", BAD), ("ok.il", GOOD)] {
+            std::fs::write(dir.join(program), text_of_program).unwrap();
+            let output = ladderc(&["build", program, "-o", program], &dir);
+            assert_eq!(output.status.code(), Some(2), "{program}");
+            assert!(
+                text(&output.stderr).contains("is the input"),
+                "{}",
+                text(&output.stderr)
+            );
+            assert_eq!(std::fs::read_to_string(dir.join(program)).unwrap(), text_of_program);
+        }
+        // A program named like its default output, `prog.o`.
+        std::fs::write(dir.join("prog.o"), GOOD).unwrap();
+        let output = ladderc(&["build", "prog.o"], &dir);
+        assert_eq!(output.status.code(), Some(2));
+        assert_eq!(std::fs::read_to_string(dir.join("prog.o")).unwrap(), GOOD);
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn links_to_the_program_are_the_program() {
+        let dir = temp_dir("links");
+        std::fs::write(dir.join("p.il"), GOOD).unwrap();
+        std::fs::hard_link(dir.join("p.il"), dir.join("hard.o")).unwrap();
+        std::os::unix::fs::symlink("p.il", dir.join("soft.o")).unwrap();
+        for output in ["hard.o", "soft.o"] {
+            let result = ladderc(&["build", "p.il", "-o", output], &dir);
+            assert_eq!(result.status.code(), Some(2), "{output}");
+        }
+        assert_eq!(std::fs::read_to_string(dir.join("p.il")).unwrap(), GOOD);
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_symbolic_link_is_written_through() {
+        let dir = temp_dir("symlink");
+        std::fs::write(dir.join("p.il"), GOOD).unwrap();
+        std::fs::write(dir.join("target.o"), b"old").unwrap();
+        std::os::unix::fs::symlink("target.o", dir.join("link.o")).unwrap();
+        let output = ladderc(&["build", "p.il", "-o", "link.o"], &dir);
+        assert_eq!(output.status.code(), Some(0), "{}", text(&output.stderr));
+        let link = std::fs::symlink_metadata(dir.join("link.o")).unwrap();
+        assert!(link.file_type().is_symlink(), "the link is kept");
+        assert!(is_object(&dir.join("target.o")), "its target holds the object");
+        std::os::unix::fs::symlink("nowhere.o", dir.join("dangling.o")).unwrap();
+        let output = ladderc(&["build", "p.il", "-o", "dangling.o"], &dir);
+        assert_eq!(output.status.code(), Some(2));
+        assert!(text(&output.stderr).contains("does not exist"));
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn only_regular_files_are_replaced() {
+        let dir = temp_dir("special");
+        std::fs::write(dir.join("p.il"), GOOD).unwrap();
+        let fifo = dir.join("pipe");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status().unwrap();
+        assert!(made.success());
+        std::fs::create_dir_all(dir.join("folder")).unwrap();
+        for (output, kind) in [("pipe", "named pipe"), ("folder", "directory"), ("/dev/null", "device")] {
+            let result = ladderc(&["build", "p.il", "-o", output], &dir);
+            assert_eq!(result.status.code(), Some(2), "{output}");
+            assert!(text(&result.stderr).contains(kind), "{}", text(&result.stderr));
+        }
+        use std::os::unix::fs::FileTypeExt;
+        assert!(
+            std::fs::symlink_metadata(&fifo).unwrap().file_type().is_fifo(),
+            "the pipe is still there"
+        );
+        assert!(dir.join("folder").is_dir());
+        assert!(std::fs::metadata("/dev/null").unwrap().file_type().is_char_device());
+    }
+
+    #[test]
+    fn a_successful_build_replaces_only_its_output() {
+        let dir = temp_dir("success");
+        std::fs::write(dir.join("p.il"), GOOD).unwrap();
+        std::fs::write(dir.join("p.o"), b"old").unwrap();
+        let output = ladderc(&["build", "p.il"], &dir);
+        assert_eq!(output.status.code(), Some(0), "{}", text(&output.stderr));
+        assert!(is_object(&dir.join("p.o")));
+        let mut names: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().into_string().unwrap())
+            .collect();
+        names.sort();
+        assert_eq!(names, ["p.il", "p.o"]);
+    }
+
+    #[test]
+    fn prefixes_are_c_identifiers_outside_the_runtime_names() {
+        let dir = temp_dir("prefix");
+        std::fs::write(dir.join("p.il"), GOOD).unwrap();
+        for prefix in ["", "ladder_end_", "ladder_begin_", "9x", "a-b"] {
+            let output = ladderc(&["build", "p.il", "--prefix", prefix, "-o", "x.o"], &dir);
+            assert_eq!(output.status.code(), Some(2), "{prefix:?}");
+            let stderr = text(&output.stderr);
+            assert!(stderr.contains("--prefix") && !stderr.contains("Signature"), "{stderr}");
+            assert!(!dir.join("x.o").exists());
+        }
+        let output = ladderc(&["build", "p.il", "--prefix", "motor_", "-o", "x.o"], &dir);
+        assert_eq!(output.status.code(), Some(0), "{}", text(&output.stderr));
+    }
+}
+
+mod bounded_input {
+    use super::{ladderc, temp_dir, text};
+
+    #[cfg(unix)]
+    #[test]
+    fn endless_input_ends_at_once() {
+        let dir = temp_dir("dev-zero");
+        let started = std::time::Instant::now();
+        let output = ladderc(&["check", "/dev/zero"], &dir);
+        assert_eq!(output.status.code(), Some(1));
+        let stderr = text(&output.stderr);
+        assert!(stderr.contains("error[E0009]: this is not a text file"), "{stderr}");
+        assert!(stderr.contains("/dev/zero:1:1"), "{stderr}");
+        std::fs::write(dir.join("z.scn"), "program /dev/zero\nscan\n").unwrap();
+        let output = ladderc(&["test", "z.scn"], &dir);
+        assert_eq!(output.status.code(), Some(1), "{}", text(&output.stdout));
+        assert!(started.elapsed().as_secs() < 30, "reading stopped early");
+    }
+
+    #[test]
+    fn binary_data_is_one_clear_error() {
+        let dir = temp_dir("binary");
+        std::fs::write(dir.join("b.il"), b"LD X0\nOUT Y0\n\x7fELF\x02\x00\x00garbage").unwrap();
+        let output = ladderc(&["check", "b.il"], &dir);
+        assert_eq!(output.status.code(), Some(1));
+        let stderr = text(&output.stderr);
+        assert!(stderr.contains("E0009") && stderr.contains("b.il:3:6"), "{stderr}");
+        assert_eq!(stderr.matches("error[").count(), 1, "{stderr}");
+    }
+
+    #[test]
+    fn files_past_the_limit_are_refused() {
+        let dir = temp_dir("large");
+        let path = dir.join("huge.il");
+        let spaces = vec![b' '; (ladderc::source::MAX_SOURCE_BYTES + 1) as usize];
+        std::fs::write(&path, spaces).unwrap();
+        let output = ladderc(&["check", "huge.il"], &dir);
+        assert_eq!(output.status.code(), Some(2));
+        assert!(
+            text(&output.stderr).contains("larger than 64 MiB"),
+            "{}",
+            text(&output.stderr)
+        );
+        std::fs::remove_file(&path).unwrap();
+    }
+}

@@ -97,21 +97,26 @@ int main(void) {
 }
 
 #[test]
-fn failed_build_leaves_no_object() {
+fn failed_build_writes_nothing_and_removes_nothing() {
     let dir = scratch("atomic");
     let bad = dir.path().join("bad.il");
     std::fs::write(&bad, "LD X0\nOUT X1\n").unwrap();
     let object = dir.path().join("bad.o");
-    std::fs::write(&object, b"stale").unwrap();
-    let output = ladderc(&["build", bad.to_str().unwrap(), "-o", object.to_str().unwrap()]);
-    assert_eq!(output.status.code(), Some(1));
-    assert!(text(&output.stderr).contains("E0003"));
-    assert!(!object.exists(), "a failed build must not leave an object behind");
-    let leftovers: Vec<_> = std::fs::read_dir(dir.path())
+    let fresh = dir.path().join("fresh.o");
+    std::fs::write(&object, b"an earlier object").unwrap();
+    for output in [&object, &fresh] {
+        let result = ladderc(&["build", bad.to_str().unwrap(), "-o", output.to_str().unwrap()]);
+        assert_eq!(result.status.code(), Some(1));
+        assert!(text(&result.stderr).contains("E0003"));
+    }
+    assert_eq!(std::fs::read(&object).unwrap(), b"an earlier object", "left as it was");
+    assert!(!fresh.exists(), "no output for a failed build");
+    let mut names: Vec<_> = std::fs::read_dir(dir.path())
         .unwrap()
-        .map(|e| e.unwrap().file_name())
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
         .collect();
-    assert_eq!(leftovers.len(), 1, "no temporary files either: {leftovers:?}");
+    names.sort();
+    assert_eq!(names, ["bad.il", "bad.o"], "no temporary files either");
 }
 
 /// 300 scans sweep every offset register across its whole range.

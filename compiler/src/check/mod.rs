@@ -28,6 +28,13 @@ use std::collections::HashMap;
 /// Parses and checks a source file. The program is returned only when there
 /// are no errors; the diagnostics may hold warnings either way.
 pub fn compile_source(file: &SourceFile) -> (Option<CheckedProgram>, Vec<Diagnostic>) {
+    // A NUL byte means this is not a program text: one error, not a cascade.
+    if let Some(nul) = file.text.find('\0') {
+        let diagnostic = Diagnostic::new(Code::BinaryInput, Span::new(nul, nul + 1), "this is not a text file")
+            .with_label("a NUL byte")
+            .with_note("program files are text: UTF-8, UTF-16 with a byte-order mark, or a GX Works2 CSV export");
+        return (None, vec![diagnostic]);
+    }
     let (parsed, mut diagnostics) = syntax::parse(file);
     let (program, check_diagnostics) = check(&parsed, &file.name, file.text.len());
     diagnostics.extend(check_diagnostics);

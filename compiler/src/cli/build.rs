@@ -1,10 +1,11 @@
 //! `ladderc build`: an object file with the C-ABI scan entry point, or the IR.
 
+use super::output;
 use super::status;
 use crate::codegen::ObjectOptions;
 use clap::{Args, ValueEnum};
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 #[derive(Args, Debug)]
 pub struct BuildArgs {
@@ -36,34 +37,36 @@ enum Emit {
 }
 
 pub fn run(args: &BuildArgs) -> u8 {
+    if let Err(message) = check_prefix(&args.prefix) {
+        say_err!("error: --prefix `{}`: {message}", args.prefix);
+        return status::UNUSABLE;
+    }
     let output = match (&args.output, args.emit) {
         (Some(path), _) => Some(path.clone()),
         (None, Emit::Obj) => Some(args.program.with_extension("o")),
         (None, Emit::Ir) => None,
     };
-    if !is_c_identifier_prefix(&args.prefix) {
-        say_err!(
-            "error: --prefix `{}` must start a C identifier (letters, digits, `_`)",
-            args.prefix
-        );
-        return status::UNUSABLE;
-    }
-    let bytes = match produce(args) {
-        Ok(bytes) => bytes,
-        Err(code) => {
-            // A failed build leaves no output behind, not even an old one.
-            if let Some(path) = &output {
-                let _ = std::fs::remove_file(path);
-            }
-            return code;
+    // Checked before compiling: a refused output is refused however the
+    // program is.
+    let target = match output.as_deref().map(|path| output::prepare(path, &[&args.program])) {
+        None => None,
+        Some(Ok(target)) => Some(target),
+        Some(Err(error)) => {
+            say_err!("error: {error}");
+            return status::UNUSABLE;
         }
     };
-    match output {
+    // A failed build writes nothing and removes nothing.
+    let bytes = match produce(args) {
+        Ok(bytes) => bytes,
+        Err(code) => return code,
+    };
+    match target {
         None => {
             let _ = std::io::stdout().lock().write_all(&bytes);
             status::OK
         }
-        Some(path) => match write_atomically(&path, &bytes) {
+        Some(path) => match output::write_atomically(&path, &bytes) {
             Ok(()) => status::OK,
             Err(error) => {
                 say_err!("error: cannot write {}: {error}", path.display());
@@ -90,33 +93,37 @@ fn produce(args: &BuildArgs) -> Result<Vec<u8>, u8> {
     }
 }
 
-/// Writes `bytes` to a temporary file next to `path` and renames it into
-/// place: readers see the old file or the whole new one, never a part.
-pub fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let directory = match path.parent() {
-        Some(parent) if !parent.as_os_str().is_empty() => parent,
-        _ => Path::new("."),
+/// A prefix for `<prefix>scan`: a C identifier start, outside the names the
+/// runtime reserves (`ladder_`, except the default `ladder_program_`).
+fn check_prefix(prefix: &str) -> Result<(), String> {
+    let mut chars = prefix.chars();
+    let Some(first) = chars.next() else {
+        return Err("the prefix is empty; the entry point would be a bare `scan`".into());
     };
-    let mut builder = tempfile::Builder::new();
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        // An object file is an ordinary file, not a private temporary one.
-        builder.permissions(std::fs::Permissions::from_mode(0o644));
+    if !(first.is_ascii_alphabetic() || first == '_') || !chars.all(|c| c.is_ascii_alphanumeric() || c == '_') {
+        return Err("a prefix is the start of a C identifier: letters, digits and `_`, not a digit first".into());
     }
-    let mut file = builder.tempfile_in(directory)?;
-    file.write_all(bytes)?;
-    file.as_file().sync_all()?;
-    file.persist(path).map_err(|e| e.error)?;
+    if prefix.starts_with("ladder_") && prefix != crate::codegen::DEFAULT_PREFIX {
+        return Err(format!(
+            "names starting with `ladder_` belong to the runtime (ladder_begin_scan, ladder_end_scan, ladder_rt_...); \
+             use another prefix such as `motor_`, or the default `{}`",
+            crate::codegen::DEFAULT_PREFIX
+        ));
+    }
     Ok(())
 }
 
-fn is_c_identifier_prefix(prefix: &str) -> bool {
-    let mut chars = prefix.chars();
-    match chars.next() {
-        None => true,
-        Some(first) => {
-            (first.is_ascii_alphabetic() || first == '_') && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
+#[cfg(test)]
+mod tests {
+    use super::check_prefix;
+
+    #[test]
+    fn prefixes() {
+        for good in ["motor_", "m", "_x1", "ladder_program_", "ladderx_"] {
+            assert!(check_prefix(good).is_ok(), "{good}");
+        }
+        for bad in ["", "1x", "a-b", "ladder_end_", "ladder_begin_", "ladder_rt_", "é"] {
+            assert!(check_prefix(bad).is_err(), "{bad}");
         }
     }
 }

@@ -31,6 +31,7 @@ fn write_raw(to_stderr: bool, text: &str) {
 mod build;
 mod check;
 mod explain;
+mod output;
 mod run;
 pub mod test;
 
@@ -126,7 +127,7 @@ pub fn main_with_args(args: impl IntoIterator<Item = std::ffi::OsString>) -> u8 
 /// `Err` holds the exit status to return.
 fn compile_file(path: &std::path::Path) -> Result<crate::program::CheckedProgram, u8> {
     let source = crate::source::SourceFile::read(path).map_err(|e| {
-        say_err!("error: cannot read {}: {e}", path.display());
+        say_err!("error: {e}");
         status::UNUSABLE
     })?;
     let (program, diagnostics) = crate::check::compile_source(&source);

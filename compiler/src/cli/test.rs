@@ -75,13 +75,14 @@ pub fn run_to(out: &mut dyn Write, paths: &[PathBuf], engines: &[EngineKind]) ->
 /// Reads and parses a scenario and its program; reports and returns None
 /// when either cannot be read or parsed.
 fn load(file: &Path) -> Option<(crate::scenario::Scenario, crate::source::SourceFile)> {
-    let text = match std::fs::read_to_string(file) {
-        Ok(text) => text,
+    let text = match crate::source::read_bounded(file) {
+        Ok(bytes) => String::from_utf8_lossy(&bytes).into_owned(),
         Err(error) => {
-            say_err!("error: cannot read {}: {error}", file.display());
+            say_err!("error: {error}");
             return None;
         }
     };
+
     let scenario = match parse_scenario(file, &text) {
         Ok(scenario) => scenario,
         Err(error) => {

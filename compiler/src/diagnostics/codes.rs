@@ -85,6 +85,12 @@ data register:
 line (`P12` or `P12:`). A stray comma or a step number without an
 instruction also gives this error.";
 
+    BinaryInput = "E0009", Error, "not a text file",
+"The file holds a NUL byte, so it is binary data (an object file, an image)
+rather than a program. Program files are text: UTF-8 (with or without a
+byte-order mark), UTF-16 with a byte-order mark, or a GX Works2 instruction
+list exported as CSV.";
+
     BlockUnderflow = "E0010", Error, "ANB/ORB without two blocks",
 "ANB and ORB combine the current block with the one before it; a block
 starts at each LD-type instruction. There must be a block pending:

@@ -71,9 +71,7 @@ pub fn collect_files(path: &Path) -> std::io::Result<Vec<PathBuf>> {
 /// Loads the scenario's program. `Err` means it cannot be read (exit 2).
 pub fn load_program(scenario: &Scenario) -> Result<SourceFile, String> {
     match &scenario.program {
-        ProgramSource::File(path) => {
-            SourceFile::read(path).map_err(|e| format!("cannot read program {}: {e}", path.display()))
-        }
+        ProgramSource::File(path) => SourceFile::read(path).map_err(|e| e.to_string()),
         ProgramSource::Inline { text, .. } => Ok(SourceFile::new(
             format!("{} (program)", scenario.path.display()),
             text.clone(),
