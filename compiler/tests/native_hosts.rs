@@ -237,3 +237,56 @@ fn states_seen(program: &Path, scans: u32) -> [bool; 4] {
     }
     seen
 }
+
+/// The C API as the header promises it, from C: a null image is ignored by
+/// every function and by the compiled scan entry point; unknown kinds are
+/// BAD_ARGUMENT, values that do not fit BAD_VALUE; an input written between
+/// scans reaches X at the next input refresh.
+#[test]
+fn the_c_api_keeps_the_header_s_promises() {
+    let dir = scratch("capi");
+    let d = dir.path();
+    let program = d.join("p.il");
+    std::fs::write(&program, "LD X0\nOUT Y0\n").unwrap();
+    let object = d.join("p.o");
+    let output = ladderc(&["build", program.to_str().unwrap(), "-o", object.to_str().unwrap()]);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let main = d.join("main.c");
+    std::fs::write(
+        &main,
+        r#"#include <stdio.h>
+#include "ladder_runtime.h"
+LADDER_DECLARE_PROGRAM(ladder_program_);
+static uint32_t storage[LADDER_MEMORY_SIZE / 4 + 1];
+#define CHECK(e) do { if (!(e)) { printf("failed: %s\n", #e); return 1; } } while (0)
+int main(void) {
+    int32_t value = 0;
+    ladder_program_scan(NULL, 10);
+    CHECK(ladder_set_input(NULL, 0, 1) == LADDER_STATUS_BAD_ARGUMENT);
+    CHECK(ladder_read(NULL, LADDER_DEVICE_D, 0, &value) == LADDER_STATUS_BAD_ARGUMENT);
+    CHECK(ladder_force(NULL, LADDER_DEVICE_Y, 0, 1) == LADDER_STATUS_BAD_ARGUMENT);
+    CHECK(ladder_get_output(NULL, 0) == -1);
+    LadderMemory *mem = ladder_init(storage, sizeof storage);
+    CHECK(mem != NULL);
+    CHECK(ladder_force(mem, 99, 0, 1) == LADDER_STATUS_BAD_ARGUMENT);
+    CHECK(ladder_unforce(mem, 99, 0) == LADDER_STATUS_BAD_ARGUMENT);
+    CHECK(ladder_force(mem, LADDER_DEVICE_D, 0, 1) == LADDER_STATUS_NOT_FORCEABLE);
+    CHECK(ladder_write(mem, LADDER_DEVICE_D, 0, 70000) == LADDER_STATUS_BAD_VALUE);
+    CHECK(ladder_write(mem, LADDER_DEVICE_D, 0, -32768) == LADDER_STATUS_OK);
+    CHECK(ladder_write(mem, LADDER_DEVICE_M, 0, 2) == LADDER_STATUS_BAD_VALUE);
+    CHECK(ladder_set_input(mem, 0, 1) == LADDER_STATUS_OK);
+    CHECK(ladder_read(mem, LADDER_DEVICE_X, 0, &value) == LADDER_STATUS_OK && value == 0);
+    ladder_program_scan(mem, 10);
+    CHECK(ladder_read(mem, LADDER_DEVICE_X, 0, &value) == LADDER_STATUS_OK && value == 1);
+    CHECK(ladder_get_output(mem, 0) == 1);
+    printf("ok\n");
+    return 0;
+}
+"#,
+    )
+    .unwrap();
+    let host = d.join("capi");
+    link_host(&[&main, &object], &host);
+    let output = Command::new(&host).output().unwrap();
+    assert_eq!(text(&output.stdout), "ok\n", "{}", text(&output.stderr));
+}

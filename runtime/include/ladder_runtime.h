@@ -5,6 +5,13 @@
  * A host initialises a device image in storage it owns, then for every scan
  * writes inputs, calls the compiled program's scan entry point and reads
  * outputs. See docs/runtime.md.
+ *
+ * Threads and interrupts: an image belongs to one thread of control. Do not
+ * call a function on an image while another call on the same image runs
+ * (a scan included), except ladder_set_input: it writes one byte of the
+ * input image and nothing else, so an interrupt handler may call it during a
+ * scan; the program sees the input at the next scan's input refresh. Separate
+ * images are independent. No function allocates memory.
  */
 
 #ifndef LADDER_RUNTIME_H
@@ -16,7 +23,8 @@
 /*
  * The scan entry point of a program compiled by `ladderc build`: runs one whole
  * scan (inputs, program, outputs) with `elapsed_ms` since the previous scan.
- * Its name is `<prefix>scan`; the default prefix is `ladder_program_`.
+ * Its name is `<prefix>scan`; the default prefix is `ladder_program_`. A null
+ * `mem` does nothing.
  */
 #define LADDER_DECLARE_PROGRAM(prefix) \
     void prefix##scan(LadderMemory *mem, uint32_t elapsed_ms)
@@ -49,6 +57,11 @@ typedef enum LadderStatus {
    * A null pointer, unknown device kind, or storage too small or misaligned.
    */
   LADDER_STATUS_BAD_ARGUMENT = 3,
+  /**
+   * The value does not fit the device: a bit takes 0 or 1, a 16-bit word
+   * -32768..65535.
+   */
+  LADDER_STATUS_BAD_VALUE = 4,
 } LadderStatus;
 
 /**
@@ -126,12 +139,20 @@ extern "C" {
 struct LadderMemory *ladder_init(void *storage, size_t size);
 
 /**
- * Writes input Xn of the input image (taken at the next scan).
+ * Writes input Xn of the input image; the program sees it at the next
+ * scan's input refresh. It writes that one byte only, so an interrupt
+ * handler may call it while a scan runs.
+ *
+ * # Safety
+ * `mem` is null or an image from `ladder_init`.
  */
 enum LadderStatus ladder_set_input(struct LadderMemory *mem, uint32_t x, bool on);
 
 /**
  * Output Yn as the latest scan left it: 1 or 0, or -1 when out of range.
+ *
+ * # Safety
+ * `mem` is null or an image from `ladder_init` that no other call uses now.
  */
 int32_t ladder_get_output(const struct LadderMemory *mem, uint32_t y);
 
@@ -140,6 +161,7 @@ int32_t ladder_get_output(const struct LadderMemory *mem, uint32_t y);
  * 16-bit words sign-extended, 32-bit counter values whole.
  *
  * # Safety
+ * `mem` is null or an image from `ladder_init` that no other call uses now;
  * `value` is null or valid for a write.
  */
 enum LadderStatus ladder_read(const struct LadderMemory *mem,
@@ -148,8 +170,13 @@ enum LadderStatus ladder_read(const struct LadderMemory *mem,
                               int32_t *value);
 
 /**
- * Writes a device as a programming tool would (not forced). Writing X sets the
- * input image.
+ * Writes a device as a programming tool would (not forced): a bit 0 or 1,
+ * a 16-bit word -32768..65535 (signed or unsigned), a 32-bit counter value
+ * whole; anything else is `LADDER_STATUS_BAD_VALUE` and writes nothing.
+ * Writing X sets the input image (the program sees it at the next scan).
+ *
+ * # Safety
+ * `mem` is null or an image from `ladder_init` that no other call uses now.
  */
 enum LadderStatus ladder_write(struct LadderMemory *mem,
                                uint32_t kind,
@@ -157,44 +184,70 @@ enum LadderStatus ladder_write(struct LadderMemory *mem,
                                int32_t value);
 
 /**
- * Forces X, Y, M, T (contact) or C (contact) ON or OFF until unforced.
+ * Forces X, Y, M, T (contact) or C (contact) ON or OFF until unforced:
+ * `LADDER_STATUS_NOT_FORCEABLE` for other devices, `BAD_ARGUMENT` for a
+ * kind that does not exist.
+ *
+ * # Safety
+ * `mem` is null or an image from `ladder_init` that no other call uses now.
  */
 enum LadderStatus ladder_force(struct LadderMemory *mem, uint32_t kind, uint32_t number, bool on);
 
 /**
- * Ends a force.
+ * Ends a force (statuses as `ladder_force`).
+ *
+ * # Safety
+ * `mem` is null or an image from `ladder_init` that no other call uses now.
  */
 enum LadderStatus ladder_unforce(struct LadderMemory *mem, uint32_t kind, uint32_t number);
 
 /**
  * Steps 1–2 of a scan (inputs, pending STL states, special relays). A
  * compiled program's scan entry point calls this itself.
+ *
+ * # Safety
+ * `mem` is null or an image from `ladder_init` that no other call uses now.
  */
 void ladder_begin_scan(struct LadderMemory *mem, uint32_t elapsed_ms);
 
 /**
  * Step 4 of a scan (forced Y/M, output image). A compiled program's scan
  * entry point calls this itself.
+ *
+ * # Safety
+ * `mem` is null or an image from `ladder_init` that no other call uses now.
  */
 void ladder_end_scan(struct LadderMemory *mem);
 
 /**
  * The latest operation error code (D8067) while M8067 is ON, else 0.
+ *
+ * # Safety
+ * `mem` is null or an image from `ladder_init` that no other call uses now.
  */
 uint16_t ladder_operation_error(const struct LadderMemory *mem);
 
 /**
  * The source line of the latest operation error (D8069), 0 when none.
+ *
+ * # Safety
+ * `mem` is null or an image from `ladder_init` that no other call uses now.
  */
 uint16_t ladder_operation_error_line(const struct LadderMemory *mem);
 
 /**
  * Clears M8067, D8067 and D8069.
+ *
+ * # Safety
+ * `mem` is null or an image from `ladder_init` that no other call uses now.
  */
 void ladder_clear_operation_error(struct LadderMemory *mem);
 
 /**
  * Completed scans since initialisation.
+ *
+ * # Safety
+ * `mem` is null or an image from `ladder_init` that no other call uses now.
  */
 uint32_t ladder_scan_count(const struct LadderMemory *mem);
 

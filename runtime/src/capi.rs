@@ -4,6 +4,13 @@
 //! may have no heap), then for every scan writes inputs, calls the compiled
 //! program's scan entry point, and reads outputs. Every function accepts a null
 //! image and does nothing (or reports `LADDER_STATUS_BAD_ARGUMENT`).
+//!
+//! Threads and interrupts: an image belongs to one thread of control. No
+//! function may be called on an image while another call on the same image
+//! runs, with one exception: `ladder_set_input` writes one byte of the input
+//! image and nothing else, so an interrupt handler may call it during a scan;
+//! the program sees the input at the next scan's input refresh, never in the
+//! middle of a scan. Different images are independent.
 
 use crate::device::{BitArea, WordArea, FIRST_WIDE_COUNTER};
 use crate::force::ForceError;
@@ -67,15 +74,22 @@ pub enum LadderStatus {
     NotForceable = 2,
     /// A null pointer, unknown device kind, or storage too small or misaligned.
     BadArgument = 3,
+    /// The value does not fit the device: a bit takes 0 or 1, a 16-bit word
+    /// -32768..65535.
+    BadValue = 4,
 }
 
-fn image<'a>(mem: *const LadderMemory) -> Option<&'a Memory> {
-    // SAFETY: a non-null image comes from `ladder_init` (documented contract).
+/// # Safety
+/// `mem` is null or an image from `ladder_init` that no other call uses now.
+unsafe fn image<'a>(mem: *const LadderMemory) -> Option<&'a Memory> {
+    // SAFETY: the caller's contract.
     unsafe { mem.cast::<Memory>().as_ref() }
 }
 
-fn image_mut<'a>(mem: *mut LadderMemory) -> Option<&'a mut Memory> {
-    // SAFETY: as in `image`; the host does not share the image across threads.
+/// # Safety
+/// As `image`.
+unsafe fn image_mut<'a>(mem: *mut LadderMemory) -> Option<&'a mut Memory> {
+    // SAFETY: the caller's contract.
     unsafe { mem.cast::<Memory>().as_mut() }
 }
 
@@ -156,16 +170,35 @@ pub unsafe extern "C" fn ladder_init(storage: *mut c_void, size: usize) -> *mut 
     storage.cast()
 }
 
-/// Writes input Xn of the input image (taken at the next scan).
+/// Writes input Xn of the input image; the program sees it at the next
+/// scan's input refresh. It writes that one byte only, so an interrupt
+/// handler may call it while a scan runs.
+///
+/// # Safety
+/// `mem` is null or an image from `ladder_init`.
 #[no_mangle]
-pub extern "C" fn ladder_set_input(mem: *mut LadderMemory, x: u32, on: bool) -> LadderStatus {
-    ladder_write(mem, LadderDevice::X as u32, x, on as i32)
+pub unsafe extern "C" fn ladder_set_input(mem: *mut LadderMemory, x: u32, on: bool) -> LadderStatus {
+    // SAFETY: the caller's contract; only the input image is touched.
+    let Some(mem) = (unsafe { image_mut(mem) }) else {
+        return LadderStatus::BadArgument;
+    };
+    match mem.input_image.get_mut(x as usize) {
+        Some(input) => {
+            *input = u8::from(on);
+            LadderStatus::Ok
+        }
+        None => LadderStatus::OutOfRange,
+    }
 }
 
 /// Output Yn as the latest scan left it: 1 or 0, or -1 when out of range.
+///
+/// # Safety
+/// `mem` is null or an image from `ladder_init` that no other call uses now.
 #[no_mangle]
-pub extern "C" fn ladder_get_output(mem: *const LadderMemory, y: u32) -> i32 {
-    match image(mem).and_then(|m| m.output_image.get(y as usize)) {
+pub unsafe extern "C" fn ladder_get_output(mem: *const LadderMemory, y: u32) -> i32 {
+    // SAFETY: the caller's contract.
+    match unsafe { image(mem) }.and_then(|m| m.output_image.get(y as usize)) {
         Some(&on) => i32::from(on),
         None => -1,
     }
@@ -175,6 +208,7 @@ pub extern "C" fn ladder_get_output(mem: *const LadderMemory, y: u32) -> i32 {
 /// 16-bit words sign-extended, 32-bit counter values whole.
 ///
 /// # Safety
+/// `mem` is null or an image from `ladder_init` that no other call uses now;
 /// `value` is null or valid for a write.
 #[no_mangle]
 pub unsafe extern "C" fn ladder_read(
@@ -183,7 +217,8 @@ pub unsafe extern "C" fn ladder_read(
     number: u32,
     value: *mut i32,
 ) -> LadderStatus {
-    let (Some(mem), Some(device)) = (image(mem), basic_device(kind, number)) else {
+    // SAFETY: the caller's contract.
+    let (Some(mem), Some(device)) = (unsafe { image(mem) }, basic_device(kind, number)) else {
         return LadderStatus::BadArgument;
     };
     // SAFETY: the caller passes null or a writable i32.
@@ -199,23 +234,40 @@ pub unsafe extern "C" fn ladder_read(
     }
 }
 
-/// Writes a device as a programming tool would (not forced). Writing X sets the
-/// input image.
+/// Writes a device as a programming tool would (not forced): a bit 0 or 1,
+/// a 16-bit word -32768..65535 (signed or unsigned), a 32-bit counter value
+/// whole; anything else is `LADDER_STATUS_BAD_VALUE` and writes nothing.
+/// Writing X sets the input image (the program sees it at the next scan).
+///
+/// # Safety
+/// `mem` is null or an image from `ladder_init` that no other call uses now.
 #[no_mangle]
-pub extern "C" fn ladder_write(mem: *mut LadderMemory, kind: u32, number: u32, value: i32) -> LadderStatus {
-    let (Some(mem), Some(device)) = (image_mut(mem), basic_device(kind, number)) else {
+pub unsafe extern "C" fn ladder_write(mem: *mut LadderMemory, kind: u32, number: u32, value: i32) -> LadderStatus {
+    // SAFETY: the caller's contract.
+    let (Some(mem), Some(device)) = (unsafe { image_mut(mem) }, basic_device(kind, number)) else {
         return LadderStatus::BadArgument;
     };
+    let fits = match device {
+        Basic::Bit(..) => value == 0 || value == 1,
+        Basic::Word(..) => (-32768..=65535).contains(&value),
+        Basic::WideCounter(_) => true,
+    };
+    if !fits {
+        return LadderStatus::BadValue;
+    }
     match mem.write_basic(device, value) {
         Ok(()) => LadderStatus::Ok,
         Err(_) => LadderStatus::OutOfRange,
     }
 }
 
-fn force_area(kind: u32) -> Option<BitArea> {
-    match basic_device(kind, 0)? {
-        Basic::Bit(area, _) => Some(area),
-        _ => None,
+/// The bit area of a forceable kind; `BadArgument` for a kind that does not
+/// exist, `NotForceable` for words, S and SM.
+fn force_area(kind: u32) -> Result<BitArea, LadderStatus> {
+    match basic_device(kind, 0) {
+        None => Err(LadderStatus::BadArgument),
+        Some(Basic::Bit(area, _)) => Ok(area),
+        Some(Basic::Word(..) | Basic::WideCounter(_)) => Err(LadderStatus::NotForceable),
     }
 }
 
@@ -227,67 +279,97 @@ fn force_status(result: Result<(), ForceError>) -> LadderStatus {
     }
 }
 
-/// Forces X, Y, M, T (contact) or C (contact) ON or OFF until unforced.
+/// Forces X, Y, M, T (contact) or C (contact) ON or OFF until unforced:
+/// `LADDER_STATUS_NOT_FORCEABLE` for other devices, `BAD_ARGUMENT` for a
+/// kind that does not exist.
+///
+/// # Safety
+/// `mem` is null or an image from `ladder_init` that no other call uses now.
 #[no_mangle]
-pub extern "C" fn ladder_force(mem: *mut LadderMemory, kind: u32, number: u32, on: bool) -> LadderStatus {
-    let Some(mem) = image_mut(mem) else {
+pub unsafe extern "C" fn ladder_force(mem: *mut LadderMemory, kind: u32, number: u32, on: bool) -> LadderStatus {
+    // SAFETY: the caller's contract.
+    let Some(mem) = (unsafe { image_mut(mem) }) else {
         return LadderStatus::BadArgument;
     };
     match force_area(kind) {
-        Some(area) => force_status(mem.force(area, number, on)),
-        None => LadderStatus::NotForceable,
+        Ok(area) => force_status(mem.force(area, number, on)),
+        Err(status) => status,
     }
 }
 
-/// Ends a force.
+/// Ends a force (statuses as `ladder_force`).
+///
+/// # Safety
+/// `mem` is null or an image from `ladder_init` that no other call uses now.
 #[no_mangle]
-pub extern "C" fn ladder_unforce(mem: *mut LadderMemory, kind: u32, number: u32) -> LadderStatus {
-    let Some(mem) = image_mut(mem) else {
+pub unsafe extern "C" fn ladder_unforce(mem: *mut LadderMemory, kind: u32, number: u32) -> LadderStatus {
+    // SAFETY: the caller's contract.
+    let Some(mem) = (unsafe { image_mut(mem) }) else {
         return LadderStatus::BadArgument;
     };
     match force_area(kind) {
-        Some(area) => force_status(mem.unforce(area, number)),
-        None => LadderStatus::NotForceable,
+        Ok(area) => force_status(mem.unforce(area, number)),
+        Err(status) => status,
     }
 }
 
 /// Steps 1–2 of a scan (inputs, pending STL states, special relays). A
 /// compiled program's scan entry point calls this itself.
+///
+/// # Safety
+/// `mem` is null or an image from `ladder_init` that no other call uses now.
 #[no_mangle]
-pub extern "C" fn ladder_begin_scan(mem: *mut LadderMemory, elapsed_ms: u32) {
-    if let Some(mem) = image_mut(mem) {
+pub unsafe extern "C" fn ladder_begin_scan(mem: *mut LadderMemory, elapsed_ms: u32) {
+    // SAFETY: the caller's contract.
+    if let Some(mem) = unsafe { image_mut(mem) } {
         mem.begin_scan(elapsed_ms);
     }
 }
 
 /// Step 4 of a scan (forced Y/M, output image). A compiled program's scan
 /// entry point calls this itself.
+///
+/// # Safety
+/// `mem` is null or an image from `ladder_init` that no other call uses now.
 #[no_mangle]
-pub extern "C" fn ladder_end_scan(mem: *mut LadderMemory) {
-    if let Some(mem) = image_mut(mem) {
+pub unsafe extern "C" fn ladder_end_scan(mem: *mut LadderMemory) {
+    // SAFETY: the caller's contract.
+    if let Some(mem) = unsafe { image_mut(mem) } {
         mem.end_scan();
     }
 }
 
 /// The latest operation error code (D8067) while M8067 is ON, else 0.
+///
+/// # Safety
+/// `mem` is null or an image from `ladder_init` that no other call uses now.
 #[no_mangle]
-pub extern "C" fn ladder_operation_error(mem: *const LadderMemory) -> u16 {
-    image(mem).and_then(Memory::operation_error).unwrap_or(0)
+pub unsafe extern "C" fn ladder_operation_error(mem: *const LadderMemory) -> u16 {
+    // SAFETY: the caller's contract.
+    unsafe { image(mem) }.and_then(Memory::operation_error).unwrap_or(0)
 }
 
 /// The source line of the latest operation error (D8069), 0 when none.
+///
+/// # Safety
+/// `mem` is null or an image from `ladder_init` that no other call uses now.
 #[no_mangle]
-pub extern "C" fn ladder_operation_error_line(mem: *const LadderMemory) -> u16 {
-    match image(mem) {
+pub unsafe extern "C" fn ladder_operation_error_line(mem: *const LadderMemory) -> u16 {
+    // SAFETY: the caller's contract.
+    match unsafe { image(mem) } {
         Some(mem) if mem.m[M_OPERATION_ERROR as usize] != 0 => mem.d[D_ERROR_LINE as usize] as u16,
         _ => 0,
     }
 }
 
 /// Clears M8067, D8067 and D8069.
+///
+/// # Safety
+/// `mem` is null or an image from `ladder_init` that no other call uses now.
 #[no_mangle]
-pub extern "C" fn ladder_clear_operation_error(mem: *mut LadderMemory) {
-    if let Some(mem) = image_mut(mem) {
+pub unsafe extern "C" fn ladder_clear_operation_error(mem: *mut LadderMemory) {
+    // SAFETY: the caller's contract.
+    if let Some(mem) = unsafe { image_mut(mem) } {
         mem.m[M_OPERATION_ERROR as usize] = 0;
         mem.d[D_ERROR_CODE as usize] = 0;
         mem.d[D_ERROR_LINE as usize] = 0;
@@ -295,9 +377,13 @@ pub extern "C" fn ladder_clear_operation_error(mem: *mut LadderMemory) {
 }
 
 /// Completed scans since initialisation.
+///
+/// # Safety
+/// `mem` is null or an image from `ladder_init` that no other call uses now.
 #[no_mangle]
-pub extern "C" fn ladder_scan_count(mem: *const LadderMemory) -> u32 {
-    image(mem).map_or(0, |m| m.scan_count)
+pub unsafe extern "C" fn ladder_scan_count(mem: *const LadderMemory) -> u32 {
+    // SAFETY: the caller's contract.
+    unsafe { image(mem) }.map_or(0, |m| m.scan_count)
 }
 
 #[cfg(test)]
@@ -333,39 +419,82 @@ mod tests {
     #[test]
     fn read_write_force_scan() {
         let mut storage = vec![0u32; LADDER_MEMORY_SIZE / 4];
-        let mem = unsafe { ladder_init(storage.as_mut_ptr().cast(), LADDER_MEMORY_SIZE) };
-        assert_eq!(ladder_set_input(mem, 8, true), LadderStatus::Ok);
-        assert_eq!(
-            ladder_write(mem, LadderDevice::Cn as u32, 210, 100_000),
-            LadderStatus::Ok
-        );
-        assert_eq!(
-            ladder_write(mem, LadderDevice::D as u32, 8512, 1),
-            LadderStatus::OutOfRange
-        );
-        assert_eq!(ladder_write(mem, 99, 0, 1), LadderStatus::BadArgument);
-        assert_eq!(ladder_force(mem, LadderDevice::Y as u32, 1, true), LadderStatus::Ok);
-        assert_eq!(
-            ladder_force(mem, LadderDevice::D as u32, 1, true),
-            LadderStatus::NotForceable
-        );
-        ladder_begin_scan(mem, 10);
-        ladder_end_scan(mem);
+        unsafe {
+            let mem = ladder_init(storage.as_mut_ptr().cast(), LADDER_MEMORY_SIZE);
+            assert_eq!(ladder_set_input(mem, 8, true), LadderStatus::Ok);
+            let mut value = 7;
+            assert_eq!(
+                ladder_read(mem, LadderDevice::X as u32, 8, &mut value),
+                LadderStatus::Ok
+            );
+            assert_eq!(value, 0, "X changes at the next input refresh, not before");
+            assert_eq!(
+                ladder_write(mem, LadderDevice::Cn as u32, 210, 100_000),
+                LadderStatus::Ok
+            );
+            assert_eq!(
+                ladder_write(mem, LadderDevice::D as u32, 8512, 1),
+                LadderStatus::OutOfRange
+            );
+            assert_eq!(
+                ladder_write(mem, LadderDevice::D as u32, 0, 70_000),
+                LadderStatus::BadValue
+            );
+            assert_eq!(ladder_write(mem, LadderDevice::D as u32, 0, 65_535), LadderStatus::Ok);
+            assert_eq!(ladder_write(mem, LadderDevice::M as u32, 0, 2), LadderStatus::BadValue);
+            assert_eq!(ladder_write(mem, 99, 0, 1), LadderStatus::BadArgument);
+            assert_eq!(ladder_force(mem, LadderDevice::Y as u32, 1, true), LadderStatus::Ok);
+            assert_eq!(
+                ladder_force(mem, LadderDevice::D as u32, 1, true),
+                LadderStatus::NotForceable
+            );
+            assert_eq!(
+                ladder_force(mem, LadderDevice::S as u32, 1, true),
+                LadderStatus::NotForceable
+            );
+            assert_eq!(ladder_force(mem, 99, 1, true), LadderStatus::BadArgument);
+            assert_eq!(ladder_unforce(mem, 99, 1), LadderStatus::BadArgument);
+            ladder_begin_scan(mem, 10);
+            ladder_end_scan(mem);
+            assert_eq!(
+                ladder_read(mem, LadderDevice::X as u32, 8, &mut value),
+                LadderStatus::Ok
+            );
+            assert_eq!(value, 1);
+            assert_eq!(
+                ladder_read(mem, LadderDevice::D as u32, 0, &mut value),
+                LadderStatus::Ok
+            );
+            assert_eq!(value, -1, "65535 is the word HFFFF");
+            assert_eq!(
+                ladder_read(mem, LadderDevice::Cn as u32, 210, &mut value),
+                LadderStatus::Ok
+            );
+            assert_eq!(value, 100_000);
+            assert_eq!(ladder_get_output(mem, 1), 1);
+            assert_eq!(ladder_get_output(mem, 256), -1);
+            assert_eq!(ladder_scan_count(mem), 1);
+            assert_eq!(ladder_operation_error(mem), 0);
+        }
+    }
+
+    #[test]
+    fn a_null_image_is_never_touched() {
+        let null = core::ptr::null_mut();
         let mut value = 0;
-        assert_eq!(
-            unsafe { ladder_read(mem, LadderDevice::X as u32, 8, &mut value) },
-            LadderStatus::Ok
-        );
-        assert_eq!(value, 1);
-        assert_eq!(
-            unsafe { ladder_read(mem, LadderDevice::Cn as u32, 210, &mut value) },
-            LadderStatus::Ok
-        );
-        assert_eq!(value, 100_000);
-        assert_eq!(ladder_get_output(mem, 1), 1);
-        assert_eq!(ladder_get_output(mem, 256), -1);
-        assert_eq!(ladder_scan_count(mem), 1);
-        assert_eq!(ladder_operation_error(mem), 0);
-        assert_eq!(ladder_operation_error(core::ptr::null()), 0);
+        unsafe {
+            assert_eq!(ladder_set_input(null, 0, true), LadderStatus::BadArgument);
+            assert_eq!(ladder_write(null, 0, 0, 1), LadderStatus::BadArgument);
+            assert_eq!(ladder_read(null, 0, 0, &mut value), LadderStatus::BadArgument);
+            assert_eq!(ladder_force(null, 0, 0, true), LadderStatus::BadArgument);
+            assert_eq!(ladder_unforce(null, 0, 0), LadderStatus::BadArgument);
+            assert_eq!(ladder_get_output(null, 0), -1);
+            assert_eq!(ladder_operation_error(null), 0);
+            assert_eq!(ladder_operation_error_line(null), 0);
+            assert_eq!(ladder_scan_count(null), 0);
+            ladder_begin_scan(null, 10);
+            ladder_end_scan(null);
+            ladder_clear_operation_error(null);
+        }
     }
 }

@@ -72,7 +72,8 @@ pub enum AccessError {
 }
 
 /// Reading and writing basic devices: bits as 0/1, words sign-extended,
-/// 32-bit counter values whole. Writing X sets the input image.
+/// 32-bit counter values whole. Writing X sets the input image, which the
+/// next scan copies to X.
 pub trait BasicAccess {
     fn read_basic(&mut self, device: Basic) -> Result<i32, AccessError>;
     fn write_basic(&mut self, device: Basic, value: i32) -> Result<(), AccessError>;
@@ -162,12 +163,11 @@ impl BasicAccess for Memory {
 
     fn write_basic(&mut self, device: Basic, value: i32) -> Result<(), AccessError> {
         let written = match device {
+            // Inputs go to the input image; X takes them at the next scan's
+            // input refresh, never in the middle of a scan.
             Basic::Bit(BitArea::X, n) => match self.input_image.get_mut(n as usize) {
                 Some(image) => {
                     *image = (value != 0) as u8;
-                    if self.forced(BitArea::X, n).is_none() {
-                        self.x[n as usize] = (value != 0) as u8;
-                    }
                     true
                 }
                 None => false,

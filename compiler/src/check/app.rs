@@ -85,7 +85,7 @@ fn resolve_kind(operand: &Operand, kind: OperandKind, width: Width) -> Resolved<
             operands::word_destination(operand, width, 1)?,
             operand,
         )?),
-        OperandKind::TableEnd => AppOperand::Word(operands::word_device_source(operand, width)?),
+        OperandKind::TableEnd => AppOperand::Word(operands::table_end(operand, width)?),
         OperandKind::ByteSource => AppOperand::Word(operands::byte_source(operand)?),
         OperandKind::Timer => AppOperand::Timer(operands::timer(operand)?),
     })

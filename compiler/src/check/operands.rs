@@ -384,6 +384,25 @@ pub fn word_device_source(operand: &Operand, width: Width) -> Resolved<WordRef> 
     }
 }
 
+/// One end of a run of words (MAX S1, S2): the device itself must exist;
+/// how far the run reaches is checked when the instruction runs.
+pub fn table_end(operand: &Operand, width: Width) -> Resolved<WordRef> {
+    let OperandSyntax::Device(d) = &operand.syntax else {
+        return Err(kind_error(
+            operand,
+            "this operand is a device, not a constant",
+            "constant here",
+        ));
+    };
+    match (width, d.prefix) {
+        // 32-bit counters are 32-bit devices; other words are resolved as
+        // their first word.
+        (Width::Double, Prefix::C | Prefix::Cn) => word_device(operand, d, width, 1),
+        (Width::Double, Prefix::T | Prefix::Tn) => word_device(operand, d, width, 1),
+        _ => word_device(operand, d, Width::Single, 1),
+    }
+}
+
 /// A word the instruction writes; `multiple` = 2 for MUL/DIV results.
 pub fn word_destination(operand: &Operand, width: Width, multiple: u32) -> Resolved<WordRef> {
     let OperandSyntax::Device(d) = &operand.syntax else {
@@ -425,14 +444,16 @@ fn word_device(operand: &Operand, d: &DeviceSyntax, width: Width, multiple: u32)
     let wide = width == Width::Double;
     let words = width.words() * multiple;
     if let Some(n) = d.digits {
-        let limit = 4 * width.words();
+        // A digit group has at most 8 digits; a result twice the width (a
+        // MUL product, a WSUM sum) takes up to K8 and keeps its own bits.
+        let limit = (4 * words).min(8);
         if u32::from(n) > limit {
             return Err(kind_error(
                 operand,
                 format!(
                     "K{n}{name} has {} bits; this operand is {} bits (K1..K{limit})",
                     4 * u32::from(n),
-                    width.bits(),
+                    16 * words,
                 ),
                 "too many digits",
             ));

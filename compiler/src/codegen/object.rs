@@ -21,7 +21,7 @@ pub const DEFAULT_PREFIX: &str = "ladder_program_";
 
 /// Compiles the program into an object file exporting
 /// `void <prefix>scan(LadderMemory *mem, uint32_t elapsed_ms)`, which runs one
-/// whole scan (it calls the runtime's layout-tagged begin-scan and
+/// whole scan (a null `mem` does nothing) (it calls the runtime's layout-tagged begin-scan and
 /// `ladder_end_scan`, so it only links against a runtime with its layout).
 pub fn emit_object(program: &Function, options: &ObjectOptions) -> Result<Vec<u8>, CodegenError> {
     let isa = target_isa(options.target.as_deref(), true)?;
@@ -47,15 +47,22 @@ pub fn emit_object(program: &Function, options: &ObjectOptions) -> Result<Vec<u8
     {
         let mut builder = FunctionBuilder::new(&mut context.func, &mut builder_context);
         let block = builder.create_block();
+        let scan = builder.create_block();
+        let done = builder.create_block();
         builder.append_block_params_for_function_params(block);
         builder.switch_to_block(block);
         let (mem, elapsed) = (builder.block_params(block)[0], builder.block_params(block)[1]);
+        // A null image is ignored, as by every function of the C API.
+        builder.ins().brif(mem, scan, &[], done, &[]);
+        builder.switch_to_block(scan);
         let begin = module.declare_func_in_func(begin, builder.func);
         let body = module.declare_func_in_func(body, builder.func);
         let end = module.declare_func_in_func(end, builder.func);
         builder.ins().call(begin, &[mem, elapsed]);
         builder.ins().call(body, &[mem]);
         builder.ins().call(end, &[mem]);
+        builder.ins().jump(done, &[]);
+        builder.switch_to_block(done);
         builder.ins().return_(&[]);
         builder.seal_all_blocks();
         builder.finalize(module.target_config());
