@@ -196,12 +196,33 @@ pub enum Op {
         falling: bool,
         slot: u32,
     },
-    Out(BitRef),
-    OutTimer {
+    /// An instruction that takes the rung result: a coil, SET/RST, an
+    /// application instruction, ...
+    Output(Output),
+    /// Jump to instruction index `target` (possibly the end of the list).
+    Jump {
+        target: usize,
+    },
+    /// A jump target; does nothing.
+    Label,
+    StlBegin {
+        block: usize,
+    },
+    StlEnd,
+}
+
+/// What an output instruction does with the rung result (its power).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Output {
+    /// OUT on a bit.
+    Coil(BitRef),
+    /// OUT Tn preset.
+    Timer {
         timer: u32,
         preset: WordRef,
     },
-    OutCounter {
+    /// OUT Cn preset.
+    Counter {
         counter: u32,
         preset: WordRef,
     },
@@ -230,32 +251,22 @@ pub enum Op {
         level: u8,
         relay: BitRef,
     },
-    /// Jump to instruction index `target` (possibly the end of the list).
-    Jump {
-        target: usize,
-    },
-    /// A jump target; does nothing.
-    Label,
-    StlBegin {
-        block: usize,
-    },
-    StlEnd,
     App(AppInstruction),
 }
 
-impl Op {
-    /// The bits the instruction may write at fixed or indexed addresses (the
+impl Output {
+    /// The bits the output may write at fixed or indexed addresses (the
     /// first of a run for SET/RST with a count and for bit ranges).
     pub fn written_bits(&self) -> Vec<BitRef> {
         match self {
-            Op::Out(bit) | Op::Set { target: bit, .. } | Op::Pulse { target: bit, .. } => vec![*bit],
-            Op::Reset { target, .. } => match target {
+            Output::Coil(bit) | Output::Set { target: bit, .. } | Output::Pulse { target: bit, .. } => vec![*bit],
+            Output::Reset { target, .. } => match target {
                 ResetTarget::Bit(bit) => vec![*bit],
                 ResetTarget::Timer(_) | ResetTarget::Counter(_) | ResetTarget::Word(..) => Vec::new(),
             },
-            Op::MasterControl { relay, .. } => vec![*relay],
-            Op::StateJump { state } => vec![BitRef::Device(BitArea::S, Address::fixed(*state))],
-            Op::App(app) => app
+            Output::MasterControl { relay, .. } => vec![*relay],
+            Output::StateJump { state } => vec![BitRef::Device(BitArea::S, Address::fixed(*state))],
+            Output::App(app) => app
                 .args
                 .operands()
                 .into_iter()
@@ -272,22 +283,7 @@ impl Op {
                     | AppOperand::RangeEnd(RangeEnd::Word(..) | RangeEnd::Timer(_) | RangeEnd::Counter(_)) => None,
                 })
                 .collect(),
-            Op::Load { .. }
-            | Op::And(_)
-            | Op::Or(_)
-            | Op::AndBlock
-            | Op::OrBlock
-            | Op::BranchPush
-            | Op::BranchRead
-            | Op::BranchPop
-            | Op::Invert
-            | Op::ResultEdge { .. }
-            | Op::OutTimer { .. }
-            | Op::OutCounter { .. }
-            | Op::Jump { .. }
-            | Op::Label
-            | Op::StlBegin { .. }
-            | Op::StlEnd => Vec::new(),
+            Output::Timer { .. } | Output::Counter { .. } => Vec::new(),
         }
     }
 }

@@ -163,7 +163,7 @@ mod tests {
             (OperandKind::ByteSource, &["D100", "K4M0"]),
             (OperandKind::Timer, &["T3", "T0[D1]"]),
         ];
-        for kind in OperandKind::ALL {
+        for &kind in OperandKind::ALL {
             let (_, texts) = samples
                 .iter()
                 .find(|(k, _)| *k == kind)

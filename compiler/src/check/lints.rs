@@ -2,7 +2,7 @@
 //! that the runtime rewrites every scan.
 
 use crate::diagnostics::{Code, Diagnostic, Diagnostics};
-use crate::program::{BitRef, Op};
+use crate::program::{BitRef, Op, Output};
 use crate::source::Span;
 use ladder_runtime::special::{is_system_m, is_system_sm};
 use ladder_runtime::BitArea;
@@ -25,30 +25,19 @@ pub struct Lints {
 impl Lints {
     /// Looks at one emitted instruction.
     pub fn observe(&mut self, op: &Op, span: Span, in_stl_block: bool) {
-        let coil = match op {
-            Op::Out(bit) => is_fixed(bit).then_some(CoilKey::Bit(*bit)),
-            Op::OutTimer { timer, .. } => Some(CoilKey::Timer(*timer)),
-            Op::OutCounter { counter, .. } => Some(CoilKey::Counter(*counter)),
-            Op::Load { .. }
-            | Op::And(_)
-            | Op::Or(_)
-            | Op::AndBlock
-            | Op::OrBlock
-            | Op::BranchPush
-            | Op::BranchRead
-            | Op::BranchPop
-            | Op::Invert
-            | Op::ResultEdge { .. }
-            | Op::Set { .. }
-            | Op::Reset { .. }
-            | Op::Pulse { .. }
-            | Op::StateJump { .. }
-            | Op::MasterControl { .. }
-            | Op::Jump { .. }
-            | Op::Label
-            | Op::StlBegin { .. }
-            | Op::StlEnd
-            | Op::App(_) => None,
+        let Op::Output(output) = op else {
+            return;
+        };
+        let coil = match output {
+            Output::Coil(bit) => is_fixed(bit).then_some(CoilKey::Bit(*bit)),
+            Output::Timer { timer, .. } => Some(CoilKey::Timer(*timer)),
+            Output::Counter { counter, .. } => Some(CoilKey::Counter(*counter)),
+            Output::Set { .. }
+            | Output::Reset { .. }
+            | Output::Pulse { .. }
+            | Output::StateJump { .. }
+            | Output::MasterControl { .. }
+            | Output::App(_) => None,
         };
         if let (Some(key), false) = (coil, in_stl_block) {
             match self.first_coil.get(&key) {
@@ -62,7 +51,7 @@ impl Lints {
                 }
             }
         }
-        for bit in op.written_bits() {
+        for bit in output.written_bits() {
             let BitRef::Device(area, address) = bit else {
                 continue;
             };

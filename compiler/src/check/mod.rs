@@ -155,15 +155,17 @@ impl Checker {
             .context()
             .stl_block
             .and_then(|id| self.emitted_blocks.get(&id).copied());
-        if let Some(block) = in_block {
+        if let (Some(block), Op::Output(output)) = (in_block, &op) {
+            // What the block's one-time reset runs with its power OFF, and
+            // the previous-scan slots it clears.
             let block = &mut self.stl_blocks[block];
-            match &op {
-                Op::Out(_) | Op::OutTimer { .. } | Op::OutCounter { .. } => block.reset_outputs.push(index),
-                Op::Pulse { slot, .. } => {
+            match output {
+                Output::Coil(_) | Output::Timer { .. } | Output::Counter { .. } => block.reset_outputs.push(index),
+                Output::Pulse { slot, .. } => {
                     block.reset_outputs.push(index);
                     block.reset_slots.push(*slot);
                 }
-                Op::App(app) => {
+                Output::App(app) => {
                     // Instructions that run every scan see the reset as a
                     // scan with their rung OFF (a sort stops, a timer clears).
                     match app.args.op().spec().runs {
@@ -174,24 +176,8 @@ impl Checker {
                         block.reset_slots.push(slot);
                     }
                 }
-                Op::Load { .. }
-                | Op::And(_)
-                | Op::Or(_)
-                | Op::AndBlock
-                | Op::OrBlock
-                | Op::BranchPush
-                | Op::BranchRead
-                | Op::BranchPop
-                | Op::Invert
-                | Op::ResultEdge { .. }
-                | Op::Set { .. }
-                | Op::Reset { .. }
-                | Op::StateJump { .. }
-                | Op::MasterControl { .. }
-                | Op::Jump { .. }
-                | Op::Label
-                | Op::StlBegin { .. }
-                | Op::StlEnd => {}
+                Output::Set { .. } | Output::Reset { .. } | Output::StateJump { .. } | Output::MasterControl { .. } => {
+                }
             }
         }
         self.lints.observe(&op, site.span, in_block.is_some());
@@ -357,7 +343,7 @@ impl Checker {
                 if let Some([target]) = operands {
                     if let Some(target) = self.ok(operands::bit_target(target)) {
                         let slot = self.slot(span);
-                        self.emit(Op::Pulse { target, sense, slot }, site);
+                        self.emit(Op::Output(Output::Pulse { target, sense, slot }), site);
                     }
                 }
             }
@@ -365,7 +351,7 @@ impl Checker {
                 self.rung.output(span, &mut self.diagnostics);
                 if let Some([state]) = operands {
                     if let Some(state) = self.ok(operands::state(state)) {
-                        self.emit(Op::StateJump { state }, site);
+                        self.emit(Op::Output(Output::StateJump { state }), site);
                     }
                 }
             }
@@ -377,7 +363,7 @@ impl Checker {
                     if let (Some(level), Some(relay)) = (level, relay) {
                         // The MC takes the rung result under the outer levels
                         // before its own level opens.
-                        self.emit(Op::MasterControl { level, relay }, site);
+                        self.emit(Op::Output(Output::MasterControl { level, relay }), site);
                         self.blocks.mc(level, span, &mut self.diagnostics);
                     }
                 }
@@ -480,12 +466,12 @@ impl Checker {
             Runs::WhenOn | Runs::EveryScan => None,
         };
         self.emit(
-            Op::App(AppInstruction {
+            Op::Output(Output::App(AppInstruction {
                 width: form.width,
                 args,
                 pulse_slot,
                 job,
-            }),
+            })),
             site,
         );
     }
@@ -545,7 +531,7 @@ impl Checker {
         };
         let preset = preset.first();
         let op = match (coil, preset) {
-            (Coil::Bit(target), None) => Op::Out(target),
+            (Coil::Bit(target), None) => Output::Coil(target),
             (Coil::Bit(_), Some(extra)) => {
                 self.report(
                     Diagnostic::new(
@@ -568,7 +554,7 @@ impl Checker {
                 let Some(preset) = self.ok(operands::preset(preset, Width::Single)) else {
                     return;
                 };
-                Op::OutTimer { timer, preset }
+                Output::Timer { timer, preset }
             }
             (Coil::Counter(counter), Some(preset)) => {
                 let width = if ladder_runtime::device::is_wide_counter(counter) {
@@ -579,10 +565,10 @@ impl Checker {
                 let Some(preset) = self.ok(operands::preset(preset, width)) else {
                     return;
                 };
-                Op::OutCounter { counter, preset }
+                Output::Counter { counter, preset }
             }
         };
-        self.emit(op, site);
+        self.emit(Op::Output(op), site);
     }
 
     fn count(&mut self, operands: &[syntax::Operand], first: u32, area_len: u32) -> Option<u32> {
@@ -610,11 +596,11 @@ impl Checker {
             _ => None,
         };
         self.emit(
-            Op::Set {
+            Op::Output(Output::Set {
                 target,
                 count,
                 transfer_from,
-            },
+            }),
             site,
         );
     }
@@ -667,7 +653,7 @@ impl Checker {
                     } else {
                         ResetTarget::Counter(number)
                     };
-                    self.emit(Op::Reset { target, count }, site);
+                    self.emit(Op::Output(Output::Reset { target, count }), site);
                     return;
                 }
                 Prefix::D | Prefix::Sd | Prefix::R => {
@@ -680,10 +666,10 @@ impl Checker {
                         return;
                     };
                     self.emit(
-                        Op::Reset {
+                        Op::Output(Output::Reset {
                             target: ResetTarget::Word(area, address),
                             count,
-                        },
+                        }),
                         site,
                     );
                     return;
@@ -705,10 +691,10 @@ impl Checker {
             return;
         };
         self.emit(
-            Op::Reset {
+            Op::Output(Output::Reset {
                 target: ResetTarget::Bit(target),
                 count,
-            },
+            }),
             site,
         );
     }

@@ -5,7 +5,7 @@
 
 use super::compile_source;
 use crate::diagnostics::{Code, Diagnostic};
-use crate::program::{CheckedProgram, Contact, Op};
+use crate::program::{CheckedProgram, Contact, Op, Output};
 use crate::source::SourceFile;
 
 fn compile(text: &str) -> (Option<CheckedProgram>, Vec<Diagnostic>) {
@@ -88,8 +88,8 @@ fn edge_instructions_get_their_own_slots() {
                 ..
             }
             | Op::And(Contact::Edge { slot, .. }) => Some(*slot),
-            Op::ResultEdge { slot, .. } | Op::Pulse { slot, .. } => Some(*slot),
-            Op::App(app) => app.pulse_slot,
+            Op::ResultEdge { slot, .. } | Op::Output(Output::Pulse { slot, .. }) => Some(*slot),
+            Op::Output(Output::App(app)) => app.pulse_slot,
             _ => None,
         })
         .collect();
@@ -138,11 +138,15 @@ fn stl_blocks_know_what_to_reset() {
         .collect();
     assert!(matches!(
         reset_ops[..],
-        [Op::Out(_), Op::OutTimer { .. }, Op::Pulse { .. }]
+        [
+            Op::Output(Output::Coil(_)),
+            Op::Output(Output::Timer { .. }),
+            Op::Output(Output::Pulse { .. })
+        ]
     ));
     assert_eq!(block.reset_slots, [0, 1]);
     let transfer = program.instructions.iter().find_map(|i| match i.op {
-        Op::Set { transfer_from, .. } if transfer_from.is_some() => transfer_from,
+        Op::Output(Output::Set { transfer_from, .. }) if transfer_from.is_some() => transfer_from,
         _ => None,
     });
     assert_eq!(transfer, Some(0));

@@ -2,7 +2,7 @@
 
 use super::status;
 use crate::host_device::{parse_device, parse_value, HostDevice};
-use crate::program::{BitRef, CheckedProgram, Op};
+use crate::program::{BitRef, CheckedProgram, Op, Output};
 use crate::scenario::{instantiate, Engine, EngineError, EngineKind};
 use clap::{Args, ValueEnum};
 use ladder_runtime::{BitArea, Device, Width};
@@ -108,7 +108,9 @@ fn driven_outputs(program: &CheckedProgram) -> Vec<String> {
         .instructions
         .iter()
         .filter_map(|i| match &i.op {
-            Op::Out(bit) | Op::Set { target: bit, .. } | Op::Pulse { target: bit, .. } => Some(*bit),
+            Op::Output(Output::Coil(bit) | Output::Set { target: bit, .. } | Output::Pulse { target: bit, .. }) => {
+                Some(*bit)
+            }
             _ => None,
         })
         .filter_map(|bit| match bit {

@@ -10,7 +10,7 @@ mod access;
 mod app;
 
 use crate::isa::Sense;
-use crate::program::{BitRef, CheckedProgram, Contact, Instruction, Op, ResetTarget, StlBlock, WordRef};
+use crate::program::{BitRef, CheckedProgram, Contact, Instruction, Op, Output, ResetTarget, StlBlock, WordRef};
 use access::{read_bit, resolve_word, write_bit};
 use ladder_runtime::{Memory, OperationError, Width};
 
@@ -113,29 +113,21 @@ impl Run<'_> {
             }
             Op::StlBegin { block } => return self.enter_block(&self.program.stl_blocks[*block], pc),
             Op::Label | Op::StlEnd => {}
-            Op::Out(_)
-            | Op::OutTimer { .. }
-            | Op::OutCounter { .. }
-            | Op::Set { .. }
-            | Op::Reset { .. }
-            | Op::Pulse { .. }
-            | Op::StateJump { .. }
-            | Op::MasterControl { .. }
-            | Op::App(_) => self.output(&instruction.op, self.result, line),
+            Op::Output(output) => self.output(output, self.result, line),
         }
         pc + 1
     }
 
     /// An output instruction with the rung result `power`. The STL one-time
     /// reset runs the same code with the power OFF.
-    fn output(&mut self, op: &Op, power: bool, line: u32) {
-        match op {
-            Op::Out(bit) => write_bit(self.mem, *bit, power, line),
-            Op::OutTimer { timer, preset } => {
+    fn output(&mut self, output: &Output, power: bool, line: u32) {
+        match output {
+            Output::Coil(bit) => write_bit(self.mem, *bit, power, line),
+            Output::Timer { timer, preset } => {
                 let preset = self.preset(*preset, Width::Single);
                 self.mem.timer_coil(*timer, power, preset);
             }
-            Op::OutCounter { counter, preset } => {
+            Output::Counter { counter, preset } => {
                 let width = if ladder_runtime::device::is_wide_counter(*counter) {
                     Width::Double
                 } else {
@@ -144,7 +136,7 @@ impl Run<'_> {
                 let preset = self.preset(*preset, width);
                 self.mem.counter_coil(*counter, power, preset);
             }
-            Op::Set {
+            Output::Set {
                 target,
                 count,
                 transfer_from,
@@ -156,47 +148,31 @@ impl Run<'_> {
                     }
                 }
             }
-            Op::Reset { target, count } => {
+            Output::Reset { target, count } => {
                 if power {
                     self.reset(*target, *count, line);
                 }
             }
-            Op::Pulse { target, sense, slot } => {
+            Output::Pulse { target, sense, slot } => {
                 let pulse = self.edge(*slot, power, *sense == Sense::Falling);
                 write_bit(self.mem, *target, pulse, line);
             }
-            Op::StateJump { state } => {
+            Output::StateJump { state } => {
                 if power {
                     self.mem.s[*state as usize] = 1;
                 }
             }
-            Op::MasterControl { level, relay } => {
+            Output::MasterControl { level, relay } => {
                 self.mc_power[*level as usize] = power;
                 write_bit(self.mem, *relay, power, line);
             }
-            Op::App(app) => {
+            Output::App(app) => {
                 let power = match app.pulse_slot {
                     Some(slot) => self.edge(slot, power, false),
                     None => power,
                 };
                 app::execute(self.mem, app, power, line);
             }
-            // Not outputs: `step` handles them, and an STL block's reset list
-            // holds outputs only.
-            Op::Load { .. }
-            | Op::And(_)
-            | Op::Or(_)
-            | Op::AndBlock
-            | Op::OrBlock
-            | Op::BranchPush
-            | Op::BranchRead
-            | Op::BranchPop
-            | Op::Invert
-            | Op::ResultEdge { .. }
-            | Op::Jump { .. }
-            | Op::Label
-            | Op::StlBegin { .. }
-            | Op::StlEnd => {}
         }
     }
 
@@ -212,7 +188,9 @@ impl Run<'_> {
             self.mem.stl_block_active[state] = 0;
             for &index in &block.reset_outputs {
                 let instruction = &self.program.instructions[index];
-                self.output(&instruction.op, false, instruction.line);
+                if let Op::Output(output) = &instruction.op {
+                    self.output(output, false, instruction.line);
+                }
             }
             for &slot in &block.reset_slots {
                 self.mem.edge_slot[slot as usize] = 0;

@@ -17,7 +17,8 @@
 //! The semantics are written twice on purpose: once in `interp::app` (the
 //! specification) and once in `lower::app`, in files named after the family.
 
-use super::operand::{tables::*, DeviceClass, Devices, OperandKind};
+pub use super::operand::fits;
+use super::operand::{operand_type, tables::*, DeviceClass, Devices, OperandKind};
 use crate::program::{Address, AppOperand, BitRef, DigitGroup, Element, RangeEnd, WordRef};
 use ladder_runtime::special::{self, SpecialBit};
 
@@ -237,92 +238,6 @@ impl FromOperand for RangeEnd {
 /// in declaration order. A `None` has been reported already.
 pub trait ResolveOperand {
     fn resolve(&mut self, name: &'static str, kind: OperandKind, devices: Devices) -> Option<AppOperand>;
-}
-
-/// The Rust type of a checked operand of each kind.
-macro_rules! operand_type {
-    (Source) => {
-        WordRef
-    };
-    (Count) => {
-        WordRef
-    };
-    (Destination) => {
-        WordRef
-    };
-    (Modified) => {
-        WordRef
-    };
-    (DoubleDestination) => {
-        WordRef
-    };
-    (BlockSource) => {
-        WordRef
-    };
-    (BlockDestination) => {
-        WordRef
-    };
-    (BitDestination) => {
-        BitRef
-    };
-    (BitTriple) => {
-        BitRef
-    };
-    (ElementSource) => {
-        Element
-    };
-    (ElementDestination) => {
-        Element
-    };
-    (RangeEnd) => {
-        RangeEnd
-    };
-    (DigitSource) => {
-        DigitGroup
-    };
-    (DigitDestination) => {
-        DigitGroup
-    };
-    (TableEnd) => {
-        WordRef
-    };
-    (ByteSource) => {
-        WordRef
-    };
-    (Timer) => {
-        Address
-    };
-}
-
-/// Whether a checked operand has the type its kind gives it in `AppArgs`
-/// (the checker asserts it for every operand it resolves).
-pub fn fits(kind: OperandKind, operand: AppOperand) -> bool {
-    macro_rules! fits {
-        ($($kind:ident),*) => {
-            match kind {
-                $(OperandKind::$kind => <operand_type!($kind) as FromOperand>::from_operand(operand).is_some(),)*
-            }
-        };
-    }
-    fits!(
-        Source,
-        Count,
-        Destination,
-        Modified,
-        DoubleDestination,
-        BlockSource,
-        BlockDestination,
-        BitDestination,
-        BitTriple,
-        ElementSource,
-        ElementDestination,
-        RangeEnd,
-        DigitSource,
-        DigitDestination,
-        TableEnd,
-        ByteSource,
-        Timer
-    )
 }
 
 macro_rules! wide_name {

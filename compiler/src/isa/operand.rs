@@ -5,124 +5,105 @@
 //! parameter; a device outside it is a compile error (E0003), as a vendor
 //! editor refuses it.
 
+use super::app::FromOperand;
+use crate::program::{Address, AppOperand, BitRef, DigitGroup, Element, RangeEnd, WordRef};
 use std::fmt;
 
-/// How an application instruction uses one of its operands. The kind decides
-/// the Rust type of the checked operand (see `program::AppOperand`), whether
-/// the operand is read or written, and how many units it covers.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum OperandKind {
+/// Declares the operand kinds: each with the Rust type its checked operand
+/// has in `AppArgs`, whether the instruction reads it (out of range: 4085H,
+/// else 4086H) and whether it writes bit devices through it.
+macro_rules! operand_kinds {
+    ($(
+        $(#[doc = $doc:literal])*
+        $kind:ident => $ty:ident, read: $read:literal, writes_bits: $bits:literal;
+    )*) => {
+        /// How an application instruction uses one of its operands: the kind
+        /// decides the Rust type of the checked operand, whether it is read or
+        /// written, and how many units it covers.
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        pub enum OperandKind {
+            $( $(#[doc = $doc])* $kind, )*
+        }
+
+        impl OperandKind {
+            pub const ALL: &'static [OperandKind] = &[$(OperandKind::$kind),*];
+
+            /// The instruction reads the operand's value (or address) first;
+            /// out of range, it records 4085H.
+            pub fn is_read(self) -> bool {
+                match self {
+                    $(OperandKind::$kind => $read,)*
+                }
+            }
+
+            /// The instruction writes bit devices through this operand.
+            pub fn writes_bits(self) -> bool {
+                match self {
+                    $(OperandKind::$kind => $bits,)*
+                }
+            }
+        }
+
+        /// The Rust type of a checked operand of each kind (for the
+        /// instruction declarations).
+        macro_rules! operand_type {
+            $( ($kind) => { $ty }; )*
+        }
+        pub(crate) use operand_type;
+
+        /// Whether a checked operand has the type its kind gives it in
+        /// `AppArgs` (the checker asserts it for every operand it resolves).
+        pub fn fits(kind: OperandKind, operand: AppOperand) -> bool {
+            match kind {
+                $(OperandKind::$kind => <$ty as FromOperand>::from_operand(operand).is_some(),)*
+            }
+        }
+    };
+}
+
+operand_kinds! {
     /// A value read at the instruction's width (16 or 32 bits).
-    Source,
+    Source => WordRef, read: true, writes_bits: false;
     /// A 16-bit value read whatever the instruction's width: a count, a
     /// mode, a bit position of a 16-bit instruction.
-    Count,
+    Count => WordRef, read: true, writes_bits: false;
     /// A value written at the instruction's width.
-    Destination,
+    Destination => WordRef, read: false, writes_bits: false;
     /// A value read and then written at the instruction's width (NEG D).
-    Modified,
+    Modified => WordRef, read: true, writes_bits: false;
     /// A value written at twice the instruction's width: two units from the
     /// device (MUL and DIV results, WSUM sums). A digit group holds only its
     /// own bits.
-    DoubleDestination,
+    DoubleDestination => WordRef, read: false, writes_bits: false;
     /// The first of a run of values read at the instruction's width; how many
     /// is known only at run time (BMOV S, MEAN S).
-    BlockSource,
+    BlockSource => WordRef, read: true, writes_bits: false;
     /// The first of a run of values written (BMOV D, FMOV D, DIS D).
-    BlockDestination,
+    BlockDestination => WordRef, read: false, writes_bits: false;
     /// One bit written (BON D).
-    BitDestination,
+    BitDestination => BitRef, read: false, writes_bits: true;
     /// The first of three consecutive bits written (CMP, ZCP results).
-    BitTriple,
-    /// The first of a run of bits or the first of a run of words, read
-    /// (ENCO S): a bit device is one bit per unit, a word device 16.
-    ElementSource,
+    BitTriple => BitRef, read: false, writes_bits: true;
+    /// The first of a run of bits, or a word, read (ENCO S): a bit device is
+    /// one bit per unit, a word 16 bits.
+    ElementSource => Element, read: true, writes_bits: false;
     /// The same, written (DECO D).
-    ElementDestination,
+    ElementDestination => Element, read: false, writes_bits: true;
     /// One end of a device range that is written (ZRST d1, d2; ZSET d1, d2):
     /// a bit, a word, a timer or a counter.
-    RangeEnd,
+    RangeEnd => RangeEnd, read: false, writes_bits: true;
     /// A digit group read bit by bit (PRUN S).
-    DigitSource,
+    DigitSource => DigitGroup, read: true, writes_bits: false;
+    /// A digit group written bit by bit (PRUN D).
+    DigitDestination => DigitGroup, read: false, writes_bits: true;
     /// One end of a run of words whose values are read (MAX S1, S2): the
     /// device, not its value, is the operand.
-    TableEnd,
+    TableEnd => WordRef, read: true, writes_bits: false;
     /// The first of a run of words whose bytes are read (BCC, CRC); a digit
     /// group must be a whole word (K4).
-    ByteSource,
+    ByteSource => WordRef, read: true, writes_bits: false;
     /// A timer the instruction drives (ANS S).
-    Timer,
-    /// A digit group written bit by bit (PRUN D).
-    DigitDestination,
-}
-
-impl OperandKind {
-    /// The instruction reads the operand's value (before writing it, for
-    /// `Modified`). Out of range, it records 4085H.
-    pub fn is_read(self) -> bool {
-        match self {
-            OperandKind::Source
-            | OperandKind::Count
-            | OperandKind::Modified
-            | OperandKind::BlockSource
-            | OperandKind::ElementSource
-            | OperandKind::DigitSource
-            | OperandKind::TableEnd
-            | OperandKind::ByteSource
-            | OperandKind::Timer => true,
-            OperandKind::Destination
-            | OperandKind::DoubleDestination
-            | OperandKind::BlockDestination
-            | OperandKind::BitDestination
-            | OperandKind::BitTriple
-            | OperandKind::ElementDestination
-            | OperandKind::RangeEnd
-            | OperandKind::DigitDestination => false,
-        }
-    }
-
-    /// The instruction writes bit devices through this operand.
-    pub fn writes_bits(self) -> bool {
-        match self {
-            OperandKind::BitDestination
-            | OperandKind::BitTriple
-            | OperandKind::ElementDestination
-            | OperandKind::RangeEnd
-            | OperandKind::DigitDestination => true,
-            OperandKind::Source
-            | OperandKind::Count
-            | OperandKind::Destination
-            | OperandKind::Modified
-            | OperandKind::DoubleDestination
-            | OperandKind::BlockSource
-            | OperandKind::BlockDestination
-            | OperandKind::ElementSource
-            | OperandKind::DigitSource
-            | OperandKind::TableEnd
-            | OperandKind::ByteSource
-            | OperandKind::Timer => false,
-        }
-    }
-
-    pub const ALL: [OperandKind; 17] = [
-        OperandKind::Source,
-        OperandKind::Count,
-        OperandKind::Destination,
-        OperandKind::Modified,
-        OperandKind::DoubleDestination,
-        OperandKind::BlockSource,
-        OperandKind::BlockDestination,
-        OperandKind::BitDestination,
-        OperandKind::BitTriple,
-        OperandKind::ElementSource,
-        OperandKind::ElementDestination,
-        OperandKind::RangeEnd,
-        OperandKind::DigitSource,
-        OperandKind::DigitDestination,
-        OperandKind::TableEnd,
-        OperandKind::ByteSource,
-        OperandKind::Timer,
-    ];
+    Timer => Address, read: true, writes_bits: false;
 }
 
 /// The classes of device a device table names, as the seed's tables do.

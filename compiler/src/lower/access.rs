@@ -8,7 +8,7 @@ use crate::ir::{BinOp, Index, Inst, Type, Value};
 use crate::isa::CompareOp;
 use crate::program::{Address, BitRef, IndexRegister, WordRef};
 use ladder_runtime::device::{COUNTER_COUNT, FIRST_WIDE_COUNTER};
-use ladder_runtime::{OperationError, Width, WordArea};
+use ladder_runtime::{OperationError, Width};
 
 impl Lowering<'_> {
     /// `base` plus the index register's signed value, as an I32.
@@ -54,12 +54,8 @@ impl Lowering<'_> {
             }
             BitRef::WordBit(area, address, bit) => {
                 let index = self.clamped_index(address, 0, area.count() - 1, OperationError::ReadOutOfRange, line);
-                let word = self.b.push(Inst::LoadWord { area, index });
-                let word = self.b.extend(word, Type::I32, true);
                 let mask = self.b.constant(Type::I32, 1 << bit);
-                let masked = self.b.binary(BinOp::And, word, mask);
-                let zero = self.b.constant(Type::I32, 0);
-                self.b.compare(CompareOp::Ne, masked, zero)
+                self.load_word_bit(area, index, mask)
             }
         }
     }
@@ -72,27 +68,10 @@ impl Lowering<'_> {
             }
             BitRef::WordBit(area, address, bit) => {
                 let index = self.clamped_index(address, 0, area.count() - 1, OperationError::WriteOutOfRange, line);
-                self.store_word_bit(area, index, bit, value);
+                let mask = self.b.constant(Type::I32, 1 << bit);
+                self.store_word_bit(area, index, mask, value);
             }
         }
-    }
-
-    /// Sets bit `bit` of a word to the Bit `value`, keeping the other bits.
-    pub(super) fn store_word_bit(&mut self, area: WordArea, index: Index, bit: u8, value: Value) {
-        let word = self.b.push(Inst::LoadWord { area, index });
-        let word = self.b.extend(word, Type::I32, true);
-        let keep = self.b.constant(Type::I32, !(1i64 << bit));
-        let cleared = self.b.binary(BinOp::And, word, keep);
-        let mask = self.b.constant(Type::I32, 1 << bit);
-        let zero = self.b.constant(Type::I32, 0);
-        let set = self.b.select(value, mask, zero);
-        let updated = self.b.binary(BinOp::Or, cleared, set);
-        let updated = self.b.truncate(updated, Type::I16);
-        self.b.effect(Inst::StoreWord {
-            area,
-            index,
-            value: updated,
-        });
     }
 
     /// SET/RST of `count` bits; an offset start is clamped so the run fits.

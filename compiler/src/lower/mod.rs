@@ -13,7 +13,7 @@ mod operand;
 use crate::ir::{Builder, Function, Inst, Local, Terminator, Type, Value};
 use crate::isa::app::Runs;
 use crate::isa::Sense;
-use crate::program::{CheckedProgram, Contact, Instruction, Op, ResetTarget, StlBlock};
+use crate::program::{CheckedProgram, Contact, Instruction, Op, Output, ResetTarget, StlBlock};
 use ladder_runtime::helpers::Helper;
 use ladder_runtime::{BitArea, OperationError, Width};
 use std::collections::BTreeMap;
@@ -72,17 +72,9 @@ impl<'p> Lowering<'p> {
                 | Op::BranchPop
                 | Op::Invert
                 | Op::ResultEdge { .. }
-                | Op::Out(_)
-                | Op::OutTimer { .. }
-                | Op::OutCounter { .. }
-                | Op::Set { .. }
-                | Op::Reset { .. }
-                | Op::Pulse { .. }
-                | Op::StateJump { .. }
-                | Op::MasterControl { .. }
+                | Op::Output(_)
                 | Op::Label
-                | Op::StlEnd
-                | Op::App(_) => None,
+                | Op::StlEnd => None,
             };
             if let Some(target) = target {
                 if !self.targets.contains_key(&target) {
@@ -90,7 +82,7 @@ impl<'p> Lowering<'p> {
                     self.targets.insert(target, block);
                 }
             }
-            if let Op::MasterControl { level, .. } = instruction.op {
+            if let Op::Output(Output::MasterControl { level, .. }) = instruction.op {
                 self.locals = self.locals.max(level + 1);
             }
         }
@@ -177,15 +169,7 @@ impl<'p> Lowering<'p> {
                 self.stl_gate(&program.stl_blocks[*block]);
             }
             Op::Label | Op::StlEnd => {}
-            Op::Out(_)
-            | Op::OutTimer { .. }
-            | Op::OutCounter { .. }
-            | Op::Set { .. }
-            | Op::Reset { .. }
-            | Op::Pulse { .. }
-            | Op::StateJump { .. }
-            | Op::MasterControl { .. }
-            | Op::App(_) => self.output(&instruction.op, self.result, line),
+            Op::Output(output) => self.output(output, self.result, line),
         }
     }
 
@@ -230,7 +214,9 @@ impl<'p> Lowering<'p> {
         self.b.effect(Inst::StoreBlockActive { state, value: off });
         for &index in &block.reset_outputs {
             let instruction = &self.program.instructions[index];
-            self.output(&instruction.op, off, instruction.line);
+            if let Op::Output(output) = &instruction.op {
+                self.output(output, off, instruction.line);
+            }
         }
         for &slot in &block.reset_slots {
             self.b.effect(Inst::StoreSlot { slot, value: off });
@@ -281,15 +267,15 @@ impl<'p> Lowering<'p> {
 
     /// An output instruction with `power` (the rung result, or OFF for the
     /// one-time reset of an STL block).
-    fn output(&mut self, op: &Op, power: Value, line: u32) {
-        match op {
-            Op::Out(bit) => self.write_bit(*bit, power, line),
-            Op::OutTimer { timer, preset } => {
+    fn output(&mut self, output: &Output, power: Value, line: u32) {
+        match output {
+            Output::Coil(bit) => self.write_bit(*bit, power, line),
+            Output::Timer { timer, preset } => {
                 let preset = self.preset(*preset, Width::Single);
                 let (timer, coil) = (self.b.number(*timer), self.b.extend(power, Type::I32, false));
                 self.b.call(Helper::TimerCoil, vec![timer, coil, preset]);
             }
-            Op::OutCounter { counter, preset } => {
+            Output::Counter { counter, preset } => {
                 let width = if ladder_runtime::device::is_wide_counter(*counter) {
                     Width::Double
                 } else {
@@ -299,7 +285,7 @@ impl<'p> Lowering<'p> {
                 let (counter, coil) = (self.b.number(*counter), self.b.extend(power, Type::I32, false));
                 self.b.call(Helper::CounterCoil, vec![counter, coil, preset]);
             }
-            Op::Set {
+            Output::Set {
                 target,
                 count,
                 transfer_from,
@@ -310,23 +296,23 @@ impl<'p> Lowering<'p> {
                     this.b.call(Helper::ScheduleStateOff, vec![state]);
                 }
             }),
-            Op::Reset { target, count } => self.when(power, |this, _| this.reset(*target, *count, line)),
-            Op::Pulse { target, sense, slot } => {
+            Output::Reset { target, count } => self.when(power, |this, _| this.reset(*target, *count, line)),
+            Output::Pulse { target, sense, slot } => {
                 let pulse = self.edge(*slot, power, *sense == Sense::Falling);
                 self.write_bit(*target, pulse, line);
             }
-            Op::StateJump { state } => self.when(power, |this, _| {
+            Output::StateJump { state } => self.when(power, |this, _| {
                 let on = this.b.bit(true);
                 this.b.store_bit(BitArea::S, crate::ir::Index::Fixed(*state), on);
             }),
-            Op::MasterControl { level, relay } => {
+            Output::MasterControl { level, relay } => {
                 self.b.effect(Inst::SetLocal {
                     local: Local(*level),
                     value: power,
                 });
                 self.write_bit(*relay, power, line);
             }
-            Op::App(app) => {
+            Output::App(app) => {
                 let power = match app.pulse_slot {
                     Some(slot) => self.edge(slot, power, false),
                     None => power,
@@ -341,22 +327,6 @@ impl<'p> Lowering<'p> {
                     }
                 }
             }
-            // Not outputs: `instruction` handles them, and an STL block's
-            // reset list holds outputs only.
-            Op::Load { .. }
-            | Op::And(_)
-            | Op::Or(_)
-            | Op::AndBlock
-            | Op::OrBlock
-            | Op::BranchPush
-            | Op::BranchRead
-            | Op::BranchPop
-            | Op::Invert
-            | Op::ResultEdge { .. }
-            | Op::Jump { .. }
-            | Op::Label
-            | Op::StlBegin { .. }
-            | Op::StlEnd => {}
         }
     }
 

@@ -186,11 +186,7 @@ impl Lowering<'_> {
             }
             Operand::WordBit(area, index) => {
                 let (index, mask) = self.word_bit(index);
-                let word = self.b.push(Inst::LoadWord { area, index });
-                let word = self.b.extend(word, Type::I32, true);
-                let masked = self.b.binary(BinOp::And, word, mask);
-                let zero = self.b.constant(Type::I32, 0);
-                let on = self.b.compare(CompareOp::Ne, masked, zero);
+                let on = self.load_word_bit(area, index, mask);
                 self.b.extend(on, Type::I64, false)
             }
         }
@@ -243,22 +239,37 @@ impl Lowering<'_> {
             Operand::WordBit(area, index) => {
                 let on = self.low_bit(value);
                 let (index, mask) = self.word_bit(index);
-                let word = self.b.push(Inst::LoadWord { area, index });
-                let word = self.b.extend(word, Type::I32, true);
-                let all = self.b.constant(Type::I32, -1);
-                let keep = self.b.binary(BinOp::Xor, mask, all);
-                let cleared = self.b.binary(BinOp::And, word, keep);
-                let zero = self.b.constant(Type::I32, 0);
-                let set = self.b.select(on, mask, zero);
-                let updated = self.b.binary(BinOp::Or, cleared, set);
-                let updated = self.b.truncate(updated, Type::I16);
-                self.b.effect(Inst::StoreWord {
-                    area,
-                    index,
-                    value: updated,
-                });
+                self.store_word_bit(area, index, mask, on);
             }
         }
+    }
+
+    /// The bit of word `index` that `mask` (an I32 with one bit set) picks.
+    pub(super) fn load_word_bit(&mut self, area: WordArea, index: Index, mask: Value) -> Value {
+        let word = self.b.push(Inst::LoadWord { area, index });
+        let word = self.b.extend(word, Type::I32, true);
+        let masked = self.b.binary(BinOp::And, word, mask);
+        let zero = self.b.constant(Type::I32, 0);
+        self.b.compare(CompareOp::Ne, masked, zero)
+    }
+
+    /// Sets the bit of word `index` that `mask` picks to the Bit `on`,
+    /// keeping the other bits.
+    pub(super) fn store_word_bit(&mut self, area: WordArea, index: Index, mask: Value, on: Value) {
+        let word = self.b.push(Inst::LoadWord { area, index });
+        let word = self.b.extend(word, Type::I32, true);
+        let all = self.b.constant(Type::I32, -1);
+        let keep = self.b.binary(BinOp::Xor, mask, all);
+        let cleared = self.b.binary(BinOp::And, word, keep);
+        let zero = self.b.constant(Type::I32, 0);
+        let set = self.b.select(on, mask, zero);
+        let updated = self.b.binary(BinOp::Or, cleared, set);
+        let updated = self.b.truncate(updated, Type::I16);
+        self.b.effect(Inst::StoreWord {
+            area,
+            index,
+            value: updated,
+        });
     }
 
     /// Bit 0 of an I64 as a Bit.

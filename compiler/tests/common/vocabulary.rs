@@ -13,6 +13,9 @@ use proptest::prelude::*;
 /// the generator puts them (low numbers, so runs of units stay in range).
 fn class_operand(class: DeviceClass, kind: OperandKind, width: Width) -> BoxedStrategy<String> {
     let wide = width == Width::Double;
+    // Counts draw values that exercise the range checks; other operands
+    // draw ordinary values and addresses.
+    let counting = kind == OperandKind::Count;
     let digits = match (kind, wide) {
         // Bytes are read from whole words.
         (OperandKind::ByteSource, _) => "4",
@@ -46,58 +49,24 @@ fn class_operand(class: DeviceClass, kind: OperandKind, width: Width) -> BoxedSt
         DeviceClass::C if wide => "C20[0-3]".boxed(),
         DeviceClass::C => "C[0-2]".boxed(),
         DeviceClass::WideCounter => "C20[0-3]".boxed(),
-        DeviceClass::D => match kind {
-            OperandKind::Count => prop_oneof!["D[1-3]", Just("D8511[D1]".to_string())].boxed(),
-            OperandKind::Source
-            | OperandKind::Destination
-            | OperandKind::Modified
-            | OperandKind::DoubleDestination
-            | OperandKind::BlockSource
-            | OperandKind::BlockDestination
-            | OperandKind::BitDestination
-            | OperandKind::BitTriple
-            | OperandKind::ElementSource
-            | OperandKind::ElementDestination
-            | OperandKind::RangeEnd
-            | OperandKind::DigitSource
-            | OperandKind::DigitDestination
-            | OperandKind::TableEnd
-            | OperandKind::ByteSource
-            | OperandKind::Timer => prop_oneof![
-                "D[0-3]".prop_flat_map(indexed),
-                "D[1-4]0".prop_flat_map(indexed),
-                Just("D8508[D2]".to_string()),
-            ]
-            .boxed(),
-        },
+        DeviceClass::D if counting => prop_oneof!["D[1-3]", Just("D8511[D1]".to_string())].boxed(),
+        DeviceClass::D => prop_oneof![
+            "D[0-3]".prop_flat_map(indexed),
+            "D[1-4]0".prop_flat_map(indexed),
+            Just("D8508[D2]".to_string()),
+        ]
+        .boxed(),
         DeviceClass::R => "R[0-9]".prop_flat_map(indexed).boxed(),
         DeviceClass::Sd => "SD1[0-9]".boxed(),
-        DeviceClass::Constant => match kind {
-            OperandKind::Count => {
-                prop_oneof![4 => "K[0-9]", 1 => Just("K600".to_string()), 1 => Just("K-1".to_string())].boxed()
-            }
-            OperandKind::Source
-            | OperandKind::Destination
-            | OperandKind::Modified
-            | OperandKind::DoubleDestination
-            | OperandKind::BlockSource
-            | OperandKind::BlockDestination
-            | OperandKind::BitDestination
-            | OperandKind::BitTriple
-            | OperandKind::ElementSource
-            | OperandKind::ElementDestination
-            | OperandKind::RangeEnd
-            | OperandKind::DigitSource
-            | OperandKind::DigitDestination
-            | OperandKind::TableEnd
-            | OperandKind::ByteSource
-            | OperandKind::Timer => prop_oneof![
-                "K-?[0-9]{1,3}",
-                "H[0-9A-F]{1,4}",
-                if wide { "K[0-9]{6,9}" } else { "K3276[0-7]" },
-            ]
-            .boxed(),
-        },
+        DeviceClass::Constant if counting => {
+            prop_oneof![4 => "K[0-9]", 1 => Just("K600".to_string()), 1 => Just("K-1".to_string())].boxed()
+        }
+        DeviceClass::Constant => prop_oneof![
+            "K-?[0-9]{1,3}",
+            "H[0-9A-F]{1,4}",
+            if wide { "K[0-9]{6,9}" } else { "K3276[0-7]" },
+        ]
+        .boxed(),
     }
 }
 
