@@ -165,14 +165,32 @@ fn guarded_host_never_touches_memory_outside_the_image() {
 }
 
 /// SORT2, SORT, CRC, BCC, MEAN, ANS and ANR in a firmware build: the
-/// example host (static storage) prints what the interpreter prints, and a
-/// driver that hashes the whole image after every scan, linked with the same
-/// runtime library, sees exactly the interpreter's image.
+/// program's object, the example host (static storage) and the `no_std`
+/// runtime library link with the C library alone (`-nodefaultlibs -lc`), the
+/// host needs no other shared library and prints what the interpreter prints;
+/// a driver that hashes the whole image after every scan, linked the same
+/// way, sees exactly the interpreter's image.
 #[test]
 fn firmware_host_runs_tables_checks_and_alarms_like_the_interpreter() {
+    let test = "firmware_host_runs_tables_checks_and_alarms_like_the_interpreter";
+    let library = match tools::firmware_runtime_library() {
+        Ok(library) => library,
+        Err(why) => return tools::skip(test, &why),
+    };
     let dir = scratch("tables");
     let program = workspace().join("testsuite/programs/tables_and_alarms.il");
-    let host = example_host(&program, dir.path());
+    let object = dir.path().join("program.o");
+    let output = ladderc(&["build", program.to_str().unwrap(), "-o", object.to_str().unwrap()]);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let host = dir.path().join("host");
+    let main = workspace().join("examples/host/main.c");
+    tools::link_firmware_host(&[], &[&main, &object], &library, &host);
+    assert_eq!(shared_libraries(&host), ["libc.so.6"], "the host needs libc alone");
+    eprintln!(
+        "firmware runtime library {} bytes, example host with this program {} bytes",
+        std::fs::metadata(&library).unwrap().len(),
+        std::fs::metadata(&host).unwrap().len()
+    );
     let output = Command::new(&host)
         .args(["120", "10", "X0=1", "X1=1"])
         .output()
@@ -189,15 +207,13 @@ fn firmware_host_runs_tables_checks_and_alarms_like_the_interpreter() {
         "the alarm set SM248:\n{csv}"
     );
 
-    let object = dir.path().join("program.o");
     std::fs::write(dir.path().join("layout.h"), tools::layout_header()).unwrap();
     let driver = dir.path().join("digest");
-    let mut flags = vec!["-I".to_string(), dir.path().display().to_string()];
-    flags.push("-Wno-unused-parameter".into());
-    let flags: Vec<&str> = flags.iter().map(String::as_str).collect();
-    link_host_with(
-        &flags,
+    let include = dir.path().display().to_string();
+    tools::link_firmware_host(
+        &["-I", &include, "-Wno-unused-parameter"],
         &[&workspace().join("testsuite/cross/image_digest.c"), &object],
+        &library,
         &driver,
     );
     let output = Command::new(&driver).arg("300").output().unwrap();
@@ -212,6 +228,20 @@ fn firmware_host_runs_tables_checks_and_alarms_like_the_interpreter() {
         first_difference.is_none() && expected.lines().count() == actual.lines().count(),
         "the compiled image differs from the interpreter's, first at {first_difference:?}"
     );
+}
+
+/// The shared libraries an executable names (`NEEDED` in its dynamic section).
+fn shared_libraries(executable: &Path) -> Vec<String> {
+    let output = Command::new("readelf")
+        .arg("-d")
+        .arg(executable)
+        .output()
+        .expect("readelf (binutils, installed with gcc) runs");
+    text(&output.stdout)
+        .lines()
+        .filter(|line| line.contains("(NEEDED)"))
+        .filter_map(|line| Some(line.split_once('[')?.1.trim_end_matches(']').to_string()))
+        .collect()
 }
 
 /// Whether, under the digest driver's input pattern, SM229 turned ON, S900

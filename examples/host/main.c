@@ -9,8 +9,9 @@
  * `ladderc run --format csv --watch Y0,Y1,Y2,Y3,Y4,Y5,Y6,Y7`, and reports
  * operation errors on stderr. Build it (see README.md):
  *
- *   cc -std=c99 -I runtime/include examples/host/main.c prog.o \
- *      target/release/libladder_runtime.a -lgcc_s -lutil -lrt -lpthread -lm -ldl -lc -o host
+ *   cargo build -p ladder-runtime --profile firmware --no-default-features
+ *   cc -std=c99 -Os -I runtime/include examples/host/main.c prog.o \
+ *      target/firmware/libladder_runtime.a -nodefaultlibs -lc -o host
  */
 #ifdef LADDER_HOST_GUARDED
 #define _DEFAULT_SOURCE

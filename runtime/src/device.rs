@@ -98,6 +98,7 @@ impl BitArea {
     }
 
     /// Formats device `index` the way a programmer writes it (`X17`, `M100`).
+    #[cfg(feature = "std")]
     pub fn device_name(self, index: u32) -> String {
         if self.is_octal() {
             format!("{}{:o}", self.prefix(), index)
@@ -137,6 +138,7 @@ impl WordArea {
         }
     }
 
+    #[cfg(feature = "std")]
     pub fn device_name(self, index: u32) -> String {
         format!("{}{}", self.prefix(), index)
     }

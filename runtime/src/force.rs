@@ -15,8 +15,8 @@ pub enum ForceError {
     OutOfRange,
 }
 
-impl std::fmt::Display for ForceError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+impl core::fmt::Display for ForceError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         f.write_str(match self {
             ForceError::NotForceable => "only X, Y, M, T and C devices can be forced",
             ForceError::OutOfRange => "device number out of range",
@@ -24,7 +24,7 @@ impl std::fmt::Display for ForceError {
     }
 }
 
-impl std::error::Error for ForceError {}
+impl core::error::Error for ForceError {}
 
 impl Memory {
     fn force_table_mut(&mut self, area: BitArea) -> Option<&mut [u8]> {

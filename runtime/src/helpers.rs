@@ -88,6 +88,7 @@ pub struct HelperDecl {
 
 impl HelperDecl {
     /// The C prototype: `void ladder_rt_x(LadderMemory *mem, uint32_t a)`.
+    #[cfg(feature = "std")]
     pub fn c_prototype(&self) -> String {
         let params: Vec<String> = std::iter::once("LadderMemory *mem".to_string())
             .chain(
@@ -386,6 +387,7 @@ pub unsafe extern "C" fn ladder_rt_begin_scan(mem: *mut Memory, elapsed_ms: u32)
 }
 
 /// Every symbol compiled code may import, with its address, for a JIT.
+#[cfg(feature = "std")]
 pub fn symbols() -> Vec<(&'static str, *const u8)> {
     Helper::ALL
         .iter()

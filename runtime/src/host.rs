@@ -67,7 +67,10 @@ pub enum AccessError {
     /// The device, or part of it, is outside its area; or the width does not
     /// fit the device.
     OutOfRange,
+    /// A write through a read-only view of the image.
+    ReadOnly,
     /// The image could not be reached (a host process that went away).
+    #[cfg(feature = "std")]
     Unreachable(String),
 }
 
@@ -214,7 +217,7 @@ impl BasicAccess for ReadOnly<'_> {
     }
 
     fn write_basic(&mut self, _: Basic, _: i32) -> Result<(), AccessError> {
-        Err(AccessError::Unreachable("read-only view".into()))
+        Err(AccessError::ReadOnly)
     }
 }
 

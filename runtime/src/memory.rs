@@ -94,6 +94,7 @@ pub const FORCE_ON: u8 = 2;
 
 impl Memory {
     /// A freshly initialised image on the heap (it is too large for most stacks).
+    #[cfg(feature = "std")]
     pub fn new_boxed() -> Box<Memory> {
         bytemuck::zeroed_box()
     }

@@ -25,6 +25,7 @@ impl SpecialBit {
     }
 
     /// How a programmer writes it (`M8020`, `SM152`).
+    #[cfg(feature = "std")]
     pub fn name(self) -> String {
         self.area.device_name(self.number)
     }

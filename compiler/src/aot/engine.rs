@@ -117,6 +117,7 @@ impl BasicAccess for AotEngine {
 fn describe(error: AccessError, device: HostDevice) -> String {
     match error {
         AccessError::OutOfRange => format!("{:?} is out of range", device.device),
+        AccessError::ReadOnly => format!("{:?} is read-only here", device.device),
         AccessError::Unreachable(why) => why,
     }
 }

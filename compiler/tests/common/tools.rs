@@ -110,6 +110,52 @@ pub fn link_host_with(flags: &[&str], sources: &[&Path], output: &Path) {
     assert!(status.success(), "linking {} failed", output.display());
 }
 
+/// The firmware build of the runtime (`no_std`, panics abort), built once per
+/// test process by a nested cargo in its own target directory (so it never
+/// waits on the lock of the build that runs the tests). `Err` says why not.
+pub fn firmware_runtime_library() -> Result<PathBuf, String> {
+    static LIBRARY: std::sync::OnceLock<Result<PathBuf, String>> = std::sync::OnceLock::new();
+    LIBRARY.get_or_init(build_firmware_runtime).clone()
+}
+
+fn build_firmware_runtime() -> Result<PathBuf, String> {
+    let target = workspace().join("target/firmware-runtime");
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
+    let output = Command::new(cargo)
+        .current_dir(workspace())
+        .args(["build", "--quiet", "-p", "ladder-runtime", "--profile", "firmware"])
+        .arg("--no-default-features")
+        .arg("--target-dir")
+        .arg(&target)
+        .output()
+        .map_err(|e| format!("cargo could not run: {e}"))?;
+    if !output.status.success() {
+        return Err(format!(
+            "`cargo build -p ladder-runtime --profile firmware --no-default-features` failed:\n{}",
+            String::from_utf8_lossy(&output.stderr)
+        ));
+    }
+    Ok(target.join("firmware/libladder_runtime.a"))
+}
+
+/// Links C sources and objects with the firmware runtime library and the C
+/// library only (`-nodefaultlibs -lc`: not even libgcc).
+pub fn link_firmware_host(flags: &[&str], sources: &[&Path], library: &Path, output: &Path) {
+    let compiler = ladderc::aot::toolchain::c_compiler().expect("a C compiler (gcc is part of every machine)");
+    let status = Command::new(compiler)
+        .args(["-std=c99", "-Os", "-Wall", "-Wextra", "-Werror"])
+        .args(flags)
+        .arg("-I")
+        .arg(workspace().join("runtime/include"))
+        .args(sources)
+        .arg(library)
+        .args(["-nodefaultlibs", "-lc", "-Wl,--gc-sections", "-o"])
+        .arg(output)
+        .status()
+        .expect("cc runs");
+    assert!(status.success(), "linking {} with only libc failed", output.display());
+}
+
 /// `ladderc run --engine interp` in the CSV the example host prints
 /// (`scan,Y0,...,Y7`), with `--set` for each of `sets`.
 pub fn interpreter_csv(program: &Path, scans: u32, scan_ms: u32, sets: &[&str]) -> String {
