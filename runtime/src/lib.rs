@@ -43,3 +43,11 @@ fn panic(_: &core::panic::PanicInfo) -> ! {
     // SAFETY: `abort` from the C library takes no arguments and never returns.
     unsafe { abort() }
 }
+
+/// The precompiled `core` refers to the unwinder's personality routine in its
+/// unwind tables. With `panic = "abort"` nothing unwinds, so it is never
+/// called; defining it lets a firmware link without `--gc-sections` (the
+/// symbol is otherwise undefined).
+#[cfg(not(any(feature = "std", test)))]
+#[no_mangle]
+extern "C" fn rust_eh_personality() {}

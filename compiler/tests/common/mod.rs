@@ -6,6 +6,9 @@
 
 #![allow(dead_code)]
 
+pub mod differential;
+pub mod image;
+pub mod stimulus;
 pub mod tools;
 pub mod vocabulary;
 
@@ -26,7 +29,9 @@ fn contact() -> impl Strategy<Value = Condition> {
         "Y[0-7]",
         "S[0-3]",
         "T[0-3]",
+        "T(200|246|250)",
         "C[0-2]",
+        "C20[0-1]",
         "M8002",
         "D0\\.[0-3]",
         "M[0-9]\\[D1\\]",
@@ -89,8 +94,9 @@ pub fn output() -> impl Strategy<Value = String> {
     prop_oneof![
         6 => prop_oneof![
             "OUT (Y[0-7]|M[0-9])", "SET (Y[0-7]|M[0-9])", "RST (Y[0-7]|M[0-9])", "PLS M[0-9]", "PLF Y[0-7]",
-            "OUT T[0-3] K[0-5]", "OUT T25[0-1] K3", "OUT C[0-2] K[0-3]", "OUT C20[0-1] K[0-2]",
-            "RST (T|C)[0-3]", "OUT M[0-9]\\[D1\\]", "SET S[1-3]", "OUT D0\\.[0-3]", "OUT M820[0-1]",
+            "OUT T[0-3] K[0-5]", "OUT T[0-3] D[0-3]", "OUT T20[0-1] K[0-9]{1,2}", "OUT T24[6-7] K[0-9]{1,3}",
+            "OUT T25[0-1] K3", "OUT C[0-2] K[0-3]", "OUT C20[0-1] K[0-2]", "OUT C[0-2] D[0-3]",
+            "RST (T|C)[0-3]", "RST T(200|246|250)", "RST C20[0-1]", "OUT M[0-9]\\[D1\\]", "SET S[1-3]", "OUT D0\\.[0-3]", "OUT M820[0-1]",
             "SET M[0-9]\\[D2\\] K[1-4]", "RST Y[0-7]\\[D1\\] K[2-3]", "RST D[4-6]\\[D2\\] K2", "PLS M[0-9]\\[D3\\]",
             "OUT Y37[0-7]\\[D1\\]", "RST M8510\\[D1\\] K2", "SET D0\\.[0-3]\\[D3\\]",
         ],

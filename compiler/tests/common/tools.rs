@@ -139,7 +139,8 @@ fn build_firmware_runtime() -> Result<PathBuf, String> {
 }
 
 /// Links C sources and objects with the firmware runtime library and the C
-/// library only (`-nodefaultlibs -lc`: not even libgcc).
+/// library only (`-nodefaultlibs -lc`: not even libgcc), without dropping
+/// unused sections (a firmware's linker script may keep them all).
 pub fn link_firmware_host(flags: &[&str], sources: &[&Path], library: &Path, output: &Path) {
     let compiler = ladderc::aot::toolchain::c_compiler().expect("a C compiler (gcc is part of every machine)");
     let status = Command::new(compiler)
@@ -149,7 +150,7 @@ pub fn link_firmware_host(flags: &[&str], sources: &[&Path], library: &Path, out
         .arg(workspace().join("runtime/include"))
         .args(sources)
         .arg(library)
-        .args(["-nodefaultlibs", "-lc", "-Wl,--gc-sections", "-o"])
+        .args(["-nodefaultlibs", "-lc", "-o"])
         .arg(output)
         .status()
         .expect("cc runs");

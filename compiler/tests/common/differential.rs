@@ -1,0 +1,397 @@
+//! The differential test's engine room: a random case is a generated program
+//! and the host calls and times of each scan; it runs on the interpreter (the
+//! specification), the JIT, and — in batches of programs linked into one C
+//! host — the object-file path, and the whole device image of every engine
+//! must equal the interpreter's after every scan. A divergence is shrunk to
+//! a small case and written out as a scenario file.
+
+use super::image::{self, Difference};
+use super::stimulus::{self, Step};
+use ladder_runtime::Memory;
+use ladderc::check::compile_source;
+use ladderc::codegen::ObjectOptions;
+use ladderc::diagnostics::render_all;
+use ladderc::interp::Interpreter;
+use ladderc::program::CheckedProgram;
+use ladderc::source::SourceFile;
+use proptest::prelude::*;
+use proptest::strategy::ValueTree;
+use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+
+/// A program and what the host does around each of its scans.
+#[derive(Clone, Debug)]
+pub struct Case {
+    pub program: String,
+    pub steps: Vec<Step>,
+}
+
+pub fn case(program: impl Strategy<Value = String>) -> impl Strategy<Value = Case> {
+    (program, proptest::collection::vec(stimulus::step(), 1..25)).prop_map(|(program, steps)| Case { program, steps })
+}
+
+/// Where an engine first left the interpreter.
+#[derive(Clone, Debug)]
+pub struct Divergence {
+    pub engine: &'static str,
+    /// 0-based index of the scan after which the images differ.
+    pub scan: usize,
+    /// The differing elements (empty when only a digest is known).
+    pub differences: Vec<Difference>,
+}
+
+/// Counts of one run, for the report.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Totals {
+    pub programs: usize,
+    pub scans: usize,
+    pub aot_programs: usize,
+}
+
+pub fn compile(text: &str) -> CheckedProgram {
+    let file = SourceFile::new("gen.il", text);
+    let (program, diagnostics) = compile_source(&file);
+    program.unwrap_or_else(|| {
+        panic!(
+            "generated program rejected:\n{text}\n{}",
+            render_all(&file, &diagnostics)
+        )
+    })
+}
+
+/// Runs `case` on the interpreter and the JIT, comparing whole images after
+/// every scan; returns the interpreter's image digests.
+pub fn in_process(case: &Case, program: &CheckedProgram) -> Result<Vec<u64>, Divergence> {
+    let jit = ladderc::pipeline::jit(program).expect("generated programs compile to native code");
+    let interpreter = Interpreter::new(program);
+    let mut expected = Memory::new_boxed();
+    let mut actual = Memory::new_boxed();
+    let mut digests = Vec::with_capacity(case.steps.len());
+    for (scan, step) in case.steps.iter().enumerate() {
+        stimulus::apply(&mut expected, step);
+        stimulus::apply(&mut actual, step);
+        interpreter.scan(&mut expected, step.elapsed_ms);
+        actual.scan_with(step.elapsed_ms, |mem| jit.run(mem));
+        if bytemuck::bytes_of(&*expected) != bytemuck::bytes_of(&*actual) {
+            return Err(Divergence {
+                engine: "jit",
+                scan,
+                differences: image::differences(&expected, &actual),
+            });
+        }
+        digests.push(image::digest(&expected));
+    }
+    Ok(digests)
+}
+
+/// The interpreter's image after `scans` scans of `case`.
+pub fn interpreter_image(case: &Case, program: &CheckedProgram, scans: usize) -> Box<Memory> {
+    let interpreter = Interpreter::new(program);
+    let mut mem = Memory::new_boxed();
+    for step in &case.steps[..scans] {
+        stimulus::apply(&mut mem, step);
+        interpreter.scan(&mut mem, step.elapsed_ms);
+    }
+    mem
+}
+
+/// The object-file path: programs compiled with their own prefixes and
+/// linked with the runtime library into the differential driver.
+pub struct AotHost {
+    compiler: String,
+    library: PathBuf,
+    /// Extra linker arguments the library needs.
+    libraries: Vec<String>,
+}
+
+impl AotHost {
+    /// The firmware library when it builds, else the library cargo built
+    /// for ladderc; `Err` says why neither can be used.
+    pub fn find() -> Result<AotHost, String> {
+        let compiler = ladderc::aot::toolchain::c_compiler()?;
+        let (library, libraries) = match super::tools::firmware_runtime_library() {
+            Ok(library) => (library, vec!["-nodefaultlibs".to_string(), "-lc".to_string()]),
+            Err(why) => {
+                eprintln!("differential aot: using the std runtime library ({why})");
+                let libs = ladderc::aot::toolchain::NATIVE_LIBS
+                    .iter()
+                    .map(|s| s.to_string())
+                    .collect();
+                (ladderc::aot::toolchain::runtime_library()?, libs)
+            }
+        };
+        Ok(AotHost {
+            compiler,
+            library,
+            libraries,
+        })
+    }
+
+    /// Builds one driver for `programs` in `work`.
+    fn link(&self, programs: &[&CheckedProgram], work: &Path) -> Result<PathBuf, String> {
+        let mut sources = vec![super::tools::workspace().join("testsuite/differential/driver.c")];
+        let mut list = String::from("#define PROGRAMS");
+        for (i, program) in programs.iter().enumerate() {
+            let options = ObjectOptions {
+                target: None,
+                prefix: format!("p{i}_"),
+            };
+            let object = ladderc::pipeline::object(program, &options).map_err(|e| e.to_string())?;
+            let path = work.join(format!("p{i}.o"));
+            std::fs::write(&path, object).map_err(|e| e.to_string())?;
+            sources.push(path);
+            let _ = write!(list, " X(p{i}_)");
+        }
+        std::fs::write(work.join("programs.h"), list + "\n").map_err(|e| e.to_string())?;
+        let host = work.join("driver");
+        let output = Command::new(&self.compiler)
+            .args(["-std=c99", "-O1", "-w", "-I"])
+            .arg(work)
+            .arg("-I")
+            .arg(super::tools::workspace().join("runtime/include"))
+            .args(&sources)
+            .arg(&self.library)
+            .args(&self.libraries)
+            .arg("-o")
+            .arg(&host)
+            .output()
+            .map_err(|e| format!("{} did not run: {e}", self.compiler))?;
+        if !output.status.success() {
+            return Err(format!(
+                "linking the driver failed:\n{}",
+                String::from_utf8_lossy(&output.stderr)
+            ));
+        }
+        Ok(host)
+    }
+
+    /// Runs `script` on a driver and returns its output lines.
+    fn run(host: &Path, work: &Path, script: &str) -> Result<Vec<String>, String> {
+        let script_path = work.join("script.txt");
+        std::fs::write(&script_path, script).map_err(|e| e.to_string())?;
+        let output = Command::new(host)
+            .stdin(std::fs::File::open(&script_path).map_err(|e| e.to_string())?)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .output()
+            .map_err(|e| format!("the driver did not run: {e}"))?;
+        if !output.status.success() {
+            return Err(format!("the driver stopped: {:?}", output.status));
+        }
+        Ok(String::from_utf8_lossy(&output.stdout)
+            .lines()
+            .map(str::to_string)
+            .collect())
+    }
+
+    /// Image digests after every scan of every case, per case.
+    pub fn digests(&self, cases: &[(&Case, &CheckedProgram)]) -> Result<Vec<Vec<u64>>, String> {
+        let work = tempfile::tempdir().map_err(|e| e.to_string())?;
+        let programs: Vec<&CheckedProgram> = cases.iter().map(|(_, p)| *p).collect();
+        let host = self.link(&programs, work.path())?;
+        let mut script = String::new();
+        for (i, (case, _)) in cases.iter().enumerate() {
+            let _ = writeln!(script, "P {i}");
+            for step in &case.steps {
+                stimulus::driver_commands(step, &mut script);
+            }
+        }
+        let lines = Self::run(&host, work.path(), &script)?;
+        let mut lines = lines.iter();
+        cases
+            .iter()
+            .map(|(case, _)| {
+                case.steps
+                    .iter()
+                    .map(|_| {
+                        let line = lines.next().ok_or("the driver printed too few digests")?;
+                        u64::from_str_radix(line, 16).map_err(|e| format!("`{line}`: {e}"))
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// The compiled program's whole image after `scans` scans of `case`.
+    pub fn image(&self, case: &Case, program: &CheckedProgram, scans: usize) -> Result<Box<Memory>, String> {
+        let work = tempfile::tempdir().map_err(|e| e.to_string())?;
+        let host = self.link(&[program], work.path())?;
+        let mut script = String::from("P 0\n");
+        for step in &case.steps[..scans] {
+            stimulus::driver_commands(step, &mut script);
+        }
+        script.push_str("D\n");
+        let lines = Self::run(&host, work.path(), &script)?;
+        let hex = lines.last().ok_or("no image printed")?;
+        let mut mem = Memory::new_boxed();
+        let bytes = bytemuck::bytes_of_mut(&mut *mem);
+        if hex.len() != 2 * bytes.len() {
+            return Err(format!("the image has {} hex digits", hex.len()));
+        }
+        for (i, byte) in bytes.iter_mut().enumerate() {
+            *byte = u8::from_str_radix(&hex[2 * i..2 * i + 2], 16).map_err(|e| e.to_string())?;
+        }
+        Ok(mem)
+    }
+
+    /// Where the object-file path leaves the interpreter on `case`, if it does.
+    pub fn diverges(&self, case: &Case, program: &CheckedProgram, expected: &[u64]) -> Result<Option<usize>, String> {
+        let digests = self.digests(&[(case, program)])?;
+        Ok(first_difference(expected, &digests[0]))
+    }
+}
+
+pub fn first_difference(expected: &[u64], actual: &[u64]) -> Option<usize> {
+    (0..expected.len().max(actual.len())).find(|&i| expected.get(i) != actual.get(i))
+}
+
+/// Any engine's divergence on `case` (in-process engines first).
+pub fn divergence(case: &Case, aot: Option<&AotHost>) -> Option<Divergence> {
+    let program = compile(&case.program);
+    let expected = match in_process(case, &program) {
+        Ok(digests) => digests,
+        Err(divergence) => return Some(divergence),
+    };
+    let aot = aot?;
+    let scan = aot
+        .diverges(case, &program, &expected)
+        .unwrap_or_else(|e| panic!("aot: {e}"))?;
+    let differences = match aot.image(case, &program, scan + 1) {
+        Ok(actual) => image::differences(&interpreter_image(case, &program, scan + 1), &actual),
+        Err(_) => Vec::new(),
+    };
+    Some(Divergence {
+        engine: "aot",
+        scan,
+        differences,
+    })
+}
+
+/// Shrinks the failing `tree` (proptest's simplify/complicate walk) to a
+/// case that still diverges, at most `budget` tries.
+pub fn minimise(mut tree: impl ValueTree<Value = Case>, aot: Option<&AotHost>, budget: usize) -> (Case, Divergence) {
+    let mut smallest = tree.current();
+    let mut found = divergence(&smallest, aot).expect("the case diverged");
+    let mut tries = 0;
+    if tree.simplify() {
+        while tries < budget {
+            tries += 1;
+            let candidate = tree.current();
+            let failed = std::panic::catch_unwind(|| divergence(&candidate, aot)).unwrap_or(None);
+            if let Some(divergence) = failed {
+                smallest = candidate;
+                found = divergence;
+                if !tree.simplify() {
+                    break;
+                }
+            } else if !tree.complicate() {
+                break;
+            }
+        }
+    }
+    (smallest, found)
+}
+
+/// `case` up to the diverging scan as a scenario whose expectations are the
+/// interpreter's values of the devices that differ.
+pub fn scenario(case: &Case, divergence: &Divergence) -> String {
+    let mut out = format!(
+        "# Found by the differential test: {} leaves the interpreter after scan {}.\n",
+        divergence.engine,
+        divergence.scan + 1
+    );
+    for difference in divergence.differences.iter().take(20) {
+        let _ = writeln!(
+            out,
+            "# {}: interpreter {}, {} {}",
+            difference.place, difference.expected, divergence.engine, difference.actual
+        );
+    }
+    out.push_str("program <<\n");
+    out.push_str(&case.program);
+    out.push_str(">>\n");
+    let mut scan_ms = 10;
+    for step in &case.steps[..=divergence.scan] {
+        stimulus::scenario_directives(step, &mut scan_ms, &mut out);
+    }
+    for difference in &divergence.differences {
+        if let Some((kind, number)) = difference.device {
+            let _ = writeln!(
+                out,
+                "expect {} {}",
+                stimulus::scenario_device(kind, number),
+                difference.expected
+            );
+        }
+    }
+    out
+}
+
+/// Writes `text` under the test's scratch directory; returns the path.
+pub fn write_scenario(name: &str, text: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("differential");
+    let _ = std::fs::create_dir_all(&dir);
+    let path = dir.join(format!("{name}.scn"));
+    let _ = std::fs::write(&path, text);
+    path
+}
+
+/// A runner whose seed is `seed` (reproducible), drawing `case` values.
+pub fn runner(seed: u64) -> TestRunner {
+    let mut bytes = [0u8; 32];
+    bytes[..8].copy_from_slice(&seed.to_le_bytes());
+    TestRunner::new_with_rng(Config::default(), TestRng::from_seed(RngAlgorithm::ChaCha, &bytes))
+}
+
+/// Runs `count` cases from `seed` on every engine (the object-file path in
+/// batches of `batch`); panics with the minimised scenario on a divergence.
+pub fn check<S>(name: &str, strategy: S, seed: u64, count: usize, batch: usize, aot: Option<&AotHost>) -> Totals
+where
+    S: Strategy<Value = Case>,
+{
+    let mut runner = runner(seed);
+    let mut totals = Totals::default();
+    let mut done = 0;
+    while done < count {
+        let size = batch.min(count - done);
+        let mut trees = Vec::with_capacity(size);
+        let mut programs = Vec::with_capacity(size);
+        let mut expected = Vec::with_capacity(size);
+        for _ in 0..size {
+            let tree = strategy.new_tree(&mut runner).expect("a case");
+            let case = tree.current();
+            let program = compile(&case.program);
+            match in_process(&case, &program) {
+                Ok(digests) => expected.push(digests),
+                Err(_) => fail(name, seed, tree, aot),
+            }
+            totals.programs += 1;
+            totals.scans += case.steps.len();
+            programs.push((case, program));
+            trees.push(tree);
+        }
+        if let Some(aot) = aot {
+            let cases: Vec<(&Case, &CheckedProgram)> = programs.iter().map(|(c, p)| (c, p)).collect();
+            let digests = aot.digests(&cases).unwrap_or_else(|e| panic!("aot: {e}"));
+            totals.aot_programs += cases.len();
+            if let Some(i) = (0..size).find(|&i| first_difference(&expected[i], &digests[i]).is_some()) {
+                fail(name, seed, trees.swap_remove(i), Some(aot));
+            }
+        }
+        done += size;
+    }
+    totals
+}
+
+fn fail(name: &str, seed: u64, tree: impl ValueTree<Value = Case>, aot: Option<&AotHost>) -> ! {
+    let (case, divergence) = minimise(tree, aot, 2000);
+    let text = scenario(&case, &divergence);
+    let path = write_scenario(&format!("{name}-{seed}"), &text);
+    panic!(
+        "{} differs from the interpreter (seed {seed}); minimised scenario written to {}:\n{text}",
+        divergence.engine,
+        path.display()
+    );
+}

@@ -1,0 +1,141 @@
+//! The device image as bytes: a digest every engine computes the same way,
+//! and the names of the fields and devices behind a byte offset, to report
+//! where two images differ (and to write `expect` lines for it).
+
+use ladder_runtime::capi::LadderDevice;
+use ladder_runtime::Memory;
+use std::mem::offset_of;
+
+/// FNV-1a over the image's 64-bit little-endian words (the C driver
+/// computes the same). Each step is a bijection of the hash for a given
+/// word, so two images that differ in one word always hash differently.
+pub fn digest(mem: &Memory) -> u64 {
+    bytemuck::bytes_of(mem)
+        .chunks_exact(8)
+        .fold(0xcbf2_9ce4_8422_2325u64, |hash, word| {
+            let word = u64::from_le_bytes(word.try_into().expect("8 bytes"));
+            (hash ^ word).wrapping_mul(0x0000_0100_0000_01b3)
+        })
+}
+
+/// A field of the image: its name, where it starts, the size of one
+/// element, and the device kind (and first number) its elements are.
+struct Field {
+    name: &'static str,
+    start: usize,
+    element: usize,
+    device: Option<(LadderDevice, u32)>,
+}
+
+fn fields() -> Vec<Field> {
+    let field = |name, start, element, device| Field {
+        name,
+        start,
+        element,
+        device,
+    };
+    vec![
+        field("x", offset_of!(Memory, x), 1, Some((LadderDevice::X, 0))),
+        field("y", offset_of!(Memory, y), 1, Some((LadderDevice::Y, 0))),
+        field("m", offset_of!(Memory, m), 1, Some((LadderDevice::M, 0))),
+        field("s", offset_of!(Memory, s), 1, Some((LadderDevice::S, 0))),
+        field("sm", offset_of!(Memory, sm), 1, Some((LadderDevice::Sm, 0))),
+        field(
+            "timer_contact",
+            offset_of!(Memory, timer_contact),
+            1,
+            Some((LadderDevice::Ts, 0)),
+        ),
+        field(
+            "counter_contact",
+            offset_of!(Memory, counter_contact),
+            1,
+            Some((LadderDevice::Cs, 0)),
+        ),
+        field("d", offset_of!(Memory, d), 2, Some((LadderDevice::D, 0))),
+        field("sd", offset_of!(Memory, sd), 2, Some((LadderDevice::Sd, 0))),
+        field("r", offset_of!(Memory, r), 2, Some((LadderDevice::R, 0))),
+        field(
+            "timer_value",
+            offset_of!(Memory, timer_value),
+            2,
+            Some((LadderDevice::Tn, 0)),
+        ),
+        field(
+            "counter_value",
+            offset_of!(Memory, counter_value),
+            2,
+            Some((LadderDevice::Cn, 0)),
+        ),
+        field(
+            "wide_counter_value",
+            offset_of!(Memory, wide_counter_value),
+            4,
+            Some((LadderDevice::Cn, 200)),
+        ),
+        field("timer_remainder_ms", offset_of!(Memory, timer_remainder_ms), 2, None),
+        field("timer_coil_was_on", offset_of!(Memory, timer_coil_was_on), 1, None),
+        field("counter_coil_was_on", offset_of!(Memory, counter_coil_was_on), 1, None),
+        field("stl_pending_off", offset_of!(Memory, stl_pending_off), 1, None),
+        field("stl_block_active", offset_of!(Memory, stl_block_active), 1, None),
+        field("edge_slot", offset_of!(Memory, edge_slot), 1, None),
+        field("sort_state", offset_of!(Memory, sort_state), 1, None),
+        field("sort_scans", offset_of!(Memory, sort_scans), 1, None),
+        field("input_image", offset_of!(Memory, input_image), 1, None),
+        field("output_image", offset_of!(Memory, output_image), 1, None),
+        field("force_x", offset_of!(Memory, force_x), 1, None),
+        field("force_y", offset_of!(Memory, force_y), 1, None),
+        field("force_m", offset_of!(Memory, force_m), 1, None),
+        field("force_timer", offset_of!(Memory, force_timer), 1, None),
+        field("force_counter", offset_of!(Memory, force_counter), 1, None),
+        field("forced_count", offset_of!(Memory, forced_count), 4, None),
+        field("stl_pending_any", offset_of!(Memory, stl_pending_any), 4, None),
+        field("elapsed_ms", offset_of!(Memory, elapsed_ms), 4, None),
+        field("scan_count", offset_of!(Memory, scan_count), 4, None),
+    ]
+}
+
+/// One differing element of two images.
+#[derive(Clone, Debug)]
+pub struct Difference {
+    /// `d[12]`, `timer_remainder_ms[3]`.
+    pub place: String,
+    /// The device, when the element is one (`D12`, `CN200`).
+    pub device: Option<(LadderDevice, u32)>,
+    /// The element in the expected image (sign-extended) and in the other.
+    pub expected: i64,
+    pub actual: i64,
+}
+
+/// The elements where `actual` differs from `expected`, in image order.
+pub fn differences(expected: &Memory, actual: &Memory) -> Vec<Difference> {
+    let (a, b) = (bytemuck::bytes_of(expected), bytemuck::bytes_of(actual));
+    let fields = fields();
+    let mut out: Vec<Difference> = Vec::new();
+    for offset in (0..a.len()).filter(|&i| a[i] != b[i]) {
+        let Some(field) = fields.iter().rev().find(|f| f.start <= offset) else {
+            continue;
+        };
+        let index = (offset - field.start) / field.element;
+        let place = format!("{}[{index}]", field.name);
+        if out.last().is_some_and(|d| d.place == place) {
+            continue;
+        }
+        let element_start = field.start + index * field.element;
+        let value = |bytes: &[u8]| -> i64 {
+            let raw = &bytes[element_start..element_start + field.element];
+            match field.element {
+                2 => i64::from(i16::from_ne_bytes([raw[0], raw[1]])),
+                4 => i64::from(i32::from_ne_bytes([raw[0], raw[1], raw[2], raw[3]])),
+                _ => i64::from(raw[0]),
+            }
+        };
+        out.push(Difference {
+            place,
+            device: field.device.map(|(kind, first)| (kind, first + index as u32)),
+            expected: value(a),
+            actual: value(b),
+        });
+    }
+    out
+}
