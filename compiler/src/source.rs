@@ -56,10 +56,12 @@ impl SourceFile {
     /// once.
     pub fn read(path: &std::path::Path) -> Result<SourceFile, ReadError> {
         let bytes = read_bounded(path)?;
-        Ok(SourceFile::new(
-            path.display().to_string(),
-            String::from_utf8_lossy(&bytes).into_owned(),
-        ))
+        Ok(SourceFile::from_bytes(path.display().to_string(), &bytes))
+    }
+
+    /// A program file's bytes as the front end sees them.
+    pub fn from_bytes(name: impl Into<String>, bytes: &[u8]) -> SourceFile {
+        SourceFile::new(name, String::from_utf8_lossy(bytes).into_owned())
     }
 
     /// 1-based line number of a byte offset.

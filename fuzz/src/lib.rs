@@ -1,0 +1,93 @@
+//! Fuzz targets of ladderc, shared by the cargo-fuzz (libFuzzer, nightly)
+//! and AFL++ (stable) binaries. Each must never panic, whatever the bytes:
+//!
+//! - `front_end`: a program file → diagnostics rendered (file:line:col);
+//! - `scenario`: a scenario file → parsed, and when its program is inline,
+//!   run on the interpreter and the JIT (a bounded number of scans);
+//! - `pipeline`: a program file → check → IR → native code (JIT and an
+//!   object file) → a few scans of interpreter and JIT with varied inputs
+//!   and registers, whose whole images must be equal (a differential check
+//!   on whatever the fuzzer finds).
+
+use ladder_runtime::Memory;
+use ladderc::check::compile_source;
+use ladderc::diagnostics::render_all;
+use ladderc::interp::Interpreter;
+use ladderc::scenario::{parse_scenario, run_scenario, Directive, EngineKind, ProgramSource};
+use ladderc::source::SourceFile;
+
+/// The scans a fuzzed scenario may run (keeps each execution short).
+const SCENARIO_SCAN_BUDGET: u64 = 500;
+
+pub fn front_end(data: &[u8]) {
+    let file = SourceFile::from_bytes("fuzz.il", data);
+    let (_, diagnostics) = compile_source(&file);
+    let _ = render_all(&file, &diagnostics);
+}
+
+pub fn scenario(data: &[u8]) {
+    let text = String::from_utf8_lossy(data);
+    let Ok(scenario) = parse_scenario(std::path::Path::new("fuzz.scn"), &text) else {
+        return;
+    };
+    let ProgramSource::Inline { text, .. } = &scenario.program else {
+        // Never read files named by fuzzed input.
+        return;
+    };
+    let scans: u64 = scenario
+        .steps
+        .iter()
+        .map(|step| match step.directive {
+            Directive::Scan(n) => u64::from(n),
+            Directive::ScanMs(_)
+            | Directive::Set { .. }
+            | Directive::Force { .. }
+            | Directive::Unforce { .. }
+            | Directive::Expect { .. }
+            | Directive::ExpectError(_)
+            | Directive::ExpectReject { .. } => 0,
+        })
+        .sum();
+    if scans > SCENARIO_SCAN_BUDGET {
+        return;
+    }
+    let source = SourceFile::new("fuzz.scn (program)", text.as_str());
+    let _ = run_scenario(&scenario, &source, &[EngineKind::Interp, EngineKind::Jit]);
+}
+
+pub fn pipeline(data: &[u8]) {
+    let file = SourceFile::from_bytes("fuzz.il", data);
+    let (program, diagnostics) = compile_source(&file);
+    let _ = render_all(&file, &diagnostics);
+    let Some(program) = program else {
+        return;
+    };
+    let options = ladderc::codegen::ObjectOptions {
+        target: None,
+        prefix: ladderc::codegen::DEFAULT_PREFIX.to_string(),
+    };
+    ladderc::pipeline::object(&program, &options).expect("a checked program compiles to an object");
+    let jit = ladderc::pipeline::jit(&program).expect("a checked program compiles to native code");
+    let interpreter = Interpreter::new(&program);
+    let mut expected = Memory::new_boxed();
+    let mut actual = Memory::new_boxed();
+    let registers = [-1i16, 3, 8511, -32768, 32767, 200, 7, 0];
+    for scan in 0..4u32 {
+        for mem in [&mut expected, &mut actual] {
+            for (i, value) in registers.iter().enumerate() {
+                mem.d[i] = value.wrapping_add(scan as i16);
+            }
+            for (x, input) in mem.input_image.iter_mut().enumerate().take(16) {
+                *input = u8::from((x as u32 + scan) % 3 == 0);
+            }
+        }
+        let elapsed = [10, 0, u32::MAX, 100][scan as usize];
+        interpreter.scan(&mut expected, elapsed);
+        actual.scan_with(elapsed, |mem| jit.run(mem));
+        assert!(
+            bytemuck::bytes_of(&*expected) == bytemuck::bytes_of(&*actual),
+            "the JIT's image differs from the interpreter's after scan {}",
+            scan + 1
+        );
+    }
+}
