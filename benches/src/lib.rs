@@ -43,3 +43,138 @@ pub fn plant(units: u32) -> String {
     }
     text
 }
+
+/// A deterministic pseudo-random sequence (SplitMix64), so every run and
+/// every machine benchmarks the same programs.
+struct Sequence(u64);
+
+impl Sequence {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// A number below `n`.
+    fn below(&mut self, n: u32) -> u32 {
+        (self.next() % u64::from(n)) as u32
+    }
+}
+
+/// The most relays a bit-logic program uses: M0..M1023.
+pub const BIT_LOGIC_RELAYS: u32 = 1024;
+
+/// A straight-line bit-logic program of about `instructions` IL
+/// instructions (contacts on X, Y and M, blocks, OUT/SET/RST of M and Y; the
+/// kind of program the IL→C→gcc route is usually shown with), as IL and as
+/// the C a translator would write for it: one byte per bit, the scan a
+/// `noinline` function over a struct of the three areas. The C reads and
+/// writes the same bytes the compiled program does, so after the same scans
+/// both leave the same Y and M.
+pub struct BitLogic {
+    pub il: String,
+    pub c: String,
+    pub instructions: usize,
+}
+
+/// `relays` (at most `BIT_LOGIC_RELAYS`) is how many M relays the rungs
+/// share: few relays means values written by one rung are read by the next
+/// ones, as in real interlocking logic.
+pub fn bit_logic(instructions: usize, relays: u32, seed: u64) -> BitLogic {
+    let relays = relays.clamp(1, BIT_LOGIC_RELAYS);
+    let mut random = Sequence(seed);
+    let mut il = String::new();
+    let mut c = String::from(
+        "#include <stdint.h>\n\
+         struct image { uint8_t x[256]; uint8_t y[256]; uint8_t m[1024]; };\n\
+         __attribute__((noinline)) void scan(struct image *restrict p) {\n\
+         uint8_t a, b;\n",
+    );
+    let mut count = 0;
+    // A contact: (IL operand, C expression).
+    let contact = |random: &mut Sequence| -> (String, String) {
+        match random.below(10) {
+            0..=2 => {
+                let n = random.below(256);
+                (format!("X{n:o}"), format!("p->x[{n}]"))
+            }
+            3 => {
+                let n = random.below(256);
+                (format!("Y{n:o}"), format!("p->y[{n}]"))
+            }
+            _ => {
+                let n = random.below(relays);
+                (format!("M{n}"), format!("p->m[{n}]"))
+            }
+        }
+    };
+    while count < instructions {
+        let (first, first_c) = contact(&mut random);
+        if random.below(4) == 0 {
+            writeln!(il, "LDI {first}").expect("String");
+            writeln!(c, "a = !{first_c};").expect("String");
+        } else {
+            writeln!(il, "LD {first}").expect("String");
+            writeln!(c, "a = {first_c};").expect("String");
+        }
+        count += 1;
+        for _ in 0..1 + random.below(5) {
+            let (operand, operand_c) = contact(&mut random);
+            let (mnemonic, expression) = match random.below(8) {
+                0..=3 => ("AND", format!("a = a & {operand_c};")),
+                4 => ("ANI", format!("a = a & !{operand_c};")),
+                5 | 6 => ("OR", format!("a = a | {operand_c};")),
+                _ => ("ORI", format!("a = a | !{operand_c};")),
+            };
+            writeln!(il, "{mnemonic} {operand}").expect("String");
+            writeln!(c, "{expression}").expect("String");
+            count += 1;
+        }
+        if random.below(5) == 0 {
+            // A block of two contacts joined by ORB or ANB.
+            let (x, x_c) = contact(&mut random);
+            let (y, y_c) = contact(&mut random);
+            let (join, op) = if random.below(2) == 0 {
+                ("ORB", '|')
+            } else {
+                ("ANB", '&')
+            };
+            writeln!(il, "LD {x}\nAND {y}\n{join}").expect("String");
+            writeln!(c, "b = {x_c} & {y_c};\na = a {op} b;").expect("String");
+            count += 3;
+        }
+        let (area, area_c, n) = if random.below(6) == 0 {
+            ("Y", "y", random.below(256))
+        } else {
+            ("M", "m", random.below(relays))
+        };
+        let name = if area == "Y" {
+            format!("Y{n:o}")
+        } else {
+            format!("M{n}")
+        };
+        match random.below(12) {
+            0 => {
+                writeln!(il, "SET {name}").expect("String");
+                writeln!(c, "if (a) p->{area_c}[{n}] = 1;").expect("String");
+            }
+            1 => {
+                writeln!(il, "RST {name}").expect("String");
+                writeln!(c, "if (a) p->{area_c}[{n}] = 0;").expect("String");
+            }
+            _ => {
+                writeln!(il, "OUT {name}").expect("String");
+                writeln!(c, "p->{area_c}[{n}] = a;").expect("String");
+            }
+        }
+        count += 1;
+    }
+    c.push_str("}\n");
+    BitLogic {
+        il,
+        c,
+        instructions: count,
+    }
+}

@@ -81,6 +81,11 @@ impl SourceFile {
         (line, column as u32 + 1)
     }
 
+    /// Byte offsets where each line starts (the first is 0).
+    pub fn line_starts(&self) -> &[usize] {
+        &self.line_starts
+    }
+
     pub fn slice(&self, span: Span) -> &str {
         self.text.get(span.range()).unwrap_or("")
     }

@@ -21,6 +21,7 @@ mod common;
 
 use common::differential::{self, AotHost, Totals};
 use common::tools;
+use proptest::strategy::{BoxedStrategy, Strategy};
 
 /// The seed of this run: from the environment, else the clock.
 fn seed(test: &str) -> u64 {
@@ -47,22 +48,31 @@ fn aot_host(test: &str) -> Option<AotHost> {
 }
 
 fn run_share(test: &str, share: u64) -> Totals {
+    run_programs(test, share, common::program().boxed(), 500)
+}
+
+fn run_programs(test: &str, share: u64, programs: BoxedStrategy<String>, count: usize) -> Totals {
     let aot = aot_host(test);
     let seed = seed(test).wrapping_add(share);
-    let totals = differential::check(
-        test,
-        differential::case(common::program()),
-        seed,
-        500,
-        100,
-        aot.as_ref(),
-    );
+    let totals = differential::check(test, differential::case(programs), seed, count, 100, aot.as_ref());
     eprintln!(
         "{test}: {} programs, {} scans, {} on the object-file path: every image equal",
         totals.programs, totals.scans, totals.aot_programs
     );
-    assert_eq!(totals.programs, 500);
+    assert_eq!(totals.programs, count);
     totals
+}
+
+/// Programs made to exercise the compiler's memory forwarding (see
+/// `common::memory_rung`).
+#[test]
+fn memory_forwarding_matches_the_interpreter() {
+    run_programs(
+        "memory_forwarding_matches_the_interpreter",
+        5,
+        common::memory_program().boxed(),
+        400,
+    );
 }
 
 #[test]

@@ -16,7 +16,7 @@ fn compile_and_render(text: &str) {
     let file = SourceFile::new("fuzz.il", text);
     let (program, diagnostics) = compile_source(&file);
     // Rendering must cope with every span the front end produces.
-    let _ = render_all(&file, &diagnostics);
+    let _ = render_all(&file, &diagnostics, ladderc::diagnostics::Shown::All);
     if let Some(program) = program {
         let mut mem = Memory::new_boxed();
         for (i, value) in (0..16).zip([-1i16, 3, 8511, -32768, 32767, 200, 7, 0].iter().cycle()) {
@@ -78,7 +78,7 @@ proptest! {
     fn random_valid_programs(text in common::program()) {
         let file = SourceFile::new("gen.il", text.as_str());
         let (program, diagnostics) = compile_source(&file);
-        prop_assert!(program.is_some(), "generated program rejected:\n{}\n{}", text, render_all(&file, &diagnostics));
+        prop_assert!(program.is_some(), "generated program rejected:\n{}\n{}", text, render_all(&file, &diagnostics, ladderc::diagnostics::Shown::All));
         compile_and_render(&text);
     }
 }

@@ -22,7 +22,7 @@ const SCENARIO_SCAN_BUDGET: u64 = 500;
 pub fn front_end(data: &[u8]) {
     let file = SourceFile::from_bytes("fuzz.il", data);
     let (_, diagnostics) = compile_source(&file);
-    let _ = render_all(&file, &diagnostics);
+    let _ = render_all(&file, &diagnostics, ladderc::diagnostics::Shown::All);
 }
 
 pub fn scenario(data: &[u8]) {
@@ -58,7 +58,7 @@ pub fn scenario(data: &[u8]) {
 pub fn pipeline(data: &[u8]) {
     let file = SourceFile::from_bytes("fuzz.il", data);
     let (program, diagnostics) = compile_source(&file);
-    let _ = render_all(&file, &diagnostics);
+    let _ = render_all(&file, &diagnostics, ladderc::diagnostics::Shown::All);
     let Some(program) = program else {
         return;
     };

@@ -3,6 +3,7 @@
 use super::output;
 use super::status;
 use crate::codegen::ObjectOptions;
+use crate::diagnostics::Shown;
 use clap::{Args, ValueEnum};
 use std::io::Write;
 use std::path::PathBuf;
@@ -36,7 +37,7 @@ enum Emit {
     Ir,
 }
 
-pub fn run(args: &BuildArgs) -> u8 {
+pub fn run(args: &BuildArgs, shown: Shown) -> u8 {
     if let Err(message) = check_prefix(&args.prefix) {
         say_err!("error: --prefix `{}`: {message}", args.prefix);
         return status::UNUSABLE;
@@ -57,7 +58,7 @@ pub fn run(args: &BuildArgs) -> u8 {
         }
     };
     // A failed build writes nothing and removes nothing.
-    let bytes = match produce(args) {
+    let bytes = match produce(args, shown) {
         Ok(bytes) => bytes,
         Err(code) => return code,
     };
@@ -76,8 +77,8 @@ pub fn run(args: &BuildArgs) -> u8 {
     }
 }
 
-fn produce(args: &BuildArgs) -> Result<Vec<u8>, u8> {
-    let program = super::compile_file(&args.program)?;
+fn produce(args: &BuildArgs, shown: Shown) -> Result<Vec<u8>, u8> {
+    let program = super::compile_file(&args.program, shown)?;
     match args.emit {
         Emit::Ir => Ok(crate::pipeline::ir(&program).to_string().into_bytes()),
         Emit::Obj => {

@@ -1,10 +1,11 @@
 //! `ladderc check`: diagnostics only.
 
 use super::status;
+use crate::diagnostics::Shown;
 use std::path::Path;
 
-pub fn run(program: &Path) -> u8 {
-    match super::compile_file(program) {
+pub fn run(program: &Path, shown: Shown) -> u8 {
+    match super::compile_file(program, shown) {
         Ok(_) => status::OK,
         Err(code) => code,
     }

@@ -35,6 +35,7 @@ mod output;
 mod run;
 pub mod test;
 
+use crate::diagnostics::Shown;
 use crate::scenario::EngineKind;
 use clap::{Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
@@ -55,6 +56,10 @@ pub mod status {
     about = "Compiler for Mitsubishi-FX/Wecon-style PLC instruction lists"
 )]
 pub struct Cli {
+    /// Print every warning (by default, after 20 warnings of one code the
+    /// rest are counted: "and 17,412 more W0002 warnings").
+    #[arg(long, global = true)]
+    pub all_warnings: bool,
     #[command(subcommand)]
     pub command: Command,
 }
@@ -114,10 +119,11 @@ pub fn main_with_args(args: impl IntoIterator<Item = std::ffi::OsString>) -> u8 
             };
         }
     };
+    let shown = if cli.all_warnings { Shown::All } else { Shown::default() };
     match cli.command {
-        Command::Check { program } => check::run(&program),
-        Command::Build(args) => build::run(&args),
-        Command::Run(args) => run::run(&args),
+        Command::Check { program } => check::run(&program, shown),
+        Command::Build(args) => build::run(&args, shown),
+        Command::Run(args) => run::run(&args, shown),
         Command::Test { paths, engine } => test::run(&paths, &engine.kinds()),
         Command::Explain { code } => explain::run(&code),
     }
@@ -125,12 +131,12 @@ pub fn main_with_args(args: impl IntoIterator<Item = std::ffi::OsString>) -> u8 
 
 /// Reads and compiles a program file, printing diagnostics to stderr.
 /// `Err` holds the exit status to return.
-fn compile_file(path: &std::path::Path) -> Result<crate::program::CheckedProgram, u8> {
+fn compile_file(path: &std::path::Path, shown: Shown) -> Result<crate::program::CheckedProgram, u8> {
     let source = crate::source::SourceFile::read(path).map_err(|e| {
         say_err!("error: {e}");
         status::UNUSABLE
     })?;
     let (program, diagnostics) = crate::check::compile_source(&source);
-    write_raw(true, &crate::diagnostics::render_all(&source, &diagnostics));
+    write_raw(true, &crate::diagnostics::render_all(&source, &diagnostics, shown));
     program.ok_or(status::FAILED)
 }

@@ -1,6 +1,7 @@
 //! `ladderc run`: scans a program and prints watched devices after each scan.
 
 use super::status;
+use crate::diagnostics::Shown;
 use crate::host_device::{parse_device, parse_value, HostDevice};
 use crate::program::{BitRef, CheckedProgram, Op, Output};
 use crate::scenario::{instantiate, Engine, EngineError, EngineKind};
@@ -44,8 +45,8 @@ enum RunEngine {
     Jit,
 }
 
-pub fn run(args: &RunArgs) -> u8 {
-    let program = match super::compile_file(&args.program) {
+pub fn run(args: &RunArgs, shown: Shown) -> u8 {
+    let program = match super::compile_file(&args.program, shown) {
         Ok(program) => program,
         Err(code) => return code,
     };

@@ -214,9 +214,11 @@ impl Translator<'_, '_> {
                 return None;
             }
             Inst::FillBits { area, start, count, on } => {
-                let at = self.bit_address(*area, *start, values);
+                // The start clamped so that the whole run stays in the area.
+                let count = (*count).clamp(1, area.count());
+                let at = self.element(bit_area_offset(*area), 1, area.count() - count + 1, *start, values);
                 let value = self.iconst(types::I8, i64::from(*on));
-                self.fill(at, 1, (*count).min(area.count()), value);
+                self.fill(at, 1, count, value);
                 return None;
             }
             Inst::LoadWord { area, index } => {

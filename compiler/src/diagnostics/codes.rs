@@ -6,7 +6,7 @@ use super::Severity;
 macro_rules! codes {
     ($( $variant:ident = $code:literal, $severity:ident, $title:literal, $explanation:literal; )*) => {
         /// Every kind of diagnostic the front end reports.
-        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
         pub enum Code { $( $variant, )* }
 
         impl Code {

@@ -4,7 +4,7 @@ mod codes;
 mod render;
 
 pub use codes::Code;
-pub use render::{render, render_all};
+pub use render::{render, render_all, Shown};
 
 use crate::source::Span;
 

@@ -16,6 +16,7 @@
 #![deny(clippy::wildcard_enum_match_arm)]
 
 mod builder;
+mod memory;
 pub mod passes;
 mod print;
 

@@ -4,7 +4,8 @@
 //!   ...) when the program never writes them: `LD M8000` costs nothing;
 //! - branch folding and removal of unreachable blocks;
 //! - merging a block into its only predecessor;
-//! - removal of pure instructions whose values are never used.
+//! - removal of pure instructions whose values are never used;
+//! - memory forwarding across rungs (`memory.rs`).
 
 use super::{BinOp, Block, BlockId, Function, Index, Inst, Terminator, Type, UnaryOp, Value};
 use crate::isa::CompareOp;
@@ -13,14 +14,21 @@ use ladder_runtime::special::{M_ALWAYS_OFF, M_ALWAYS_ON, SM_ALWAYS_OFF, SM_ALWAY
 use ladder_runtime::{BitArea, Place};
 use std::collections::HashMap;
 
-/// Runs every pass.
+/// Runs every pass. Forwarding memory works best on merged blocks, and what
+/// it forwards may fold further.
 pub fn optimize(function: &mut Function) {
+    simplify_control(function);
+    super::memory::forward_memory(function);
+    simplify_control(function);
+    remove_dead_values(function);
+}
+
+fn simplify_control(function: &mut Function) {
     fold_constants(function);
     fold_branches(function);
     remove_unreachable(function);
     thread_jumps(function);
     merge_blocks(function);
-    remove_dead_values(function);
 }
 
 /// Sends jumps and branches that land on an empty block that only jumps on
@@ -56,7 +64,7 @@ pub fn thread_jumps(function: &mut Function) {
 
 /// Blocks in reverse postorder from the entry: every definition comes before
 /// its uses in this order.
-fn reverse_postorder(function: &Function) -> Vec<BlockId> {
+pub(super) fn reverse_postorder(function: &Function) -> Vec<BlockId> {
     let mut visited = vec![false; function.blocks.len()];
     let mut order = Vec::new();
     let mut stack = vec![(BlockId(0), false)];
@@ -523,7 +531,12 @@ mod tests {
     #[test]
     fn written_special_relays_are_not_folded() {
         let text = ir("LD X0\nOUT M8000\nLD M8000\nOUT Y0\n");
-        assert!(text.contains("load.bit M8000"), "{text}");
+        // Y0 gets what was stored in M8000 (forwarded), not a constant.
+        assert!(!text.contains("const"), "{text}");
+        assert!(
+            text.contains("v2 = load.bit X0") && text.contains("store.bit Y0, v2"),
+            "{text}"
+        );
     }
 
     #[test]
@@ -537,7 +550,7 @@ mod tests {
     fn dead_set_branches_disappear() {
         let text = ir("LD M8001\nSET Y0\nLD SM0\nRST Y1\n");
         assert!(!text.contains("Y0"), "{text}");
-        assert!(text.contains("fill.bit Y1 x1, 0"), "{text}");
+        assert!(text.contains("const.bit 0") && text.contains("store.bit Y1"), "{text}");
         assert!(!text.contains("br "), "{text}");
     }
 }

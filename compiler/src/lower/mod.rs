@@ -13,7 +13,7 @@ mod operand;
 use crate::ir::{Builder, Function, Inst, Local, Terminator, Type, Value};
 use crate::isa::app::Runs;
 use crate::isa::Sense;
-use crate::program::{CheckedProgram, Contact, Instruction, Op, Output, ResetTarget, StlBlock};
+use crate::program::{BitRef, CheckedProgram, Contact, Instruction, Op, Output, ResetTarget, StlBlock};
 use ladder_runtime::helpers::Helper;
 use ladder_runtime::{BitArea, OperationError, Width};
 use std::collections::BTreeMap;
@@ -288,6 +288,11 @@ impl<'p> Lowering<'p> {
             Output::Set {
                 target,
                 count,
+                transfer_from: None,
+            } if self.set_without_branch(*target, *count, power, true) => {}
+            Output::Set {
+                target,
+                count,
                 transfer_from,
             } => self.when(power, |this, _| {
                 this.write_bits(*target, *count, true, line);
@@ -296,15 +301,21 @@ impl<'p> Lowering<'p> {
                     this.b.call(Helper::ScheduleStateOff, vec![state]);
                 }
             }),
+            Output::Reset {
+                target: ResetTarget::Bit(bit),
+                count,
+            } if self.set_without_branch(*bit, *count, power, false) => {}
             Output::Reset { target, count } => self.when(power, |this, _| this.reset(*target, *count, line)),
             Output::Pulse { target, sense, slot } => {
                 let pulse = self.edge(*slot, power, *sense == Sense::Falling);
                 self.write_bit(*target, pulse, line);
             }
-            Output::StateJump { state } => self.when(power, |this, _| {
-                let on = this.b.bit(true);
-                this.b.store_bit(BitArea::S, crate::ir::Index::Fixed(*state), on);
-            }),
+            Output::StateJump { state } => {
+                let state = crate::ir::Index::Fixed(*state);
+                let now = self.b.load_bit(BitArea::S, state);
+                let next = self.b.or(now, power);
+                self.b.store_bit(BitArea::S, state, next);
+            }
             Output::MasterControl { level, relay } => {
                 self.b.effect(Inst::SetLocal {
                     local: Local(*level),
@@ -328,6 +339,33 @@ impl<'p> Lowering<'p> {
                 }
             }
         }
+    }
+
+    /// SET (`on`) or RST of a few devices at fixed numbers as plain logic,
+    /// `m = m | power` or `m = m & !power`: rungs stay in one block, so what
+    /// the memory pass knows flows through them. Writing back the value a
+    /// device already holds is invisible (nothing else runs during the
+    /// program). False, with nothing emitted, for any other target.
+    fn set_without_branch(&mut self, target: BitRef, count: u32, power: Value, on: bool) -> bool {
+        const MOST_BITS: u32 = 4;
+        let BitRef::Device(area, address) = target else {
+            return false;
+        };
+        if address.index_register.is_some() || count > MOST_BITS || address.index + count > area.count() {
+            return false;
+        }
+        for n in address.index..address.index + count {
+            let index = crate::ir::Index::Fixed(n);
+            let now = self.b.load_bit(area, index);
+            let next = if on {
+                self.b.or(now, power)
+            } else {
+                let off = self.b.not(power);
+                self.b.and(now, off)
+            };
+            self.b.store_bit(area, index, next);
+        }
+        true
     }
 
     /// Runs `then` only while `condition` is ON; `then` gets the block where

@@ -117,7 +117,7 @@ pub fn run_scenario(scenario: &Scenario, source: &SourceFile, engines: &[EngineK
                             error.code, error.message
                         ),
                     );
-                    outcome.details = render_all(source, &diagnostics);
+                    outcome.details = render_all(source, &diagnostics, crate::diagnostics::Shown::default());
                 }
             }
         }
@@ -131,7 +131,7 @@ pub fn run_scenario(scenario: &Scenario, source: &SourceFile, engines: &[EngineK
             "check",
             format!("the program does not compile (first error at program line {line})"),
         );
-        outcome.details = render_all(source, &diagnostics);
+        outcome.details = render_all(source, &diagnostics, crate::diagnostics::Shown::default());
         return outcome;
     };
     for &kind in engines {

@@ -56,7 +56,7 @@ pub fn compile(text: &str) -> CheckedProgram {
     program.unwrap_or_else(|| {
         panic!(
             "generated program rejected:\n{text}\n{}",
-            render_all(&file, &diagnostics)
+            render_all(&file, &diagnostics, ladderc::diagnostics::Shown::All)
         )
     })
 }

@@ -144,11 +144,64 @@ fn emit_rung(rung: &Rung, out: &mut Vec<String>) {
 /// A program: plain rungs, some in an MC region, some behind a jump, and a
 /// small STL sequence whose transitions depend on inputs.
 pub fn program() -> impl Strategy<Value = String> {
+    program_of(rung().boxed())
+}
+
+/// Rungs that keep coming back to four relays, a word and its bits, so the
+/// compiler's memory forwarding is exercised: a relay written, read and
+/// overwritten by later rungs, with dynamic (`M0[D1]`) accesses, helper
+/// calls (BMOV, digit groups), timer coils and index changes in between.
+pub fn memory_rung() -> impl Strategy<Value = Rung> {
+    let contact = prop_oneof![
+        6 => (prop_oneof![4 => Just(""), 2 => Just("I"), 1 => Just("P")], "(M[0-3]|Y[0-1]|D0\\.[0-2])")
+            .prop_map(|(k, d)| Condition::Contact(k.to_string(), d)),
+        1 => "(M0\\[D1\\]|T0|X[0-2]|M8067)".prop_map(|d| Condition::Contact(String::new(), d)),
+        1 => "D[0-1] K[0-3]".prop_map(|d| Condition::Contact("=".to_string(), d)),
+    ];
+    let condition = contact.clone().prop_recursive(2, 6, 3, |inner| {
+        prop_oneof![
+            proptest::collection::vec(inner.clone(), 2..3).prop_map(Condition::Series),
+            proptest::collection::vec(inner, 2..3).prop_map(Condition::Parallel),
+        ]
+    });
+    let output = prop_oneof![
+        "(OUT|SET|RST) M[0-3]",
+        "OUT Y[0-1]",
+        "OUT D0\\.[0-2]",
+        "SET M[0-2] K2",
+        "(SET|RST) M0 K6",
+        "RST D0 K2",
+        "MOV K600 D[0-1]",
+        "MOV D0 D[0-1]",
+        "OUT M0\\[D1\\]",
+        "SET M1\\[D1\\]",
+        "MOV K[0-3] D1",
+        "INCP D1",
+        "BMOV K1M0 D4 K1",
+        "MOV D4 K1M0",
+        "MOV K[0-9] D0",
+        "PLS M[0-3]",
+        "OUT T0 K2",
+        "RST T0",
+    ];
     (
-        proptest::collection::vec(rung(), 1..8),
-        proptest::collection::vec(rung(), 0..3),
-        proptest::collection::vec(rung(), 0..3),
-        proptest::collection::vec(rung(), 0..3),
+        condition,
+        proptest::collection::vec((proptest::option::of(contact), output), 1..3),
+    )
+        .prop_map(|(condition, outputs)| Rung { condition, outputs })
+}
+
+/// `program` made of memory rungs.
+pub fn memory_program() -> impl Strategy<Value = String> {
+    program_of(memory_rung().boxed())
+}
+
+fn program_of(rung: BoxedStrategy<Rung>) -> impl Strategy<Value = String> {
+    (
+        proptest::collection::vec(rung.clone(), 1..8),
+        proptest::collection::vec(rung.clone(), 0..3),
+        proptest::collection::vec(rung.clone(), 0..3),
+        proptest::collection::vec(rung, 0..3),
     )
         .prop_map(|(plain, in_mc, jumped, in_stl)| {
             let mut out = vec!["LD M8002".to_string(), "SET S1".to_string(), "MOV K1 D1".to_string()];

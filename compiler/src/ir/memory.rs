@@ -1,0 +1,449 @@
+//! Memory optimisation across rungs, the part of gcc's work that matters
+//! for ladder code: a device read after the program wrote or read it uses the
+//! value it already has (store-to-load forwarding, redundant loads), a store
+//! that a later store to the same device overwrites before anything can read
+//! it is dropped, and a store of the value the device already holds is
+//! dropped.
+//!
+//! The IR names every fixed device by (area, number), so two accesses alias
+//! exactly when they name the same place; areas are disjoint arrays of the
+//! image. What limits the pass:
+//! - a dynamic (`DEV[Dk]`) access may touch any device of its area: a
+//!   dynamic store forgets what is known about the area, a dynamic load
+//!   counts as a read of every store waiting in it;
+//! - a runtime helper call reads and writes the image through its pointer:
+//!   it is a barrier for everything, except the timer and counter helpers
+//!   whose declaration says they only write timer or counter state (see
+//!   `call_footprint`);
+//! - knowledge flows into a block from its only predecessor, and through a
+//!   join as far as every predecessor agrees; stores are only dropped within
+//!   one block (a successor may read them).
+//!
+//! The interpreter has no such pass: it is the specification the
+//! differential test holds this against.
+
+use super::{Block, BlockId, Function, Index, Inst, Terminator, Value};
+use ladder_runtime::device::{FIRST_WIDE_COUNTER, WIDE_COUNTER_COUNT};
+use ladder_runtime::helpers::{Helper, Param, Writes};
+use ladder_runtime::special::{D_ERROR_CODE, D_ERROR_LINE, M_OPERATION_ERROR};
+use ladder_runtime::{BitArea, WordArea};
+use std::collections::HashMap;
+
+/// One memory location the IR can name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+enum Place {
+    Bit(BitArea, u32),
+    Word(WordArea, u32),
+    /// By slot (device number minus 200).
+    WideCounter(u32),
+    Slot(u32),
+    BlockActive(u32),
+}
+
+/// A group of places a dynamic access or a call may touch.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Region {
+    Bits(BitArea),
+    Words(WordArea),
+    WideCounters,
+}
+
+impl Place {
+    fn region(self) -> Option<Region> {
+        match self {
+            Place::Bit(area, _) => Some(Region::Bits(area)),
+            Place::Word(area, _) => Some(Region::Words(area)),
+            Place::WideCounter(_) => Some(Region::WideCounters),
+            Place::Slot(_) | Place::BlockActive(_) => None,
+        }
+    }
+}
+
+/// The place a fixed index names, clamped as code generation clamps it.
+fn bit_place(area: BitArea, n: u32) -> Place {
+    Place::Bit(area, n.min(area.count() - 1))
+}
+
+fn word_place(area: WordArea, n: u32) -> Place {
+    Place::Word(area, n.min(area.count() - 1))
+}
+
+fn wide_counter_place(n: u32) -> Place {
+    Place::WideCounter(n.saturating_sub(FIRST_WIDE_COUNTER).min(WIDE_COUNTER_COUNT - 1))
+}
+
+/// What a helper call may touch.
+enum Footprint {
+    /// Reads and writes only these regions (and bookkeeping the IR never
+    /// names).
+    Regions(Vec<Region>),
+    Everything,
+}
+
+/// Timer and counter helpers take numbers, not places, and the declaration
+/// says all they write; everything else that takes the image may read or
+/// write any device.
+fn call_footprint(helper: Helper) -> Footprint {
+    let decl = helper.decl();
+    let takes_places = decl
+        .params
+        .iter()
+        .any(|(_, param)| matches!(param, Param::SourcePlace | Param::DestinationPlace));
+    if takes_places {
+        return Footprint::Everything;
+    }
+    let mut regions = Vec::new();
+    for writes in decl.writes {
+        match writes {
+            Writes::Timers => {
+                regions.extend([Region::Bits(BitArea::TimerContact), Region::Words(WordArea::TimerValue)]);
+            }
+            Writes::Counters => regions.extend([
+                Region::Bits(BitArea::CounterContact),
+                Region::Words(WordArea::CounterValue),
+                Region::WideCounters,
+                // 32-bit counters read their direction relays M8200-M8255.
+                Region::Bits(BitArea::M),
+            ]),
+            // The pending-OFF flags of states, which the IR never names.
+            Writes::StlBookkeeping => {}
+            Writes::OperationError | Writes::Bits(_) => return Footprint::Everything,
+        }
+    }
+    Footprint::Regions(regions)
+}
+
+/// What is known at a point of a block.
+#[derive(Clone, Default)]
+struct Known {
+    /// The value each place holds.
+    values: HashMap<Place, Value>,
+}
+
+impl Known {
+    fn forget_region(&mut self, region: Region) {
+        self.values.retain(|place, _| place.region() != Some(region));
+    }
+
+    /// What every one of `states` agrees on.
+    fn meet(states: &[&Known]) -> Known {
+        let Some(smallest) = states.iter().min_by_key(|s| s.values.len()) else {
+            return Known::default();
+        };
+        let values = smallest
+            .values
+            .iter()
+            .filter(|(place, value)| states.iter().all(|s| s.values.get(place) == Some(value)))
+            .map(|(place, value)| (*place, *value))
+            .collect();
+        Known { values }
+    }
+}
+
+/// Stores of the current block that nothing has read yet: place → position
+/// in the block.
+#[derive(Default)]
+struct Waiting {
+    stores: HashMap<Place, usize>,
+}
+
+impl Waiting {
+    fn read(&mut self, place: Place) {
+        self.stores.remove(&place);
+    }
+
+    fn read_region(&mut self, region: Region) {
+        self.stores.retain(|place, _| place.region() != Some(region));
+    }
+
+    /// A new store to `place` at `position`; the store it overwrites unread,
+    /// if any.
+    fn overwrite(&mut self, place: Place, position: usize) -> Option<usize> {
+        self.stores.insert(place, position)
+    }
+}
+
+/// Runs the pass; values replaced by the values they are known to equal.
+pub fn forward_memory(function: &mut Function) {
+    let order = super::passes::reverse_postorder(function);
+    let mut predecessors: Vec<Vec<BlockId>> = vec![Vec::new(); function.blocks.len()];
+    for &block in &order {
+        for successor in function.block(block).terminator.successors() {
+            predecessors[successor.0 as usize].push(block);
+        }
+    }
+    let mut position_in_order = vec![usize::MAX; function.blocks.len()];
+    for (position, block) in order.iter().enumerate() {
+        position_in_order[block.0 as usize] = position;
+    }
+    // A block's state at its end, kept until its last successor took it.
+    let mut at_end: Vec<Option<Known>> = vec![None; function.blocks.len()];
+    let mut successors_left: Vec<usize> = function
+        .blocks
+        .iter()
+        .map(|b| b.terminator.successors().len())
+        .collect();
+    let mut replaced: HashMap<Value, Value> = HashMap::new();
+
+    for (position, &block) in order.iter().enumerate() {
+        let preds = &predecessors[block.0 as usize];
+        // A predecessor later in the order is a back edge: nothing known.
+        let from_back_edge = preds.iter().any(|p| position_in_order[p.0 as usize] >= position);
+        let mut known = if block.0 == 0 || from_back_edge {
+            Known::default()
+        } else if let [only] = preds.as_slice() {
+            if successors_left[only.0 as usize] == 1 {
+                at_end[only.0 as usize].take().unwrap_or_default()
+            } else {
+                at_end[only.0 as usize].clone().unwrap_or_default()
+            }
+        } else {
+            let states: Vec<&Known> = preds.iter().filter_map(|p| at_end[p.0 as usize].as_ref()).collect();
+            if states.len() == preds.len() {
+                Known::meet(&states)
+            } else {
+                Known::default()
+            }
+        };
+        if !from_back_edge {
+            for p in preds {
+                let left = &mut successors_left[p.0 as usize];
+                *left = left.saturating_sub(1);
+                if *left == 0 {
+                    at_end[p.0 as usize] = None;
+                }
+            }
+        }
+        let block_data = &mut function.blocks[block.0 as usize];
+        optimise_block(block_data, &mut known, &mut replaced);
+        if successors_left[block.0 as usize] > 0 {
+            at_end[block.0 as usize] = Some(known);
+        }
+    }
+    // Uses of replaced values, in every block (a forwarded value may be used
+    // in a block the replaced load's block dominates).
+    let resolve = |v: &mut Value| {
+        while let Some(&other) = replaced.get(v) {
+            *v = other;
+        }
+    };
+    for block in &mut function.blocks {
+        for (_, inst) in &mut block.insts {
+            inst.for_each_operand_mut(resolve);
+        }
+        if let Terminator::Branch { condition, .. } = &mut block.terminator {
+            resolve(condition);
+        }
+    }
+}
+
+/// The access an instruction makes, for the analysis.
+enum Access {
+    Load(Place),
+    Store(Place, Value),
+    /// Overwrites these places without reading them.
+    Fill(Vec<Place>),
+    LoadAnywhere(Region),
+    /// A store through a dynamic index, which also counts as the region's
+    /// stores being possibly overwritten (not read).
+    StoreAnywhere(Region),
+    Call(Footprint),
+    None,
+}
+
+fn access(inst: &Inst) -> Access {
+    match inst {
+        Inst::LoadBit { area, index } => match index {
+            Index::Fixed(n) => Access::Load(bit_place(*area, *n)),
+            Index::Dynamic(_) => Access::LoadAnywhere(Region::Bits(*area)),
+        },
+        Inst::StoreBit { area, index, value } => match index {
+            Index::Fixed(n) => Access::Store(bit_place(*area, *n), *value),
+            Index::Dynamic(_) => Access::StoreAnywhere(Region::Bits(*area)),
+        },
+        Inst::FillBits { area, start, count, .. } => match start {
+            Index::Fixed(n) if *count <= 64 => {
+                let first = (*n).min(area.count().saturating_sub(*count));
+                Access::Fill((first..first + count).map(|n| bit_place(*area, n)).collect())
+            }
+            Index::Fixed(_) | Index::Dynamic(_) => Access::StoreAnywhere(Region::Bits(*area)),
+        },
+        Inst::LoadWord { area, index } => match index {
+            Index::Fixed(n) => Access::Load(word_place(*area, *n)),
+            Index::Dynamic(_) => Access::LoadAnywhere(Region::Words(*area)),
+        },
+        Inst::StoreWord { area, index, value } => match index {
+            Index::Fixed(n) => Access::Store(word_place(*area, *n), *value),
+            Index::Dynamic(_) => Access::StoreAnywhere(Region::Words(*area)),
+        },
+        Inst::ClearWords { area, start, count } => match start {
+            Index::Fixed(n) if *count <= 64 => {
+                let count = (*count).clamp(1, area.count());
+                let first = (*n).min(area.count() - count);
+                Access::Fill((first..first + count).map(|n| word_place(*area, n)).collect())
+            }
+            Index::Fixed(_) | Index::Dynamic(_) => Access::StoreAnywhere(Region::Words(*area)),
+        },
+        Inst::LoadWideCounter { index } => match index {
+            Index::Fixed(n) => Access::Load(wide_counter_place(*n)),
+            Index::Dynamic(_) => Access::LoadAnywhere(Region::WideCounters),
+        },
+        Inst::StoreWideCounter { index, value } => match index {
+            Index::Fixed(n) => Access::Store(wide_counter_place(*n), *value),
+            Index::Dynamic(_) => Access::StoreAnywhere(Region::WideCounters),
+        },
+        Inst::LoadSlot { slot } => Access::Load(Place::Slot(*slot)),
+        Inst::StoreSlot { slot, value } => Access::Store(Place::Slot(*slot), *value),
+        Inst::LoadBlockActive { state } => Access::Load(Place::BlockActive(*state)),
+        Inst::StoreBlockActive { state, value } => Access::Store(Place::BlockActive(*state), *value),
+        Inst::Call { helper, .. } => Access::Call(call_footprint(*helper)),
+        // The runtime's `record_error` sets M8067, D8067 and D8069 and
+        // reads nothing.
+        Inst::RecordError { .. } => Access::Fill(vec![
+            bit_place(BitArea::M, M_OPERATION_ERROR),
+            word_place(WordArea::D, D_ERROR_CODE),
+            word_place(WordArea::D, D_ERROR_LINE),
+        ]),
+        Inst::Const { .. }
+        | Inst::GetLocal { .. }
+        | Inst::SetLocal { .. }
+        | Inst::Not { .. }
+        | Inst::And { .. }
+        | Inst::Or { .. }
+        | Inst::Binary { .. }
+        | Inst::Unary { .. }
+        | Inst::Compare { .. }
+        | Inst::Extend { .. }
+        | Inst::Truncate { .. }
+        | Inst::Select { .. } => Access::None,
+    }
+}
+
+fn optimise_block(block: &mut Block, known: &mut Known, replaced: &mut HashMap<Value, Value>) {
+    let mut waiting = Waiting::default();
+    let mut remove = vec![false; block.insts.len()];
+    let resolve = |v: Value, replaced: &HashMap<Value, Value>| {
+        let mut v = v;
+        while let Some(&other) = replaced.get(&v) {
+            v = other;
+        }
+        v
+    };
+    for (position, (result, inst)) in block.insts.iter_mut().enumerate() {
+        inst.for_each_operand_mut(|v| *v = resolve(*v, replaced));
+        match access(inst) {
+            Access::Load(place) => {
+                let Some(result) = *result else { continue };
+                match known.values.get(&place) {
+                    // Forwarded: the load goes, and with it its read.
+                    Some(&value) => {
+                        replaced.insert(result, value);
+                        remove[position] = true;
+                    }
+                    None => {
+                        waiting.read(place);
+                        known.values.insert(place, result);
+                    }
+                }
+            }
+            Access::Store(place, value) => {
+                if known.values.get(&place) == Some(&value) {
+                    // The device already holds this value.
+                    remove[position] = true;
+                    continue;
+                }
+                if let Some(earlier) = waiting.overwrite(place, position) {
+                    remove[earlier] = true;
+                }
+                known.values.insert(place, value);
+            }
+            Access::Fill(places) => {
+                for place in places {
+                    if let Some(earlier) = waiting.stores.remove(&place) {
+                        remove[earlier] = true;
+                    }
+                    known.values.remove(&place);
+                }
+            }
+            Access::LoadAnywhere(region) => waiting.read_region(region),
+            Access::StoreAnywhere(region) => known.forget_region(region),
+            Access::Call(Footprint::Regions(regions)) => {
+                for region in regions {
+                    waiting.read_region(region);
+                    known.forget_region(region);
+                }
+            }
+            Access::Call(Footprint::Everything) => {
+                waiting.stores.clear();
+                known.values.clear();
+            }
+            Access::None => {}
+        }
+    }
+    if remove.iter().any(|&r| r) {
+        let mut position = 0;
+        block.insts.retain(|_| {
+            let keep = !remove[position];
+            position += 1;
+            keep
+        });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::check::compile_source;
+    use crate::source::SourceFile;
+
+    fn ir(text: &str) -> String {
+        let (program, diagnostics) = compile_source(&SourceFile::new("t.il", text));
+        let program = program.unwrap_or_else(|| panic!("{diagnostics:?}"));
+        crate::pipeline::ir(&program).to_string()
+    }
+
+    #[test]
+    fn a_coil_read_by_a_later_rung_is_not_loaded_again() {
+        let text = ir("LD X0\nAND M1\nOUT M2\nLD M2\nAND M1\nOUT Y0\n");
+        assert!(!text.contains("load.bit M2"), "{text}");
+        assert_eq!(text.matches("load.bit M1").count(), 1, "{text}");
+    }
+
+    #[test]
+    fn a_coil_overwritten_before_any_read_is_stored_once() {
+        let text = ir("LD X0\nOUT M2\nLD X1\nOUT M2\n");
+        assert_eq!(text.matches("store.bit M2").count(), 1, "{text}");
+    }
+
+    #[test]
+    fn a_dynamic_read_keeps_the_store_before_it() {
+        let text = ir("LD X0\nOUT M2\nLD M0[D0]\nOUT Y0\nLD X1\nOUT M2\n");
+        assert_eq!(text.matches("store.bit M2").count(), 2, "{text}");
+    }
+
+    #[test]
+    fn a_dynamic_write_forgets_the_area() {
+        let text = ir("LD M2\nOUT Y1\nLD X0\nOUT M0[D0]\nLD M2\nOUT Y0\n");
+        assert_eq!(text.matches("load.bit M2").count(), 2, "{text}");
+    }
+
+    #[test]
+    fn a_helper_call_with_places_is_a_barrier() {
+        let text = ir("LD X0\nOUT M2\nLD SM0\nBMOV D0 D10 K2\nLD M2\nOUT Y0\nLD X1\nOUT M2\n");
+        assert!(text.contains("call"), "{text}");
+        assert_eq!(text.matches("store.bit M2").count(), 2, "{text}");
+    }
+
+    #[test]
+    fn a_timer_coil_keeps_what_is_known_of_other_devices() {
+        let text = ir("LD X0\nOUT M2\nOUT T0 K10\nLD M2\nAND T0\nOUT Y0\n");
+        assert!(!text.contains("load.bit M2"), "{text}");
+        assert!(text.contains("load.bit T0"), "{text}");
+    }
+
+    #[test]
+    fn set_and_reset_of_one_bit_need_no_branch() {
+        let text = ir("LD X0\nSET M3\nLD X1\nRST Y0\nLD M3\nOUT Y1\n");
+        assert!(!text.contains("br "), "{text}");
+        assert_eq!(text.matches("load.bit M3").count(), 1, "{text}");
+    }
+}
