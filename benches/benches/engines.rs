@@ -35,7 +35,7 @@ fn programs() -> Vec<(String, CheckedProgram)> {
             "offsets".into(),
             checked("offsets", &workspace_file("testsuite/programs/offsets_out_of_range.il")),
         ),
-        ("plant_100_units".into(), checked("plant", &ladderc_benches::plant(100))),
+        ("plant_400_units".into(), checked("plant", &ladderc_benches::plant(400))),
     ]
 }
 

@@ -56,10 +56,10 @@ pub mod status {
     about = "Compiler for Mitsubishi-FX/Wecon-style PLC instruction lists"
 )]
 pub struct Cli {
-    /// Print every warning (by default, after 20 warnings of one code the
-    /// rest are counted: "and 17,412 more W0002 warnings").
+    /// Print every diagnostic (by default, after 20 warnings or 200 errors
+    /// of one code the rest are counted: "and 17,412 more W0002 warnings").
     #[arg(long, global = true)]
-    pub all_warnings: bool,
+    pub all_diagnostics: bool,
     #[command(subcommand)]
     pub command: Command,
 }
@@ -119,7 +119,11 @@ pub fn main_with_args(args: impl IntoIterator<Item = std::ffi::OsString>) -> u8 
             };
         }
     };
-    let shown = if cli.all_warnings { Shown::All } else { Shown::default() };
+    let shown = if cli.all_diagnostics {
+        Shown::All
+    } else {
+        Shown::default()
+    };
     match cli.command {
         Command::Check { program } => check::run(&program, shown),
         Command::Build(args) => build::run(&args, shown),

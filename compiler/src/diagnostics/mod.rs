@@ -73,6 +73,18 @@ impl Diagnostics {
         self.0.push(diagnostic);
     }
 
+    pub fn len(&self) -> usize {
+        self.0.len()
+    }
+
+    /// Widens the span of diagnostic `index` to cover `span` too (a run of
+    /// the same problem reported once).
+    pub fn extend_span(&mut self, index: usize, span: Span) {
+        if let Some(diagnostic) = self.0.get_mut(index) {
+            diagnostic.span = diagnostic.span.to(span);
+        }
+    }
+
     pub fn has_errors(&self) -> bool {
         self.0.iter().any(Diagnostic::is_error)
     }

@@ -73,24 +73,26 @@ pub fn render(file: &SourceFile, diagnostic: &Diagnostic) -> String {
 }
 
 /// How many diagnostics of one code are printed before the rest are only
-/// counted; thousands of identical warnings help nobody.
+/// counted: thousands of identical warnings help nobody, and a corrupt file
+/// can produce an error per line.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Shown {
     All,
-    /// At most this many warnings per code (errors are always all shown:
-    /// each one stops the build and has to be fixed).
-    WarningsPerCode(usize),
+    PerCode { warnings: usize, errors: usize },
 }
 
 impl Default for Shown {
     fn default() -> Shown {
-        Shown::WarningsPerCode(20)
+        Shown::PerCode {
+            warnings: 20,
+            errors: 200,
+        }
     }
 }
 
-/// Renders diagnostics in source order, then a line per code whose
-/// warnings were cut short ("and 17,412 more W0002 warnings"), then a count
-/// line when there are errors.
+/// Renders diagnostics in source order, then a line per code cut short
+/// ("and 17,412 more W0002 warnings"), then a count line when there are
+/// errors.
 pub fn render_all(file: &SourceFile, diagnostics: &[Diagnostic], shown: Shown) -> String {
     let mut out = String::new();
     let mut printed: BTreeMap<Code, usize> = BTreeMap::new();
@@ -99,7 +101,7 @@ pub fn render_all(file: &SourceFile, diagnostics: &[Diagnostic], shown: Shown) -
         let count = printed.entry(diagnostic.code).or_default();
         let show = match shown {
             Shown::All => true,
-            Shown::WarningsPerCode(limit) => diagnostic.is_error() || *count < limit,
+            Shown::PerCode { warnings, errors } => *count < if diagnostic.is_error() { errors } else { warnings },
         };
         if show {
             *count += 1;
@@ -109,8 +111,12 @@ pub fn render_all(file: &SourceFile, diagnostics: &[Diagnostic], shown: Shown) -
         }
     }
     for (code, count) in &hidden {
+        let kind = match code.severity() {
+            Severity::Error => "error",
+            Severity::Warning => "warning",
+        };
         out.push_str(&format!(
-            "{}: and {} more {code} warning{} (`--all-warnings` prints every one)\n",
+            "{}: and {} more {code} {kind}{} (`--all-diagnostics` prints every one)\n",
             file.name,
             thousands(*count),
             if *count == 1 { "" } else { "s" },
@@ -168,7 +174,14 @@ mod tests {
         assert!(program.is_some());
         let code = diagnostics[0].code;
         assert_eq!(diagnostics.len(), 30, "{diagnostics:?}");
-        let limited = render_all(&file, &diagnostics, Shown::WarningsPerCode(20));
+        let limited = render_all(
+            &file,
+            &diagnostics,
+            Shown::PerCode {
+                warnings: 20,
+                errors: 200,
+            },
+        );
         assert_eq!(limited.matches(&format!("warning[{code}]")).count(), 20, "{limited}");
         assert!(
             limited.contains(&format!("w.il: and 10 more {code} warnings")),

@@ -113,16 +113,28 @@ fn call_footprint(helper: Helper) -> Footprint {
     Footprint::Regions(regions)
 }
 
+/// How far (in IR instructions) a device value is carried in a register
+/// instead of being loaded again. Carrying every value across the whole
+/// program makes long live ranges that the register allocator spills to the
+/// stack, which costs more than the load it saves; a load of the image is
+/// one L1 hit.
+const CARRY_DISTANCE: u64 = 32;
+
 /// What is known at a point of a block.
 #[derive(Clone, Default)]
 struct Known {
-    /// The value each place holds.
-    values: HashMap<Place, Value>,
+    /// The value each place holds, and when it was last used (position in
+    /// the whole function, in block order).
+    values: HashMap<Place, (Value, u64)>,
 }
 
 impl Known {
     fn forget_region(&mut self, region: Region) {
         self.values.retain(|place, _| place.region() != Some(region));
+    }
+
+    fn holds(&self, place: Place, value: Value) -> bool {
+        matches!(self.values.get(&place), Some(&(known, _)) if known == value)
     }
 
     /// What every one of `states` agrees on.
@@ -133,8 +145,16 @@ impl Known {
         let values = smallest
             .values
             .iter()
-            .filter(|(place, value)| states.iter().all(|s| s.values.get(place) == Some(value)))
-            .map(|(place, value)| (*place, *value))
+            .filter_map(|(place, &(value, _))| {
+                let mut last_use = 0;
+                for state in states {
+                    match state.values.get(place) {
+                        Some(&(other, used)) if other == value => last_use = last_use.max(used),
+                        Some(_) | None => return None,
+                    }
+                }
+                Some((*place, (value, last_use)))
+            })
             .collect();
         Known { values }
     }
@@ -184,6 +204,7 @@ pub fn forward_memory(function: &mut Function) {
         .map(|b| b.terminator.successors().len())
         .collect();
     let mut replaced: HashMap<Value, Value> = HashMap::new();
+    let mut now = 0u64;
 
     for (position, &block) in order.iter().enumerate() {
         let preds = &predecessors[block.0 as usize];
@@ -215,7 +236,7 @@ pub fn forward_memory(function: &mut Function) {
             }
         }
         let block_data = &mut function.blocks[block.0 as usize];
-        optimise_block(block_data, &mut known, &mut replaced);
+        optimise_block(block_data, &mut known, &mut replaced, &mut now);
         if successors_left[block.0 as usize] > 0 {
             at_end[block.0 as usize] = Some(known);
         }
@@ -319,7 +340,7 @@ fn access(inst: &Inst) -> Access {
     }
 }
 
-fn optimise_block(block: &mut Block, known: &mut Known, replaced: &mut HashMap<Value, Value>) {
+fn optimise_block(block: &mut Block, known: &mut Known, replaced: &mut HashMap<Value, Value>, now: &mut u64) {
     let mut waiting = Waiting::default();
     let mut remove = vec![false; block.insts.len()];
     let resolve = |v: Value, replaced: &HashMap<Value, Value>| {
@@ -330,24 +351,26 @@ fn optimise_block(block: &mut Block, known: &mut Known, replaced: &mut HashMap<V
         v
     };
     for (position, (result, inst)) in block.insts.iter_mut().enumerate() {
+        *now += 1;
         inst.for_each_operand_mut(|v| *v = resolve(*v, replaced));
         match access(inst) {
             Access::Load(place) => {
                 let Some(result) = *result else { continue };
-                match known.values.get(&place) {
+                match known.values.get_mut(&place) {
                     // Forwarded: the load goes, and with it its read.
-                    Some(&value) => {
-                        replaced.insert(result, value);
+                    Some((value, last_use)) if *now - *last_use <= CARRY_DISTANCE => {
+                        *last_use = *now;
+                        replaced.insert(result, *value);
                         remove[position] = true;
                     }
-                    None => {
+                    Some(_) | None => {
                         waiting.read(place);
-                        known.values.insert(place, result);
+                        known.values.insert(place, (result, *now));
                     }
                 }
             }
             Access::Store(place, value) => {
-                if known.values.get(&place) == Some(&value) {
+                if known.holds(place, value) {
                     // The device already holds this value.
                     remove[position] = true;
                     continue;
@@ -355,7 +378,7 @@ fn optimise_block(block: &mut Block, known: &mut Known, replaced: &mut HashMap<V
                 if let Some(earlier) = waiting.overwrite(place, position) {
                     remove[earlier] = true;
                 }
-                known.values.insert(place, value);
+                known.values.insert(place, (value, *now));
             }
             Access::Fill(places) => {
                 for place in places {

@@ -64,10 +64,26 @@ fn parse_line(file: &SourceFile, line: &[Token], diagnostics: &mut Diagnostics) 
     let mut operands = Vec::new();
     let mut malformed = false;
     let mut expect_operand = true;
+    // A line reports a few problems, not one per character: a run of stray
+    // commas is one diagnostic, and past `MOST_PER_LINE` the line is only
+    // marked malformed (each diagnostic shows the whole line, so thousands
+    // of them on one long line would print gigabytes).
+    const MOST_PER_LINE: usize = 8;
+    let first_of_line = diagnostics.len();
+    let mut previous_stray: Option<usize> = None;
     for (i, token) in rest.iter().enumerate().skip(1) {
+        if diagnostics.len() - first_of_line >= MOST_PER_LINE {
+            malformed = true;
+            break;
+        }
+        let stray = previous_stray.take();
         match token.kind {
             TokenKind::Comma if expect_operand || i == rest.len() - 1 || i == 1 => {
-                diagnostics.push(stray_comma(token.span));
+                match stray {
+                    Some(index) => diagnostics.extend_span(index, token.span),
+                    None => diagnostics.push(stray_comma(token.span)),
+                }
+                previous_stray = Some(stray.unwrap_or(diagnostics.len() - 1));
                 malformed = true;
             }
             TokenKind::Comma => expect_operand = true,
@@ -176,5 +192,18 @@ mod tests {
             panic!()
         };
         assert!(ld.malformed);
+    }
+
+    /// Found by AFL: a line of 26,000 commas gave a diagnostic per comma,
+    /// each printing the whole line (16 s and 700 MB of output).
+    #[test]
+    fn a_run_of_stray_commas_is_one_diagnostic_and_a_line_reports_a_few() {
+        let commas = ",".repeat(20_000);
+        let (_, codes) = parse_text(&format!("LD X0{commas}\n"));
+        assert_eq!(codes, vec![Code::MalformedLine], "{codes:?}");
+        let words = " ?".repeat(5_000);
+        let (_, codes) = parse_text(&format!("LD{words}\nLD X0 ,,, X1 ,, X2\n"));
+        assert!(codes.len() <= 8 + 2, "{} diagnostics", codes.len());
+        assert!(codes.len() >= 2, "{codes:?}");
     }
 }
