@@ -10,13 +10,14 @@ pub use jit::JitProgram;
 pub use object::{emit_object, ObjectOptions, DEFAULT_PREFIX};
 
 use crate::ir::Function;
-use cranelift_codegen::ir::{types, AbiParam, Signature, UserFuncName};
+use cranelift_codegen::ir::{types, AbiParam, InstBuilder, Signature, StackSlotData, StackSlotKind, UserFuncName};
 use cranelift_codegen::isa::{OwnedTargetIsa, TargetIsa};
 use cranelift_codegen::settings::{self, Configurable};
 use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext};
 use cranelift_module::{FuncId, Linkage, Module, ModuleError};
 use ladder_runtime::helpers::Helper;
-use translate::translate;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use translate::{translate, Locals};
 
 /// Something went wrong in the back end. Not expected for any checked
 /// program; reported rather than panicking.
@@ -111,7 +112,19 @@ fn declare_helpers(module: &mut dyn Module) -> Result<Vec<FuncId>, CodegenError>
         .collect()
 }
 
-/// Defines the program body `fn(mem)` in `module` under `name`.
+/// IR instructions per compiled function (see `translate::chunks`).
+static CHUNK_INSTRUCTIONS: AtomicUsize = AtomicUsize::new(20_000);
+
+/// Sets how many IR instructions a compiled function holds before the
+/// program is cut into more functions, for this process. Tests make it small
+/// so that ordinary programs take the multi-function path.
+pub fn set_chunk_instructions(instructions: usize) {
+    CHUNK_INSTRUCTIONS.store(instructions.max(1), Ordering::Relaxed);
+}
+
+/// Defines the program body `fn(mem)` in `module` under `name`: one
+/// function, or for a large program a function that calls its chunks in
+/// order with the master-control powers in a stack slot.
 fn define_program(
     module: &mut dyn Module,
     program: &Function,
@@ -122,19 +135,81 @@ fn define_program(
     let pointer = module.target_config().pointer_type();
     let body_signature = signature(module.isa(), &[pointer]);
     let id = module.declare_function(name, linkage, &body_signature)?;
-    let mut context = module.make_context();
-    context.func.signature = body_signature;
-    context.func.name = UserFuncName::user(0, id.as_u32());
+    let chunks = translate::chunks(program, CHUNK_INSTRUCTIONS.load(Ordering::Relaxed));
+    let mut values = vec![None; program.value_types.len()];
     let mut builder_context = FunctionBuilderContext::new();
-    {
+    if let [whole] = chunks.as_slice() {
+        let mut context = module.make_context();
+        context.func.signature = body_signature;
+        context.func.name = UserFuncName::user(0, id.as_u32());
         let mut builder = FunctionBuilder::new(&mut context.func, &mut builder_context);
         let refs: Vec<_> = helpers
             .iter()
             .map(|&id| module.declare_func_in_func(id, builder.func))
             .collect();
-        translate(program, &mut builder, &refs, pointer);
+        translate(
+            program,
+            whole.clone(),
+            Locals::Variables,
+            &mut builder,
+            &refs,
+            pointer,
+            &mut values,
+        );
         builder.finalize(module.target_config());
+        module.define_function(id, &mut context)?;
+        return Ok(id);
     }
+    let chunk_signature = signature(module.isa(), &[pointer, pointer]);
+    let mut chunk_ids = Vec::with_capacity(chunks.len());
+    for (number, range) in chunks.iter().enumerate() {
+        let chunk_id = module.declare_function(&format!("{name}.part{number}"), Linkage::Local, &chunk_signature)?;
+        let mut context = module.make_context();
+        context.func.signature = chunk_signature.clone();
+        context.func.name = UserFuncName::user(0, chunk_id.as_u32());
+        let mut builder = FunctionBuilder::new(&mut context.func, &mut builder_context);
+        let refs: Vec<_> = helpers
+            .iter()
+            .map(|&id| module.declare_func_in_func(id, builder.func))
+            .collect();
+        translate(
+            program,
+            range.clone(),
+            Locals::Memory,
+            &mut builder,
+            &refs,
+            pointer,
+            &mut values,
+        );
+        builder.finalize(module.target_config());
+        module.define_function(chunk_id, &mut context)?;
+        chunk_ids.push(chunk_id);
+    }
+    let mut context = module.make_context();
+    context.func.signature = body_signature;
+    context.func.name = UserFuncName::user(0, id.as_u32());
+    let mut builder = FunctionBuilder::new(&mut context.func, &mut builder_context);
+    let entry = builder.create_block();
+    builder.append_block_params_for_function_params(entry);
+    builder.switch_to_block(entry);
+    let mem = builder.block_params(entry)[0];
+    let slot = builder.create_sized_stack_slot(StackSlotData::new(
+        StackSlotKind::ExplicitSlot,
+        u32::from(program.locals).max(1),
+        0,
+    ));
+    let zero = builder.ins().iconst(types::I8, 0);
+    for offset in 0..i32::from(program.locals) {
+        builder.ins().stack_store(pointer, zero, slot, offset);
+    }
+    let locals = builder.ins().stack_addr(pointer, slot, 0);
+    for &chunk_id in &chunk_ids {
+        let callee = module.declare_func_in_func(chunk_id, builder.func);
+        builder.ins().call(callee, &[mem, locals]);
+    }
+    builder.ins().return_(&[]);
+    builder.seal_all_blocks();
+    builder.finalize(module.target_config());
     module.define_function(id, &mut context)?;
     Ok(id)
 }

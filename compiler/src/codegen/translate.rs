@@ -41,17 +41,57 @@ fn flags() -> MemFlagsData {
     MemFlagsData::trusted()
 }
 
-/// Translates `func` into the builder, whose entry block takes the image
-/// pointer as its only parameter.
+/// Where the master-control powers (IR locals) live while `translate` runs.
+pub enum Locals {
+    /// In Cranelift variables: the function is the whole program.
+    Variables,
+    /// In `locals` bytes behind the function's second parameter, loaded at
+    /// entry and stored at exit: the function is one chunk of a program
+    /// compiled as several functions.
+    Memory,
+}
+
+/// Translates blocks `range` of `func` into the builder, whose function
+/// takes the image pointer (and, with `Locals::Memory`, the locals pointer).
+/// A jump to `range.end` and a return both return. `values` maps IR values
+/// to Cranelift values; entries this call defines are cleared again, so one
+/// vector serves every chunk.
 /// `helpers` holds the imported runtime helpers in `Helper::ALL` order.
-pub fn translate(func: &ir::Function, builder: &mut FunctionBuilder, helpers: &[FuncRef], pointer: types::Type) {
-    let blocks: Vec<_> = func.blocks.iter().map(|_| builder.create_block()).collect();
-    let entry = blocks[0];
+pub fn translate(
+    func: &ir::Function,
+    range: std::ops::Range<usize>,
+    locals_at: Locals,
+    builder: &mut FunctionBuilder,
+    helpers: &[FuncRef],
+    pointer: types::Type,
+    values: &mut [Option<Value>],
+) {
+    let entry = builder.create_block();
+    let blocks: Vec<_> = range.clone().map(|_| builder.create_block()).collect();
+    let exit = builder.create_block();
     builder.append_block_params_for_function_params(entry);
     builder.switch_to_block(entry);
     let mem = builder.block_params(entry)[0];
+    let locals_pointer = match locals_at {
+        Locals::Variables => None,
+        Locals::Memory => Some(builder.block_params(entry)[1]),
+    };
     let locals: Vec<Variable> = (0..func.locals).map(|_| builder.declare_var(types::I8)).collect();
-    let mut values: Vec<Option<Value>> = vec![None; func.value_types.len()];
+    if let Some(at) = locals_pointer {
+        for (offset, &local) in locals.iter().enumerate() {
+            let value = builder.ins().load(types::I8, flags(), at, offset as i32);
+            builder.def_var(local, value);
+        }
+    }
+    builder.ins().jump(blocks[0], &[]);
+    let target = |block: ir::BlockId| {
+        let index = block.0 as usize;
+        if range.contains(&index) {
+            blocks[index - range.start]
+        } else {
+            exit
+        }
+    };
     let mut t = Translator {
         builder,
         mem,
@@ -59,40 +99,111 @@ pub fn translate(func: &ir::Function, builder: &mut FunctionBuilder, helpers: &[
         helpers,
         locals,
     };
-    for (number, block) in func.blocks.iter().enumerate() {
-        if number > 0 {
-            t.builder.switch_to_block(blocks[number]);
-        }
+    let mut defined = Vec::new();
+    for number in range.clone() {
+        let block = &func.blocks[number];
+        t.builder.switch_to_block(blocks[number - range.start]);
         for (result, inst) in &block.insts {
-            let value = t.inst(inst, &values);
+            let value = t.inst(inst, values);
             if let (Some(result), Some(value)) = (result, value) {
                 values[result.0 as usize] = Some(value);
+                defined.push(*result);
             }
         }
         let get = |v: ir::Value| values[v.0 as usize].expect("defined before use");
         match &block.terminator {
-            Terminator::Jump(target) => {
-                t.builder.ins().jump(blocks[target.0 as usize], &[]);
+            Terminator::Jump(to) => {
+                t.builder.ins().jump(target(*to), &[]);
             }
             Terminator::Branch {
                 condition,
                 then,
                 otherwise,
             } => {
-                t.builder.ins().brif(
-                    get(*condition),
-                    blocks[then.0 as usize],
-                    &[],
-                    blocks[otherwise.0 as usize],
-                    &[],
-                );
+                t.builder
+                    .ins()
+                    .brif(get(*condition), target(*then), &[], target(*otherwise), &[]);
             }
             Terminator::Return => {
-                t.builder.ins().return_(&[]);
+                t.builder.ins().jump(exit, &[]);
             }
         }
     }
+    t.builder.switch_to_block(exit);
+    if let Some(at) = locals_pointer {
+        for (offset, &local) in t.locals.iter().enumerate() {
+            let value = t.builder.use_var(local);
+            t.builder.ins().store(flags(), value, at, offset as i32);
+        }
+    }
+    t.builder.ins().return_(&[]);
     t.builder.seal_all_blocks();
+    for value in defined {
+        values[value.0 as usize] = None;
+    }
+}
+
+/// Splits the blocks of `func` into ranges of about `size` IR instructions
+/// that can be compiled as separate functions called one after another:
+/// a cut before block k needs no control flow across it other than falling
+/// into k, no value defined before it used after it, and no return before
+/// it. Cranelift's memory and time grow with the function, so a large
+/// program compiled in chunks builds in memory proportional to a chunk.
+pub fn chunks(func: &ir::Function, size: usize) -> Vec<std::ops::Range<usize>> {
+    let n = func.blocks.len();
+    let mut defined_in = vec![usize::MAX; func.value_types.len()];
+    for (number, block) in func.blocks.iter().enumerate() {
+        for (result, _) in &block.insts {
+            if let Some(result) = result {
+                defined_in[result.0 as usize] = number;
+            }
+        }
+    }
+    // blocked[k] counts the reasons against a cut before block k, as a
+    // difference array: +1 where a reason starts, -1 after it ends.
+    let mut blocked = vec![0i64; n + 2];
+    let mut forbid = |first: usize, last: usize| {
+        if first <= last {
+            blocked[first] += 1;
+            blocked[last + 1] -= 1;
+        }
+    };
+    for (number, block) in func.blocks.iter().enumerate() {
+        let mut uses: Vec<ir::Value> = block.insts.iter().flat_map(|(_, inst)| inst.operands()).collect();
+        if let Terminator::Branch { condition, .. } = block.terminator {
+            uses.push(condition);
+        }
+        for value in uses {
+            let definition = defined_in[value.0 as usize];
+            if definition < number {
+                forbid(definition + 1, number);
+            }
+        }
+        for successor in block.terminator.successors() {
+            let successor = successor.0 as usize;
+            if successor > number {
+                forbid(number + 1, successor - 1);
+            } else {
+                forbid(successor + 1, number);
+            }
+        }
+        if block.terminator == Terminator::Return {
+            forbid(number + 1, n.saturating_sub(1));
+        }
+    }
+    let mut ranges = Vec::new();
+    let (mut start, mut since_cut, mut reasons) = (0, 0, 0i64);
+    for (k, against) in blocked.iter().enumerate().take(n).skip(1) {
+        reasons += against;
+        since_cut += func.blocks[k - 1].insts.len();
+        if reasons == 0 && since_cut >= size {
+            ranges.push(start..k);
+            start = k;
+            since_cut = 0;
+        }
+    }
+    ranges.push(start..n);
+    ranges
 }
 
 struct Translator<'a, 'b> {

@@ -1,0 +1,63 @@
+//! Large programs are compiled as several functions (cut where only memory
+//! passes between them; master-control powers travel in a stack slot). Here
+//! every program is cut after every few IR instructions, so the random
+//! programs of the differential test, with MC regions, jumps and STL blocks,
+//! all take that path on the JIT and the object-file path, and must still
+//! leave the interpreter's image after every scan.
+
+mod common;
+
+use common::differential;
+use common::tools;
+use proptest::strategy::Just;
+
+#[test]
+fn programs_compiled_in_parts_match_the_interpreter() {
+    ladderc::codegen::set_chunk_instructions(8);
+    let aot = match differential::AotHost::find() {
+        Ok(host) => Some(host),
+        Err(why) => {
+            tools::skip("programs_compiled_in_parts (aot engine only)", &why);
+            None
+        }
+    };
+    let seed = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(1, |d| d.as_nanos() as u64);
+    eprintln!("programs_compiled_in_parts_match_the_interpreter: seed {seed}");
+    let totals = differential::check(
+        "programs_compiled_in_parts_match_the_interpreter",
+        differential::case(common::program()),
+        seed,
+        300,
+        100,
+        aot.as_ref(),
+    );
+    assert_eq!(totals.programs, 300);
+}
+
+/// Master-control rungs ending in a data instruction (a branch, so a block
+/// boundary after which no value of the rung lives): cut into many parts,
+/// with the MC power crossing them. (Cuts are only made where no SSA value
+/// crosses; a program that is one long block stays one function.)
+#[test]
+fn a_program_cut_into_parts_keeps_master_control_across_them() {
+    ladderc::codegen::set_chunk_instructions(8);
+    let rungs: String = (0..40)
+        .map(|i| format!("LDI M{}\nOUT Y{}\nLDI M{}\nINC D{i}\n", 100 + i, i % 8, 200 + i))
+        .collect();
+    let text = format!("LD X0\nMC N0 M0\n{rungs}MCR N0\nLD X1\nMC N0 M1\n{rungs}MCR N0\n");
+    let program = differential::compile(&text);
+    let object = ladderc::pipeline::object(&program, &Default::default()).expect("compiles");
+    let parts = String::from_utf8_lossy(&object).matches(".part").count();
+    assert!(parts > 10, "{parts} parts");
+    let totals = differential::check(
+        "a_program_cut_into_parts_keeps_master_control_across_them",
+        differential::case(Just(text)),
+        7,
+        30,
+        30,
+        None,
+    );
+    assert_eq!(totals.programs, 30);
+}
