@@ -138,51 +138,22 @@ fn define_program(
     let chunks = translate::chunks(program, CHUNK_INSTRUCTIONS.load(Ordering::Relaxed));
     let mut values = vec![None; program.value_types.len()];
     let mut builder_context = FunctionBuilderContext::new();
+    let mut part = Part {
+        program,
+        helpers: &helpers,
+        pointer,
+        values: &mut values,
+        builder_context: &mut builder_context,
+    };
     if let [whole] = chunks.as_slice() {
-        let mut context = module.make_context();
-        context.func.signature = body_signature;
-        context.func.name = UserFuncName::user(0, id.as_u32());
-        let mut builder = FunctionBuilder::new(&mut context.func, &mut builder_context);
-        let refs: Vec<_> = helpers
-            .iter()
-            .map(|&id| module.declare_func_in_func(id, builder.func))
-            .collect();
-        translate(
-            program,
-            whole.clone(),
-            Locals::Variables,
-            &mut builder,
-            &refs,
-            pointer,
-            &mut values,
-        );
-        builder.finalize(module.target_config());
-        module.define_function(id, &mut context)?;
+        part.define(module, id, body_signature, whole.clone(), Locals::Variables)?;
         return Ok(id);
     }
     let chunk_signature = signature(module.isa(), &[pointer, pointer]);
     let mut chunk_ids = Vec::with_capacity(chunks.len());
     for (number, range) in chunks.iter().enumerate() {
         let chunk_id = module.declare_function(&format!("{name}.part{number}"), Linkage::Local, &chunk_signature)?;
-        let mut context = module.make_context();
-        context.func.signature = chunk_signature.clone();
-        context.func.name = UserFuncName::user(0, chunk_id.as_u32());
-        let mut builder = FunctionBuilder::new(&mut context.func, &mut builder_context);
-        let refs: Vec<_> = helpers
-            .iter()
-            .map(|&id| module.declare_func_in_func(id, builder.func))
-            .collect();
-        translate(
-            program,
-            range.clone(),
-            Locals::Memory,
-            &mut builder,
-            &refs,
-            pointer,
-            &mut values,
-        );
-        builder.finalize(module.target_config());
-        module.define_function(chunk_id, &mut context)?;
+        part.define(module, chunk_id, chunk_signature.clone(), range.clone(), Locals::Memory)?;
         chunk_ids.push(chunk_id);
     }
     let mut context = module.make_context();
@@ -212,4 +183,47 @@ fn define_program(
     builder.finalize(module.target_config());
     module.define_function(id, &mut context)?;
     Ok(id)
+}
+
+/// What translating one function of a program needs.
+struct Part<'a> {
+    program: &'a Function,
+    helpers: &'a [FuncId],
+    pointer: types::Type,
+    values: &'a mut Vec<Option<cranelift_codegen::ir::Value>>,
+    builder_context: &'a mut FunctionBuilderContext,
+}
+
+impl Part<'_> {
+    /// Defines function `id` from the program's blocks `range`.
+    fn define(
+        &mut self,
+        module: &mut dyn Module,
+        id: FuncId,
+        signature: Signature,
+        range: std::ops::Range<usize>,
+        locals: Locals,
+    ) -> Result<(), CodegenError> {
+        let mut context = module.make_context();
+        context.func.signature = signature;
+        context.func.name = UserFuncName::user(0, id.as_u32());
+        let mut builder = FunctionBuilder::new(&mut context.func, self.builder_context);
+        let refs: Vec<_> = self
+            .helpers
+            .iter()
+            .map(|&helper| module.declare_func_in_func(helper, builder.func))
+            .collect();
+        translate(
+            self.program,
+            range,
+            locals,
+            &mut builder,
+            &refs,
+            self.pointer,
+            self.values,
+        );
+        builder.finalize(module.target_config());
+        module.define_function(id, &mut context)?;
+        Ok(())
+    }
 }

@@ -415,14 +415,7 @@ fn optimise_block(block: &mut Block, known: &mut Known, replaced: &mut HashMap<V
 
 #[cfg(test)]
 mod tests {
-    use crate::check::compile_source;
-    use crate::source::SourceFile;
-
-    fn ir(text: &str) -> String {
-        let (program, diagnostics) = compile_source(&SourceFile::new("t.il", text));
-        let program = program.unwrap_or_else(|| panic!("{diagnostics:?}"));
-        crate::pipeline::ir(&program).to_string()
-    }
+    use crate::ir::passes::tests::ir;
 
     #[test]
     fn a_coil_read_by_a_later_rung_is_not_loaded_again() {

@@ -510,11 +510,12 @@ pub fn remove_dead_values(function: &mut Function) {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use crate::check::compile_source;
     use crate::source::SourceFile;
 
-    fn ir(text: &str) -> String {
+    /// The optimised IR of a program text.
+    pub(in crate::ir) fn ir(text: &str) -> String {
         let (program, diagnostics) = compile_source(&SourceFile::new("t.il", text));
         let program = program.unwrap_or_else(|| panic!("{diagnostics:?}"));
         crate::pipeline::ir(&program).to_string()
