@@ -8,25 +8,16 @@
 mod common;
 
 use common::differential;
-use common::tools;
 use proptest::strategy::Just;
 
 #[test]
 fn programs_compiled_in_parts_match_the_interpreter() {
     ladderc::codegen::set_chunk_instructions(8);
-    let aot = match differential::AotHost::find() {
-        Ok(host) => Some(host),
-        Err(why) => {
-            tools::skip("programs_compiled_in_parts (aot engine only)", &why);
-            None
-        }
-    };
-    let seed = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map_or(1, |d| d.as_nanos() as u64);
-    eprintln!("programs_compiled_in_parts_match_the_interpreter: seed {seed}");
+    let test = "programs_compiled_in_parts_match_the_interpreter";
+    let aot = differential::aot_host(test);
+    let seed = differential::seed(test);
     let totals = differential::check(
-        "programs_compiled_in_parts_match_the_interpreter",
+        test,
         differential::case(common::program()),
         seed,
         300,

@@ -19,41 +19,17 @@
 
 mod common;
 
-use common::differential::{self, AotHost, Totals};
+use common::differential::{self, Totals};
 use common::tools;
 use proptest::strategy::{BoxedStrategy, Strategy};
-
-/// The seed of this run: from the environment, else the clock.
-fn seed(test: &str) -> u64 {
-    let seed = std::env::var("LADDER_DIFFERENTIAL_SEED")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or_else(|| {
-            std::time::SystemTime::now()
-                .duration_since(std::time::UNIX_EPOCH)
-                .map_or(1, |d| d.as_nanos() as u64)
-        });
-    eprintln!("{test}: seed {seed}");
-    seed
-}
-
-fn aot_host(test: &str) -> Option<AotHost> {
-    match AotHost::find() {
-        Ok(host) => Some(host),
-        Err(why) => {
-            tools::skip(&format!("{test} (aot engine only)"), &why);
-            None
-        }
-    }
-}
 
 fn run_share(test: &str, share: u64) -> Totals {
     run_programs(test, share, common::program().boxed(), 500)
 }
 
 fn run_programs(test: &str, share: u64, programs: BoxedStrategy<String>, count: usize) -> Totals {
-    let aot = aot_host(test);
-    let seed = seed(test).wrapping_add(share);
+    let aot = differential::aot_host(test);
+    let seed = differential::seed(test).wrapping_add(share);
     let totals = differential::check(test, differential::case(programs), seed, count, 100, aot.as_ref());
     eprintln!(
         "{test}: {} programs, {} scans, {} on the object-file path: every image equal",
@@ -141,8 +117,8 @@ fn long_run() {
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(1_000_000);
-    let aot = aot_host("long_run");
-    let seed = seed("long_run");
+    let aot = differential::aot_host("long_run");
+    let seed = differential::seed("long_run");
     let started = std::time::Instant::now();
     let mut totals = Totals::default();
     let mut round = 0;

@@ -183,7 +183,8 @@ impl Waiting {
     }
 }
 
-/// Runs the pass; values replaced by the values they are known to equal.
+/// Runs the pass; uses of a removed load read the value it was known to
+/// hold.
 pub fn forward_memory(function: &mut Function) {
     let order = super::passes::reverse_postorder(function);
     let mut predecessors: Vec<Vec<BlockId>> = vec![Vec::new(); function.blocks.len()];
@@ -239,21 +240,6 @@ pub fn forward_memory(function: &mut Function) {
         optimise_block(block_data, &mut known, &mut replaced, &mut now);
         if successors_left[block.0 as usize] > 0 {
             at_end[block.0 as usize] = Some(known);
-        }
-    }
-    // Uses of replaced values, in every block (a forwarded value may be used
-    // in a block the replaced load's block dominates).
-    let resolve = |v: &mut Value| {
-        while let Some(&other) = replaced.get(v) {
-            *v = other;
-        }
-    };
-    for block in &mut function.blocks {
-        for (_, inst) in &mut block.insts {
-            inst.for_each_operand_mut(resolve);
-        }
-        if let Terminator::Branch { condition, .. } = &mut block.terminator {
-            resolve(condition);
         }
     }
 }
@@ -343,16 +329,17 @@ fn access(inst: &Inst) -> Access {
 fn optimise_block(block: &mut Block, known: &mut Known, replaced: &mut HashMap<Value, Value>, now: &mut u64) {
     let mut waiting = Waiting::default();
     let mut remove = vec![false; block.insts.len()];
-    let resolve = |v: Value, replaced: &HashMap<Value, Value>| {
-        let mut v = v;
-        while let Some(&other) = replaced.get(&v) {
-            v = other;
+    // Blocks come in reverse postorder, so every use of a replaced load is
+    // met after the replacement; a replacement is never itself replaced (it
+    // is a kept load or an operand already resolved), so one step suffices.
+    let resolve = |v: &mut Value, replaced: &HashMap<Value, Value>| {
+        if let Some(&other) = replaced.get(v) {
+            *v = other;
         }
-        v
     };
     for (position, (result, inst)) in block.insts.iter_mut().enumerate() {
         *now += 1;
-        inst.for_each_operand_mut(|v| *v = resolve(*v, replaced));
+        inst.for_each_operand_mut(|v| resolve(v, replaced));
         match access(inst) {
             Access::Load(place) => {
                 let Some(result) = *result else { continue };
@@ -402,6 +389,9 @@ fn optimise_block(block: &mut Block, known: &mut Known, replaced: &mut HashMap<V
             }
             Access::None => {}
         }
+    }
+    if let Terminator::Branch { condition, .. } = &mut block.terminator {
+        resolve(condition, replaced);
     }
     if remove.iter().any(|&r| r) {
         let mut position = 0;

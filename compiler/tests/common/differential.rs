@@ -395,3 +395,27 @@ fn fail(name: &str, seed: u64, tree: impl ValueTree<Value = Case>, aot: Option<&
         path.display()
     );
 }
+
+/// The seed of this run: from the environment, else the clock.
+pub fn seed(test: &str) -> u64 {
+    let seed = std::env::var("LADDER_DIFFERENTIAL_SEED")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| {
+            std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .map_or(1, |d| d.as_nanos() as u64)
+        });
+    eprintln!("{test}: seed {seed}");
+    seed
+}
+
+pub fn aot_host(test: &str) -> Option<AotHost> {
+    match AotHost::find() {
+        Ok(host) => Some(host),
+        Err(why) => {
+            super::tools::skip(&format!("{test} (aot engine only)"), &why);
+            None
+        }
+    }
+}
