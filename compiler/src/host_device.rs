@@ -4,7 +4,7 @@
 
 use crate::syntax::operand::parse_operand;
 use crate::syntax::{OperandSyntax, Prefix};
-use ladder_runtime::device::{COUNTER_COUNT, FIRST_WIDE_COUNTER};
+use ladder_runtime::device::{index_register_word, COUNTER_COUNT, FIRST_WIDE_COUNTER, INDEX_REGISTER_COUNT};
 use ladder_runtime::{BitArea, Device, Width, WordArea};
 
 /// A device named by a host, with the width its value has.
@@ -83,6 +83,9 @@ pub fn parse_device(text: &str, double: bool) -> Result<HostDevice, String> {
         Prefix::Cn if !double && n < FIRST_WIDE_COUNTER => word(WordArea::CounterValue)?,
         Prefix::Tn | Prefix::Cn => return Err(format!("`{text}` is a 16-bit value; use set/expect")),
         Prefix::P | Prefix::N => return Err(format!("`{text}` is not a device")),
+        Prefix::V if double => return Err(format!("`{text}` is 16-bit; the 32-bit index register is Z{n}")),
+        Prefix::V | Prefix::Z if n >= INDEX_REGISTER_COUNT => return Err(format!("`{text}` is out of range")),
+        Prefix::V | Prefix::Z => Device::Word(WordArea::Index, index_register_word(n, d.prefix == Prefix::V)),
     };
     if double && device.is_bit() {
         return Err(format!("`{text}` is a bit; set32/expect32 take words"));

@@ -33,7 +33,7 @@
 /**
  * Bytes of storage a device image needs.
  */
-#define LADDER_MEMORY_SIZE 137984
+#define LADDER_MEMORY_SIZE 138024
 
 /**
  * Alignment the storage needs.
@@ -116,6 +116,14 @@ typedef enum LadderDevice {
    * Counter current values: 16-bit for C0–C199, 32-bit for C200–C255.
    */
   LADDER_DEVICE_CN = 11,
+  /**
+   * Index registers V0–V7 (16-bit).
+   */
+  LADDER_DEVICE_V = 12,
+  /**
+   * Index registers Z0–Z7 (16-bit; the 32-bit pair at Zn is (Vn, Zn)).
+   */
+  LADDER_DEVICE_Z = 13,
 } LadderDevice;
 
 /**

@@ -12,7 +12,7 @@
 //! the program sees the input at the next scan's input refresh, never in the
 //! middle of a scan. Different images are independent.
 
-use crate::device::{BitArea, WordArea, FIRST_WIDE_COUNTER};
+use crate::device::{index_register_word, BitArea, WordArea, FIRST_WIDE_COUNTER, INDEX_REGISTER_COUNT};
 use crate::force::ForceError;
 use crate::host::{Basic, BasicAccess};
 use crate::layout::{MEMORY_ALIGN, MEMORY_SIZE};
@@ -27,7 +27,7 @@ pub struct LadderMemory {
 }
 
 /// Bytes of storage a device image needs.
-pub const LADDER_MEMORY_SIZE: usize = 137984;
+pub const LADDER_MEMORY_SIZE: usize = 138024;
 /// Alignment the storage needs.
 pub const LADDER_MEMORY_ALIGN: usize = 4;
 
@@ -61,6 +61,10 @@ pub enum LadderDevice {
     Tn = 10,
     /// Counter current values: 16-bit for C0–C199, 32-bit for C200–C255.
     Cn = 11,
+    /// Index registers V0–V7 (16-bit).
+    V = 12,
+    /// Index registers Z0–Z7 (16-bit; the 32-bit pair at Zn is (Vn, Zn)).
+    Z = 13,
 }
 
 /// Results of the C API.
@@ -118,6 +122,17 @@ pub fn basic_device(kind: u32, number: u32) -> Option<Basic> {
     if kind == LadderDevice::Cn as u32 && number >= FIRST_WIDE_COUNTER {
         return Some(Basic::WideCounter(number));
     }
+    for (register_kind, v) in [(LadderDevice::V, true), (LadderDevice::Z, false)] {
+        if kind == register_kind as u32 {
+            // A number past Z7/V7 names a word past the area: out of range.
+            let word = if number < INDEX_REGISTER_COUNT {
+                index_register_word(number, v)
+            } else {
+                WordArea::Index.count()
+            };
+            return Some(Basic::Word(WordArea::Index, word));
+        }
+    }
     let bit = BIT_KINDS
         .iter()
         .find(|(_, k)| *k as u32 == kind)
@@ -141,6 +156,7 @@ pub fn c_device(device: Basic) -> (LadderDevice, u32) {
                 .1,
             n,
         ),
+        Basic::Word(WordArea::Index, n) => (if n % 2 == 1 { LadderDevice::V } else { LadderDevice::Z }, n / 2),
         Basic::Word(area, n) => (
             WORD_KINDS
                 .iter()
@@ -401,7 +417,18 @@ mod tests {
                 assert_eq!(c_device(device).0 as u32, kind);
             }
         }
-        assert_eq!(basic_device(12, 0), None);
+        for kind in [LadderDevice::V, LadderDevice::Z] {
+            for number in 0..INDEX_REGISTER_COUNT {
+                let device = basic_device(kind as u32, number).expect("an index register");
+                assert_eq!(c_device(device), (kind, number));
+            }
+        }
+        assert_eq!(basic_device(12, 3), Some(Basic::Word(WordArea::Index, 7)), "V3 is word 7");
+        assert_eq!(basic_device(13, 3), Some(Basic::Word(WordArea::Index, 6)), "Z3 is word 6");
+        let mut mem = Memory::new_boxed();
+        let past_z7 = basic_device(13, 8).expect("a device kind");
+        assert!(mem.write_basic(past_z7, 1).is_err(), "Z8 does not exist");
+        assert_eq!(basic_device(14, 0), None);
     }
 
     #[test]

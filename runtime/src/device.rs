@@ -36,6 +36,17 @@ pub enum WordArea {
     TimerValue,
     /// 16-bit counter current values C0–C199 (`C`/`CN`).
     CounterValue,
+    /// Index registers, interleaved so that a 32-bit access at Zn is the
+    /// pair (Vn, Zn) as on an FX: word 2n is Zn, word 2n+1 is Vn.
+    Index,
+}
+
+/// Number of Z (and of V) index registers: Z0–Z7, V0–V7.
+pub const INDEX_REGISTER_COUNT: u32 = 8;
+
+/// The word of the index-register area that holds Zn (`v` false) or Vn.
+pub const fn index_register_word(number: u32, v: bool) -> u32 {
+    2 * number + v as u32
 }
 
 /// First 32-bit counter; C200–C255 hold 32-bit current values.
@@ -109,12 +120,13 @@ impl BitArea {
 }
 
 impl WordArea {
-    pub const ALL: [WordArea; 5] = [
+    pub const ALL: [WordArea; 6] = [
         WordArea::D,
         WordArea::Sd,
         WordArea::R,
         WordArea::TimerValue,
         WordArea::CounterValue,
+        WordArea::Index,
     ];
 
     /// Number of words in the area.
@@ -125,9 +137,11 @@ impl WordArea {
             WordArea::R => 32768,
             WordArea::TimerValue => TIMER_COUNT,
             WordArea::CounterValue => FIRST_WIDE_COUNTER,
+            WordArea::Index => 2 * INDEX_REGISTER_COUNT,
         }
     }
 
+    /// The prefix of the area's devices (for the index registers, of Zn).
     pub const fn prefix(self) -> &'static str {
         match self {
             WordArea::D => "D",
@@ -135,12 +149,20 @@ impl WordArea {
             WordArea::R => "R",
             WordArea::TimerValue => "T",
             WordArea::CounterValue => "C",
+            WordArea::Index => "Z",
         }
     }
 
+    /// Formats word `index` the way a programmer writes it (`D100`, `V3`).
     #[cfg(feature = "std")]
     pub fn device_name(self, index: u32) -> String {
-        format!("{}{}", self.prefix(), index)
+        match self {
+            WordArea::Index if index % 2 == 1 => format!("V{}", index / 2),
+            WordArea::Index => format!("Z{}", index / 2),
+            WordArea::D | WordArea::Sd | WordArea::R | WordArea::TimerValue | WordArea::CounterValue => {
+                format!("{}{}", self.prefix(), index)
+            }
+        }
     }
 }
 
@@ -185,6 +207,8 @@ mod tests {
         assert_eq!(BitArea::X.device_name(0o17), "X17");
         assert_eq!(BitArea::Y.device_name(255), "Y377");
         assert_eq!(BitArea::M.device_name(17), "M17");
+        assert_eq!(WordArea::Index.device_name(index_register_word(3, false)), "Z3");
+        assert_eq!(WordArea::Index.device_name(index_register_word(7, true)), "V7");
     }
 
     #[test]

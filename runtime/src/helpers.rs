@@ -240,6 +240,11 @@ helpers! {
         mem.schedule_state_off(state)
     }
 
+    /// A NEXT with repetitions left: 1 when the loop watchdog lets it repeat, else 0 (6509H recorded against `line`).
+    LoopRepeat = fn ladder_rt_loop_repeat(mem, line: u32) -> i32 writes [OperationError] {
+        i32::from(mem.loop_may_repeat(line))
+    }
+
     /// BMOV: `n` units of `width` (1 = 16-bit, 2 = 32-bit) between checked places, as a whole.
     /// Overlapping blocks move as if every value were read before any is written.
     BlockMove = fn ladder_rt_block_move(
@@ -378,7 +383,7 @@ pub fn width_arg(width: Width) -> u32 {
 ///
 /// # Safety
 /// `mem` is null or the program's device image.
-#[export_name = "ladder_rt_begin_scan_v2_137984"]
+#[export_name = "ladder_rt_begin_scan_v3_138024"]
 pub unsafe extern "C" fn ladder_rt_begin_scan(mem: *mut Memory, elapsed_ms: u32) {
     // SAFETY: the caller passes the image it was given.
     if let Some(mem) = unsafe { mem.as_mut() } {

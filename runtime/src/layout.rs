@@ -16,10 +16,10 @@ pub const MEMORY_ALIGN: usize = align_of::<Memory>();
 /// (`ladder_rt_begin_scan_<tag>`), so that an object linked against a runtime
 /// with another layout fails to link instead of corrupting memory. Change it
 /// whenever an offset changes; `layout_fingerprint_is_recorded` insists.
-pub const LAYOUT_TAG: &str = "v2_137984";
+pub const LAYOUT_TAG: &str = "v3_138024";
 
 /// The begin-scan entry compiled objects call; carries the layout tag.
-pub const TAGGED_BEGIN_SCAN: &str = "ladder_rt_begin_scan_v2_137984";
+pub const TAGGED_BEGIN_SCAN: &str = "ladder_rt_begin_scan_v3_138024";
 
 /// The end-scan entry compiled objects call (the C API's `ladder_end_scan`).
 pub const END_SCAN: &str = "ladder_end_scan";
@@ -45,6 +45,7 @@ pub const fn word_area_offset(area: WordArea) -> usize {
         WordArea::R => offset_of!(Memory, r),
         WordArea::TimerValue => offset_of!(Memory, timer_value),
         WordArea::CounterValue => offset_of!(Memory, counter_value),
+        WordArea::Index => offset_of!(Memory, index),
     }
 }
 
@@ -75,6 +76,7 @@ mod tests {
             offset_of!(Memory, timer_value),
             offset_of!(Memory, counter_value),
             offset_of!(Memory, wide_counter_value),
+            offset_of!(Memory, index),
             offset_of!(Memory, timer_remainder_ms),
             offset_of!(Memory, timer_coil_was_on),
             offset_of!(Memory, counter_coil_was_on),
@@ -94,6 +96,8 @@ mod tests {
             offset_of!(Memory, stl_pending_any),
             offset_of!(Memory, elapsed_ms),
             offset_of!(Memory, scan_count),
+            offset_of!(Memory, clock_ms),
+            offset_of!(Memory, loop_repetitions),
             MEMORY_SIZE,
         ];
         offsets.map(|o| o.to_string()).join(",")
@@ -103,7 +107,7 @@ mod tests {
     fn layout_fingerprint_is_recorded() {
         assert_eq!(
             fingerprint(),
-            "0,256,512,9024,13120,14144,14656,14912,31936,33984,99520,100544,100944,101168,102192,102704,102960,107056,111152,127536,127600,127664,127920,128176,128432,128688,137200,137712,137968,137972,137976,137980,137984",
+            "0,256,512,9024,13120,14144,14656,14912,31936,33984,99520,100544,100944,101168,101200,102224,102736,102992,107088,111184,127568,127632,127696,127952,128208,128464,128720,137232,137744,138000,138004,138008,138012,138016,138020,138024",
             "the memory layout changed: bump LAYOUT_TAG (and the tagged symbol) and record the new fingerprint"
         );
         assert_eq!(TAGGED_BEGIN_SCAN, format!("ladder_rt_begin_scan_{LAYOUT_TAG}"));

@@ -37,6 +37,8 @@ pub struct Memory {
     pub counter_value: [i16; WordArea::CounterValue.count() as usize],
     /// Current values of the 32-bit counters C200–C255.
     pub wide_counter_value: [i32; WIDE_COUNTER_COUNT as usize],
+    /// Index registers: Z0, V0, Z1, V1, ... (`device::index_register_word`).
+    pub index: [i16; WordArea::Index.count() as usize],
 
     // ---- scan bookkeeping ----
     /// Milliseconds below the timer's resolution carried to the next scan.
@@ -74,6 +76,11 @@ pub struct Memory {
     pub elapsed_ms: u32,
     /// Completed scans since initialisation (saturating).
     pub scan_count: u32,
+    /// The elapsed times reported to all scans so far, this one included,
+    /// modulo one minute (the clock relays M8011-M8014 follow it).
+    pub clock_ms: u32,
+    /// FOR/NEXT repetitions in the current scan (the loop watchdog).
+    pub loop_repetitions: u32,
 }
 
 /// Sort job: not started (its input was OFF, or it could not start).
@@ -130,6 +137,7 @@ impl Memory {
             WordArea::R => &self.r,
             WordArea::TimerValue => &self.timer_value,
             WordArea::CounterValue => &self.counter_value,
+            WordArea::Index => &self.index,
         }
     }
 
@@ -140,6 +148,7 @@ impl Memory {
             WordArea::R => &mut self.r,
             WordArea::TimerValue => &mut self.timer_value,
             WordArea::CounterValue => &mut self.counter_value,
+            WordArea::Index => &mut self.index,
         }
     }
 

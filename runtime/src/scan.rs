@@ -7,7 +7,7 @@
 
 use crate::memory::Memory;
 use crate::special::{
-    FIRST_ALARM_STATE, LAST_ALARM_STATE, M_ALWAYS_OFF, M_ALWAYS_ON, M_FIRST_SCAN, M_NOT_FIRST_SCAN, SD_ALARM_LOWEST,
+    OperationError, CLOCK_CYCLE_MS, CLOCK_RELAYS, FIRST_ALARM_STATE, LOOP_REPETITION_LIMIT, LAST_ALARM_STATE, M_ALWAYS_OFF, M_ALWAYS_ON, M_FIRST_SCAN, M_NOT_FIRST_SCAN, SD_ALARM_LOWEST,
     SM_ALARM_ACTIVE, SM_ALARM_MONITOR, SM_ALWAYS_OFF, SM_ALWAYS_ON, SM_FIRST_SCAN, SM_NOT_FIRST_SCAN,
 };
 
@@ -15,6 +15,9 @@ impl Memory {
     /// Steps 1 and 2: everything that happens before the program runs.
     pub fn begin_scan(&mut self, elapsed_ms: u32) {
         self.elapsed_ms = elapsed_ms;
+        let cycle = u64::from(CLOCK_CYCLE_MS);
+        self.clock_ms = ((u64::from(self.clock_ms) % cycle + u64::from(elapsed_ms) % cycle) % cycle) as u32;
+        self.loop_repetitions = 0;
         self.x = self.input_image;
         if self.forced_count > 0 {
             self.apply_forced_inputs();
@@ -53,6 +56,18 @@ impl Memory {
         }
     }
 
+    /// A NEXT whose loop has repetitions left asks whether the watchdog lets
+    /// it go back to its FOR. Past `LOOP_REPETITION_LIMIT` repetitions in
+    /// this scan it records 6509H against `line` and the loop ends.
+    pub fn loop_may_repeat(&mut self, line: u32) -> bool {
+        if self.loop_repetitions >= LOOP_REPETITION_LIMIT {
+            self.record_error(OperationError::LoopWatchdog, line);
+            return false;
+        }
+        self.loop_repetitions += 1;
+        true
+    }
+
     /// With SM249 ON: SM248 shows whether an alarm state S900-S999 is ON
     /// and SD249 the lowest one that is (0 when none is).
     fn update_alarm_monitor(&mut self) {
@@ -87,6 +102,9 @@ impl Memory {
                 self.m[n as usize] = on as u8;
             }
         }
+        for (relay, period) in CLOCK_RELAYS {
+            self.m[relay as usize] = u8::from(self.clock_ms % period >= period / 2);
+        }
     }
 }
 
@@ -103,6 +121,35 @@ mod tests {
         mem.end_scan();
         mem.begin_scan(10);
         assert_eq!((mem.m[8002], mem.m[8003], mem.m[8150], mem.sm[2]), (0, 1, 0, 0));
+    }
+
+    #[test]
+    fn clock_relays_follow_the_accumulated_time() {
+        let mut mem = Memory::new_boxed();
+        let mut seen = Vec::new();
+        for _ in 0..4 {
+            mem.scan_with(250, |_| {});
+            seen.push(mem.m[8013]);
+        }
+        assert_eq!(seen, [0, 1, 1, 0], "t = 250, 500, 750, 1000");
+        mem.scan_with(u32::MAX, |_| {});
+        assert_eq!(mem.clock_ms, ((1000 + u64::from(u32::MAX)) % 60_000) as u32);
+        mem.scan_with(5, |_| {});
+        assert!(mem.clock_ms < 60_000);
+    }
+
+    #[test]
+    fn loop_watchdog_counts_repetitions_per_scan() {
+        let mut mem = Memory::new_boxed();
+        mem.begin_scan(10);
+        assert!((0..crate::special::LOOP_REPETITION_LIMIT).all(|_| mem.loop_may_repeat(7)));
+        assert_eq!(mem.operation_error(), None);
+        assert!(!mem.loop_may_repeat(9));
+        assert_eq!(mem.operation_error(), Some(0x6509));
+        assert_eq!(mem.d[8069], 9);
+        mem.end_scan();
+        mem.begin_scan(10);
+        assert!(mem.loop_may_repeat(7), "the count starts again every scan");
     }
 
     #[test]

@@ -93,7 +93,11 @@ pub const M_COUNTER_DIRECTION_BASE: u32 = 8200;
 /// Is M relay `n` one the runtime rewrites at every scan (a write by the
 /// program would not last)?
 pub fn is_system_m(n: u32) -> bool {
-    M_ALWAYS_ON.contains(&n) || M_ALWAYS_OFF.contains(&n) || M_FIRST_SCAN.contains(&n) || M_NOT_FIRST_SCAN.contains(&n)
+    M_ALWAYS_ON.contains(&n)
+        || M_ALWAYS_OFF.contains(&n)
+        || M_FIRST_SCAN.contains(&n)
+        || M_NOT_FIRST_SCAN.contains(&n)
+        || CLOCK_RELAYS.iter().any(|&(relay, _)| relay == n)
 }
 
 /// Is SM relay `n` one the runtime rewrites at every scan?
@@ -120,10 +124,23 @@ pub enum OperationError {
     RangeNotSameDevice = 0x4093,
     /// 4094H: the two ends of a range are in the wrong order.
     RangeOrder = 0x4094,
+    /// 6509H: FOR/NEXT loops repeated more than `LOOP_REPETITION_LIMIT`
+    /// times in one scan; the loops stopped repeating for that scan.
+    LoopWatchdog = 0x6509,
 }
 
+/// FOR/NEXT repetitions (a NEXT going back to its FOR) one scan allows, all
+/// loops together.
+pub const LOOP_REPETITION_LIMIT: u32 = 100_000;
+
+/// The clock relays M8011, M8012, M8013, M8014 and their periods in ms: ON
+/// while (t mod period) >= period / 2, t the accumulated reported time.
+pub const CLOCK_RELAYS: [(u32, u32); 4] = [(8011, 10), (8012, 100), (8013, 1_000), (8014, 60_000)];
+/// The longest clock period, a multiple of every other: t is kept modulo it.
+pub const CLOCK_CYCLE_MS: u32 = 60_000;
+
 impl OperationError {
-    pub const ALL: [OperationError; 7] = [
+    pub const ALL: [OperationError; 8] = [
         OperationError::DataOutOfRange,
         OperationError::ReadOutOfRange,
         OperationError::WriteOutOfRange,
@@ -131,6 +148,7 @@ impl OperationError {
         OperationError::TooManyInstructions,
         OperationError::RangeNotSameDevice,
         OperationError::RangeOrder,
+        OperationError::LoopWatchdog,
     ];
 
     pub const fn code(self) -> u16 {

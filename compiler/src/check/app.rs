@@ -14,7 +14,8 @@ pub fn word_class(word: &WordRef) -> DeviceClass {
     match word {
         WordRef::Constant(_) => DeviceClass::Constant,
         WordRef::Word(area, _) => match area {
-            WordArea::D => DeviceClass::D,
+            // Where an FX device table takes D it takes V and Z too.
+            WordArea::D | WordArea::Index => DeviceClass::D,
             WordArea::Sd => DeviceClass::Sd,
             WordArea::R => DeviceClass::R,
             WordArea::TimerValue => DeviceClass::T,

@@ -656,7 +656,7 @@ impl Checker {
                     self.emit(Op::Output(Output::Reset { target, count }), site);
                     return;
                 }
-                Prefix::D | Prefix::Sd | Prefix::R => {
+                Prefix::D | Prefix::Sd | Prefix::R | Prefix::V | Prefix::Z => {
                     let Some(WordRef::Word(area, address)) =
                         self.ok(operands::word_destination(first, Width::Single, 1))
                     else {

@@ -3,8 +3,8 @@
 
 use crate::diagnostics::{Code, Diagnostic};
 use crate::program::{Address, BitRef, DigitGroup, Element, IndexRegister, RangeEnd, WordRef};
-use crate::syntax::{Constant, DeviceSyntax, Operand, OperandSyntax, Prefix};
-use ladder_runtime::device::{FIRST_WIDE_COUNTER, TIMER_COUNT};
+use crate::syntax::{Constant, DeviceSyntax, OffsetKind, Operand, OperandSyntax, Prefix};
+use ladder_runtime::device::{index_register_word, FIRST_WIDE_COUNTER, INDEX_REGISTER_COUNT, TIMER_COUNT};
 use ladder_runtime::{BitArea, Width, WordArea};
 
 pub type Resolved<T> = Result<T, Diagnostic>;
@@ -55,7 +55,15 @@ fn bit_area(prefix: Prefix) -> Option<BitArea> {
         Prefix::Sm => BitArea::Sm,
         Prefix::T | Prefix::Ts => BitArea::TimerContact,
         Prefix::C | Prefix::Cs => BitArea::CounterContact,
-        Prefix::Tn | Prefix::Cn | Prefix::D | Prefix::Sd | Prefix::R | Prefix::P | Prefix::N => return None,
+        Prefix::Tn
+        | Prefix::Cn
+        | Prefix::D
+        | Prefix::Sd
+        | Prefix::R
+        | Prefix::P
+        | Prefix::N
+        | Prefix::V
+        | Prefix::Z => return None,
     })
 }
 
@@ -96,22 +104,44 @@ fn area_text_words(area: WordArea) -> String {
     )
 }
 
-/// The index register must be a D in range.
+/// The index register must be a D, Z or V in range; an index register
+/// cannot itself be modified.
 fn index_register(d: &DeviceSyntax) -> Resolved<Option<IndexRegister>> {
-    match d.offset {
-        None => Ok(None),
-        Some(o) if o.register < WordArea::D.count() => Ok(Some(IndexRegister {
-            area: WordArea::D,
-            number: o.register,
-        })),
-        Some(o) => Err(Diagnostic::new(
+    let Some(o) = d.offset else {
+        return Ok(None);
+    };
+    if matches!(d.prefix, Prefix::V | Prefix::Z) {
+        return Err(Diagnostic::new(
+            Code::OperandKind,
+            o.span,
+            format!("`{}`: an index register cannot be modified", text_of(d)),
+        )
+        .with_label("modifier on an index register"));
+    }
+    let (letter, in_range, range) = match o.kind {
+        OffsetKind::D => ("D", o.register < WordArea::D.count(), area_text_words(WordArea::D)),
+        OffsetKind::Z => ("Z", o.register < INDEX_REGISTER_COUNT, "index registers are Z0..Z7".to_string()),
+        OffsetKind::V => ("V", o.register < INDEX_REGISTER_COUNT, "index registers are V0..V7".to_string()),
+    };
+    if !in_range {
+        return Err(Diagnostic::new(
             Code::DeviceRange,
             o.span,
-            format!("offset register D{} is out of range", o.register),
+            format!("offset register {letter}{} is out of range", o.register),
         )
-        .with_label(area_text_words(WordArea::D))
-        .with_note(format!("in operand `{}`", text_of(d)))),
+        .with_label(range)
+        .with_note(format!("in operand `{}`", text_of(d))));
     }
+    Ok(Some(match o.kind {
+        OffsetKind::D => IndexRegister {
+            area: WordArea::D,
+            number: o.register,
+        },
+        OffsetKind::Z | OffsetKind::V => IndexRegister {
+            area: WordArea::Index,
+            number: index_register_word(o.register, o.kind == OffsetKind::V),
+        },
+    }))
 }
 
 /// A bit a contact reads: X Y M S SM T C, or Dn.b.
@@ -154,6 +184,11 @@ pub fn bit_source(operand: &Operand) -> Resolved<BitRef> {
                 &d.prefix.as_str()[..1],
                 d.number
             ),
+            "word, not bit",
+        )),
+        Prefix::V | Prefix::Z => Err(kind_error(
+            operand,
+            format!("`{}` is an index register (a word); this operand is one bit", text_of(d)),
             "word, not bit",
         )),
         Prefix::D | Prefix::Sd | Prefix::R => Err(kind_error(
@@ -505,6 +540,7 @@ fn word_device(operand: &Operand, d: &DeviceSyntax, width: Width, multiple: u32)
             return Ok(WordRef::Word(WordArea::TimerValue, address));
         }
         Prefix::C | Prefix::Cn => return counter_value(operand, &name, d.number, address, wide, multiple),
+        Prefix::V | Prefix::Z => return index_register_value(operand, d, wide, multiple),
         Prefix::X
         | Prefix::Y
         | Prefix::M
@@ -523,6 +559,35 @@ fn word_device(operand: &Operand, d: &DeviceSyntax, width: Width, multiple: u32)
     };
     check_extent(operand, &name, d.number, words, area.count(), &area_text_words(area))?;
     Ok(WordRef::Word(area, address))
+}
+
+/// `Vn`/`Zn` as a word; as a 32-bit operand `Zn` is the pair (Vn, Zn).
+fn index_register_value(operand: &Operand, d: &DeviceSyntax, wide: bool, multiple: u32) -> Resolved<WordRef> {
+    let name = text_of(d);
+    check_extent(
+        operand,
+        &name,
+        d.number,
+        1,
+        INDEX_REGISTER_COUNT,
+        &format!("index registers are {0}0..{0}7", d.prefix.as_str()),
+    )?;
+    if multiple > 1 {
+        return Err(kind_error(
+            operand,
+            "this result is several words long; use D, R, SD or a digit group",
+            "index register",
+        ));
+    }
+    let v = d.prefix == Prefix::V;
+    if wide && v {
+        return Err(kind_error(
+            operand,
+            format!("`{name}` cannot be a 32-bit operand: the 32-bit index register is Z{} (V{} is its high word)", d.number, d.number),
+            "V as a 32-bit operand",
+        ));
+    }
+    Ok(WordRef::Word(WordArea::Index, Address::fixed(index_register_word(d.number, v))))
 }
 
 fn counter_value(
@@ -682,7 +747,9 @@ pub fn range_end(operand: &Operand) -> Resolved<RangeEnd> {
         | Prefix::Sd
         | Prefix::R
         | Prefix::P
-        | Prefix::N => Ok(RangeEnd::Bit(bit_target(operand)?)),
+        | Prefix::N
+        | Prefix::V
+        | Prefix::Z => Ok(RangeEnd::Bit(bit_target(operand)?)),
     }
 }
 

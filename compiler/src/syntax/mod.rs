@@ -5,7 +5,7 @@ pub mod lexer;
 pub mod operand;
 mod parser;
 
-pub use operand::{Constant, DeviceSyntax, OffsetSyntax, Operand, OperandSyntax, Prefix};
+pub use operand::{Constant, DeviceSyntax, OffsetKind, OffsetSyntax, Operand, OperandSyntax, Prefix};
 pub use parser::parse;
 
 use crate::source::Span;

@@ -28,11 +28,15 @@ pub enum Prefix {
     P,
     /// `N`: master-control nesting level.
     N,
+    /// `V`: index register V0-V7.
+    V,
+    /// `Z`: index register Z0-Z7.
+    Z,
 }
 
 impl Prefix {
     /// Longest spellings first so `SM0` is not read as `S` + `M0`.
-    const SPELLINGS: [(&'static str, Prefix); 16] = [
+    const SPELLINGS: [(&'static str, Prefix); 18] = [
         ("SM", Prefix::Sm),
         ("SD", Prefix::Sd),
         ("TS", Prefix::Ts),
@@ -49,6 +53,8 @@ impl Prefix {
         ("R", Prefix::R),
         ("P", Prefix::P),
         ("N", Prefix::N),
+        ("V", Prefix::V),
+        ("Z", Prefix::Z),
     ];
 
     pub fn as_str(self) -> &'static str {
@@ -72,9 +78,22 @@ pub struct Constant {
     pub hex: bool,
 }
 
-/// `[Dk]` after a device: the device number is offset by the value of Dk.
+/// The register that modifies a device number.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OffsetKind {
+    /// `DEV[Dk]`.
+    D,
+    /// `DEVZn` (FX index modification).
+    Z,
+    /// `DEVVn`.
+    V,
+}
+
+/// `[Dk]`, `Zn` or `Vn` after a device: the device number is offset by the
+/// register's value.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct OffsetSyntax {
+    pub kind: OffsetKind,
     pub register: u32,
     pub span: Span,
 }
@@ -175,6 +194,7 @@ impl Cursor<'_> {
                         "expected K followed by a number",
                     ));
                 }
+                self.refuse_modified_constant()?;
                 if self.peek().is_some_and(|c| c.is_ascii_alphabetic()) && !negative {
                     return self.digit_group(digits_start, magnitude);
                 }
@@ -200,6 +220,7 @@ impl Cursor<'_> {
                     self.pos += 1;
                 }
                 let digits = &self.text[start..self.pos];
+                self.refuse_modified_constant()?;
                 if digits.is_empty() {
                     return Err(self.error(
                         0,
@@ -221,6 +242,32 @@ impl Cursor<'_> {
             }
             _ => self.device(None).map(OperandSyntax::Device),
         }
+    }
+
+    /// `K5Z0`: FX programs may modify constants, ladderc does not.
+    fn refuse_modified_constant(&self) -> Result<(), Diagnostic> {
+        if self.index_register_ahead().is_some() {
+            let span = Span::new(self.base + self.pos, self.base + self.text.len());
+            return Err(Diagnostic::new(
+                Code::OperandKind,
+                span,
+                format!("`{}`: a constant cannot be modified by an index register", self.text),
+            )
+            .with_label("index register on a constant")
+            .with_note("compute the value into a register first, e.g. `ADD K5 Z0 D0`"));
+        }
+        Ok(())
+    }
+
+    /// `Zn`/`Vn` at the cursor (a letter and a digit).
+    fn index_register_ahead(&self) -> Option<OffsetKind> {
+        let mut chars = self.rest().chars();
+        let kind = match chars.next()?.to_ascii_uppercase() {
+            'Z' => OffsetKind::Z,
+            'V' => OffsetKind::V,
+            _ => return None,
+        };
+        chars.next().is_some_and(|c| c.is_ascii_digit()).then_some(kind)
     }
 
     /// `Kn` followed by a bit device: a digit group.
@@ -287,6 +334,15 @@ impl Cursor<'_> {
         };
         let offset = if self.peek() == Some('[') {
             Some(self.offset()?)
+        } else if let Some(kind) = self.index_register_ahead() {
+            let start = self.pos;
+            self.pos += 1;
+            let (register, _) = self.decimal_digits();
+            Some(OffsetSyntax {
+                kind,
+                register: u32::try_from(register).unwrap_or(u32::MAX),
+                span: Span::new(self.base + start, self.base + self.pos),
+            })
         } else {
             None
         };
@@ -343,6 +399,7 @@ impl Cursor<'_> {
             return Err(self.error(open, format!("`{}`: unclosed offset", self.text), "expected `]`"));
         }
         Ok(OffsetSyntax {
+            kind: OffsetKind::D,
             register: u32::try_from(register).unwrap_or(u32::MAX),
             span: register_span,
         })
@@ -434,6 +491,21 @@ mod tests {
         assert_eq!(device("K4M0[D2]").offset.unwrap().register, 2);
         assert_eq!(error_code("D10[D2"), Code::MalformedOperand);
         assert_eq!(error_code("D10[M2]"), Code::MalformedOperand);
+    }
+
+    #[test]
+    fn index_registers_and_modifiers() {
+        assert_eq!((device("V3").prefix, device("z7").number), (Prefix::V, 7));
+        let modified = device("D100Z2").offset.unwrap();
+        assert_eq!((modified.kind, modified.register, modified.span), (OffsetKind::Z, 2, Span::new(4, 6)));
+        assert_eq!(device("X10v1").offset.unwrap().kind, OffsetKind::V);
+        assert_eq!(device("X10v1").number, 8, "the octal number is read before the modifier");
+        let group = device("K4M0Z2");
+        assert_eq!((group.digits, group.offset.unwrap().register), (Some(4), 2));
+        assert_eq!(error_code("K5Z0"), Code::OperandKind);
+        assert_eq!(error_code("H1FV2"), Code::OperandKind);
+        assert_eq!(error_code("D0Z1Z2"), Code::MalformedOperand);
+        assert_eq!(error_code("D0Z"), Code::MalformedOperand);
     }
 
     #[test]
