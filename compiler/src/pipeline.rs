@@ -2,14 +2,14 @@
 //! code generation.
 
 use crate::codegen::{emit_object, CodegenError, JitProgram, ObjectOptions};
-use crate::ir::{passes, Function};
+use crate::ir::{passes, Program};
 use crate::program::CheckedProgram;
 
 /// The optimised IR of a checked program.
-pub fn ir(program: &CheckedProgram) -> Function {
-    let mut function = crate::lower::lower(program);
-    passes::optimize(&mut function);
-    function
+pub fn ir(program: &CheckedProgram) -> Program {
+    let mut ir = crate::lower::lower(program);
+    passes::optimize(&mut ir);
+    ir
 }
 
 /// The program compiled into this process.

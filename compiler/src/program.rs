@@ -209,6 +209,27 @@ pub enum Op {
         block: usize,
     },
     StlEnd,
+    /// FEND: the main program ends here; subroutines follow.
+    MainEnd,
+    /// CALL/CALLP: runs subroutine `subroutine` (an index into
+    /// `CheckedProgram::subroutines`) while the rung is ON, or with `slot`
+    /// (CALLP) at its rising edge, and continues after the CALL.
+    Call {
+        subroutine: usize,
+        slot: Option<u32>,
+    },
+    /// SRET: the end of a subroutine.
+    SubroutineReturn,
+    /// FOR: the instructions up to the NEXT at index `end` run `count`
+    /// times (below 1 counts as 1; the runtime's watchdog may stop it).
+    LoopStart {
+        count: WordRef,
+        end: usize,
+    },
+    /// NEXT of the FOR at index `start`.
+    LoopEnd {
+        start: usize,
+    },
 }
 
 /// What an output instruction does with the rung result (its power).
@@ -323,6 +344,16 @@ pub struct StlBlock {
     pub reset_slots: Vec<u32>,
 }
 
+/// A subroutine: label `Pn` after FEND, its instructions, SRET.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Subroutine {
+    pub label: u32,
+    /// Index of its label (the first instruction it runs).
+    pub entry: usize,
+    /// Index of its SRET.
+    pub end: usize,
+}
+
 /// The output of the checker.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct CheckedProgram {
@@ -330,6 +361,11 @@ pub struct CheckedProgram {
     /// Executable instructions up to END.
     pub instructions: Vec<Instruction>,
     pub stl_blocks: Vec<StlBlock>,
+    /// The subroutines after FEND, in source order.
+    pub subroutines: Vec<Subroutine>,
+    /// Index of FEND, where the main program ends (the end of the list when
+    /// there is none).
+    pub main_end: usize,
     /// Number of previous-scan slots used.
     pub edge_slots: u32,
 }

@@ -1,16 +1,25 @@
 //! Program structure beyond single rungs: STL blocks, master-control
-//! regions, labels and jumps.
+//! regions, FOR/NEXT loops, the program part (main program or a
+//! subroutine), labels and jumps.
 
 use crate::diagnostics::{Code, Diagnostic, Diagnostics};
 use crate::source::Span;
 use std::collections::HashMap;
 
-/// Where an instruction sits: its STL block and its open MC regions.
+/// Loops nest up to this many levels.
+pub const LOOP_DEPTH: usize = 5;
+
+/// Where an instruction sits: its STL block, its open MC regions, its loops
+/// and its program part.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Context {
     pub stl_block: Option<usize>,
     /// Open MC regions, outermost first: (level, region id).
     pub mc_regions: Vec<(u8, usize)>,
+    /// Open loops, outermost first (loop ids).
+    pub loops: Vec<usize>,
+    /// The subroutine (its id), or None in the main program.
+    pub subroutine: Option<usize>,
 }
 
 impl Context {
@@ -21,11 +30,29 @@ impl Context {
 
     /// May a jump from `self` land in `target`? Leaving a block or region is
     /// fine; entering one is not.
-    fn may_jump_to(&self, target: &Context) -> bool {
+    fn may_enter(&self, target: &Context) -> bool {
         let block_ok = target.stl_block.is_none() || target.stl_block == self.stl_block;
         let regions_ok = self.mc_regions.starts_with(&target.mc_regions);
         block_ok && regions_ok
     }
+
+    /// The parts of the context a loop must not cross (everything but the
+    /// loops themselves).
+    fn without_loops(&self) -> Context {
+        Context {
+            loops: Vec::new(),
+            ..self.clone()
+        }
+    }
+}
+
+struct OpenLoop {
+    id: usize,
+    /// The context at FOR, outside this loop.
+    context: Context,
+    /// Index of the LoopStart instruction.
+    start: usize,
+    span: Span,
 }
 
 struct OpenBlock {
@@ -62,6 +89,9 @@ pub struct BlockTracker {
     regions_started: usize,
     labels: HashMap<u32, Label>,
     jumps: Vec<PendingJump>,
+    loops: Vec<OpenLoop>,
+    loops_started: usize,
+    subroutine: Option<usize>,
 }
 
 impl BlockTracker {
@@ -69,6 +99,69 @@ impl BlockTracker {
         Context {
             stl_block: self.open_block.as_ref().map(|b| b.id),
             mc_regions: self.mc_open.iter().map(|&(level, id, _)| (level, id)).collect(),
+            loops: self.loops.iter().map(|open| open.id).collect(),
+            subroutine: self.subroutine,
+        }
+    }
+
+    /// The open STL block's id, if any.
+    pub fn open_block(&self) -> Option<usize> {
+        self.open_block.as_ref().map(|b| b.id)
+    }
+
+    /// Instructions from here on belong to subroutine `id` (None: to no
+    /// part, between SRET and the next label).
+    pub fn set_subroutine(&mut self, id: Option<usize>) {
+        self.subroutine = id;
+    }
+
+    /// `FOR` at instruction `start`: false when nested too deep (reported).
+    pub fn loop_start(&mut self, start: usize, span: Span, diagnostics: &mut Diagnostics) -> bool {
+        if self.loops.len() == LOOP_DEPTH {
+            diagnostics.push(
+                Diagnostic::new(Code::LoopTooDeep, span, "FOR nested deeper than 5 levels")
+                    .with_label("sixth open loop")
+                    .with_related(self.loops[0].span, "the outermost loop starts here"),
+            );
+            return false;
+        }
+        let context = self.context();
+        self.loops.push(OpenLoop {
+            id: self.loops_started,
+            context,
+            start,
+            span,
+        });
+        self.loops_started += 1;
+        true
+    }
+
+    /// `NEXT`: the index of its FOR, when it pairs with one.
+    pub fn loop_end(&mut self, span: Span, diagnostics: &mut Diagnostics) -> Option<usize> {
+        let Some(open) = self.loops.pop() else {
+            diagnostics
+                .push(Diagnostic::new(Code::LoopPairing, span, "NEXT without FOR").with_label("no open loop"));
+            return None;
+        };
+        if open.context.without_loops() != self.context().without_loops() {
+            diagnostics.push(
+                Diagnostic::new(Code::LoopPairing, span, "the loop crosses an STL block or MC region boundary")
+                    .with_label("this NEXT is in another block or region than its FOR")
+                    .with_related(open.span, "the FOR"),
+            );
+            return None;
+        }
+        Some(open.start)
+    }
+
+    /// The end of a program part (FEND, SRET, END): loops still open are
+    /// errors at their FOR.
+    pub fn close_loops(&mut self, diagnostics: &mut Diagnostics) {
+        for open in self.loops.drain(..) {
+            diagnostics.push(
+                Diagnostic::new(Code::LoopPairing, open.span, "FOR without NEXT")
+                    .with_label("this loop is never closed"),
+            );
         }
     }
 
@@ -77,17 +170,23 @@ impl BlockTracker {
         self.open_block.as_ref().map(|b| b.state)
     }
 
-    /// `STL Sn`: returns the new block's id. `state` is None when the operand
-    /// was already reported as invalid.
-    pub fn stl(&mut self, state: Option<u32>, span: Span, diagnostics: &mut Diagnostics) -> usize {
-        if let Some(open) = &self.open_block {
-            diagnostics.push(
-                Diagnostic::new(Code::NestedStl, span, "STL inside an STL block")
-                    .with_label("state blocks do not nest")
-                    .with_related(open.span, format!("the block of S{} is still open", open.state))
-                    .with_note("close the open block with STLE first"),
-            );
+    /// Reports `what` (STL, MC, MCR) inside a subroutine; true when it is.
+    fn in_subroutine(&self, what: &str, span: Span, diagnostics: &mut Diagnostics) -> bool {
+        if self.subroutine.is_none() {
+            return false;
         }
+        diagnostics.push(
+            Diagnostic::new(Code::NotInSubroutine, span, format!("{what} inside a subroutine"))
+                .with_label("subroutines cannot hold STL blocks or MC regions"),
+        );
+        true
+    }
+
+    /// `STL Sn` (the checker closed any open block first): returns the new
+    /// block's id. `state` is None when the operand was already reported as
+    /// invalid.
+    pub fn stl(&mut self, state: Option<u32>, span: Span, diagnostics: &mut Diagnostics) -> usize {
+        self.in_subroutine("STL", span, diagnostics);
         if let Some(&(level, _, mc_span)) = self.mc_open.last() {
             diagnostics.push(
                 Diagnostic::new(Code::NotInStl, span, "STL inside a master-control region")
@@ -116,18 +215,22 @@ impl BlockTracker {
         id
     }
 
-    /// STLE: returns the id of the block it closes.
-    pub fn stle(&mut self, span: Span, diagnostics: &mut Diagnostics) -> Option<usize> {
+    /// STLE or RET (`name`): returns the id of the block it closes.
+    pub fn stle(&mut self, name: &str, span: Span, diagnostics: &mut Diagnostics) -> Option<usize> {
         let closed = self.open_block.take().map(|b| b.id);
         if closed.is_none() {
-            diagnostics
-                .push(Diagnostic::new(Code::StrayStle, span, "STLE without STL").with_label("no open state block"));
+            diagnostics.push(
+                Diagnostic::new(Code::StrayStle, span, format!("{name} without STL")).with_label("no open state block"),
+            );
         }
         closed
     }
 
     /// `MC Nk`: returns false when the MC is misplaced (already reported).
     pub fn mc(&mut self, level: u8, span: Span, diagnostics: &mut Diagnostics) -> bool {
+        if self.in_subroutine("MC", span, diagnostics) {
+            return false;
+        }
         if let Some(open) = &self.open_block {
             diagnostics.push(
                 Diagnostic::new(Code::NotInStl, span, "MC inside an STL block")
@@ -153,6 +256,9 @@ impl BlockTracker {
 
     /// `MCR Nk`: closes level k and every deeper one.
     pub fn mcr(&mut self, level: u8, span: Span, diagnostics: &mut Diagnostics) {
+        if self.in_subroutine("MCR", span, diagnostics) {
+            return;
+        }
         if let Some(open) = &self.open_block {
             diagnostics.push(
                 Diagnostic::new(Code::NotInStl, span, "MCR inside an STL block")
@@ -190,6 +296,11 @@ impl BlockTracker {
         );
     }
 
+    /// A label with this number exists (so far).
+    pub fn has_label(&self, number: u32) -> bool {
+        self.labels.contains_key(&number)
+    }
+
     pub fn jump(&mut self, jump: PendingJump) {
         self.jumps.push(jump);
     }
@@ -201,9 +312,9 @@ impl BlockTracker {
                 Diagnostic::new(
                     Code::UnclosedStl,
                     open.span,
-                    format!("STL S{} without STLE", open.state),
+                    format!("the block of STL S{} is never closed", open.state),
                 )
-                .with_label("this block is never closed"),
+                .with_label("close it with RET or STLE"),
             );
         }
         for (level, _, span) in self.mc_open.drain(..) {
@@ -229,7 +340,18 @@ impl BlockTracker {
                 );
                 continue;
             };
-            if label.position < jump.position {
+            if label.context.subroutine != jump.context.subroutine {
+                diagnostics.push(
+                    Diagnostic::new(
+                        Code::JumpAcrossSubroutine,
+                        jump.span,
+                        format!("jump to P{} in another program part", jump.label),
+                    )
+                    .with_label("CJ stays in the main program or in one subroutine")
+                    .with_related(label.span, "the label is here")
+                    .with_note("use CALL to run a subroutine"),
+                );
+            } else if label.position < jump.position {
                 diagnostics.push(
                     Diagnostic::new(
                         Code::BackwardJump,
@@ -237,9 +359,20 @@ impl BlockTracker {
                         format!("backward jump to P{}", jump.label),
                     )
                     .with_label("only forward jumps are accepted")
-                    .with_related(label.span, "the label is before the jump"),
+                    .with_related(label.span, "the label is before the jump")
+                    .with_note("to repeat instructions within a scan, use FOR/NEXT"),
                 );
-            } else if !jump.context.may_jump_to(&label.context) {
+            } else if label.context.loops != jump.context.loops {
+                diagnostics.push(
+                    Diagnostic::new(
+                        Code::JumpAcrossLoop,
+                        jump.span,
+                        format!("jump into or out of a loop: P{}", jump.label),
+                    )
+                    .with_label("this jump would enter or leave a FOR/NEXT loop")
+                    .with_related(label.span, "the label is here"),
+                );
+            } else if !jump.context.may_enter(&label.context) {
                 diagnostics.push(
                     Diagnostic::new(
                         Code::JumpIntoBlock,

@@ -10,6 +10,7 @@ mod app;
 mod blocks;
 mod lints;
 pub mod operands;
+mod parts;
 mod rung;
 
 use crate::diagnostics::{Code, Diagnostic, Diagnostics};
@@ -50,16 +51,22 @@ pub fn check(parsed: &ParsedProgram, name: &str, source_len: usize) -> (CheckedP
         checker.statement(position, statement);
     }
     let eof = Span::new(source_len, source_len);
-    checker.rung.close(eof, &mut checker.diagnostics);
-    checker.blocks.close(&mut checker.diagnostics);
+    checker.end_of_program(eof);
+    let main_end = checker.parts.main_end.unwrap_or(checker.instructions.len());
     for (jump, target) in checker.blocks.resolve_jumps(&mut checker.diagnostics) {
+        // A jump in the main program to a label after FEND (possible only
+        // for one after END) ends the main program.
+        let target = if jump < main_end { target.min(main_end) } else { target };
         checker.instructions[jump].op = Op::Jump { target };
     }
+    checker.resolve_calls();
     checker.lints.finish(&mut checker.diagnostics);
     let program = CheckedProgram {
         name: name.to_string(),
         instructions: checker.instructions,
         stl_blocks: checker.stl_blocks,
+        subroutines: checker.parts.subroutines,
+        main_end,
         edge_slots: checker.next_slot,
     };
     (program, checker.diagnostics)
@@ -73,6 +80,7 @@ struct Checker {
     lints: lints::Lints,
     instructions: Vec<Instruction>,
     stl_blocks: Vec<StlBlock>,
+    parts: parts::Parts,
     /// Block id (from the tracker) to index in `stl_blocks`.
     emitted_blocks: HashMap<usize, usize>,
     next_slot: u32,
@@ -110,6 +118,21 @@ impl Checker {
             line: statement.line,
             span: statement.span,
         };
+        if self.parts.outside_any_part() && !self.ended {
+            let allowed = match &statement.kind {
+                StatementKind::Label { .. } => true,
+                StatementKind::Instruction(syntax) => matches!(
+                    isa::lookup(&syntax.mnemonic),
+                    Some(Mnemonic::Bit(BitSpec {
+                        class: BitClass::End | BitClass::Nop | BitClass::Network,
+                        ..
+                    }))
+                ),
+            };
+            if !allowed {
+                self.outside_part(site.span);
+            }
+        }
         match &statement.kind {
             StatementKind::Label { number } => self.label(*number, position, &site),
             StatementKind::Instruction(syntax) => match isa::lookup(&syntax.mnemonic) {
@@ -139,10 +162,21 @@ impl Checker {
             );
             return;
         }
+        if self.parts.outside_any_part() && !self.ended {
+            self.subroutine_label(number, site.span);
+        }
         let target = self.instructions.len();
         self.blocks
             .label(number, position, target, site.span, &mut self.diagnostics);
         self.emit(Op::Label, site);
+    }
+
+    /// END or the end of the file: everything open is an error.
+    fn end_of_program(&mut self, span: Span) {
+        self.rung.close(span, &mut self.diagnostics);
+        self.blocks.close(&mut self.diagnostics);
+        self.blocks.close_loops(&mut self.diagnostics);
+        self.close_subroutine();
     }
 
     fn emit(&mut self, op: Op, site: &Site) -> Option<usize> {
@@ -179,6 +213,9 @@ impl Checker {
                 Output::Set { .. } | Output::Reset { .. } | Output::StateJump { .. } | Output::MasterControl { .. } => {
                 }
             }
+        }
+        if let (Some(block), Op::Call { slot: Some(slot), .. }) = (in_block, &op) {
+            self.stl_blocks[block].reset_slots.push(*slot);
         }
         self.lints.observe(&op, site.span, in_block.is_some());
         self.instructions.push(Instruction {
@@ -321,24 +358,28 @@ impl Checker {
                 );
             }
             BitClass::Out => {
+                self.state_power(site);
                 self.rung.output(span, &mut self.diagnostics);
                 if let Some(operands) = operands {
                     self.out(operands, site);
                 }
             }
             BitClass::Set => {
+                self.state_power(site);
                 self.rung.output(span, &mut self.diagnostics);
                 if let Some(operands) = operands {
                     self.set(operands, site);
                 }
             }
             BitClass::Reset => {
+                self.state_power(site);
                 self.rung.output(span, &mut self.diagnostics);
                 if let Some(operands) = operands {
                     self.reset(operands, site);
                 }
             }
             BitClass::Pulse(sense) => {
+                self.state_power(site);
                 self.rung.output(span, &mut self.diagnostics);
                 if let Some([target]) = operands {
                     if let Some(target) = self.ok(operands::bit_target(target)) {
@@ -348,6 +389,7 @@ impl Checker {
                 }
             }
             BitClass::StateJump => {
+                self.state_power(site);
                 self.rung.output(span, &mut self.diagnostics);
                 if let Some([state]) = operands {
                     if let Some(state) = self.ok(operands::state(state)) {
@@ -377,6 +419,7 @@ impl Checker {
                 }
             }
             BitClass::Jump => {
+                self.state_power(site);
                 self.rung.output(span, &mut self.diagnostics);
                 if let Some([label]) = operands {
                     if let Some(label) = self.ok(operands::label(label)) {
@@ -393,51 +436,17 @@ impl Checker {
                     }
                 }
             }
-            BitClass::Stl => {
-                self.rung.close(span, &mut self.diagnostics);
-                let state = match operands {
-                    Some([state]) => self.ok(operands::state(state)),
-                    _ => None,
-                };
-                let id = self.blocks.stl(state, span, &mut self.diagnostics);
-                let begin = self.instructions.len();
-                if self
-                    .emit(
-                        Op::StlBegin {
-                            block: self.stl_blocks.len(),
-                        },
-                        site,
-                    )
-                    .is_some()
-                {
-                    self.emitted_blocks.insert(id, self.stl_blocks.len());
-                    self.stl_blocks.push(StlBlock {
-                        state: state.unwrap_or(0),
-                        begin,
-                        end: begin,
-                        reset_outputs: Vec::new(),
-                        reset_slots: Vec::new(),
-                    });
-                }
-            }
-            BitClass::StlEnd => {
-                self.rung.close(span, &mut self.diagnostics);
-                let end = self.instructions.len();
-                let closed = self
-                    .blocks
-                    .context()
-                    .stl_block
-                    .and_then(|id| self.emitted_blocks.get(&id).copied());
-                if self.blocks.stle(span, &mut self.diagnostics).is_some() && self.emit(Op::StlEnd, site).is_some() {
-                    if let Some(block) = closed {
-                        self.stl_blocks[block].end = end;
-                    }
-                }
-            }
+            BitClass::Stl => self.stl(operands, site),
+            BitClass::StlEnd { fx_return } => self.close_block(if fx_return { "RET" } else { "STLE" }, site),
+            BitClass::MainEnd => self.main_end(site),
+            BitClass::Call { pulse } => self.call(pulse, operands, site),
+            BitClass::SubroutineReturn => self.subroutine_return(site),
+            BitClass::LoopStart => self.loop_start(operands, site),
+            BitClass::LoopEnd => self.loop_end(site),
+            BitClass::Nop => {}
             BitClass::Network | BitClass::RungEnd => self.rung.close(span, &mut self.diagnostics),
             BitClass::End => {
-                self.rung.close(span, &mut self.diagnostics);
-                self.blocks.close(&mut self.diagnostics);
+                self.end_of_program(span);
                 self.ended = true;
             }
         }
@@ -445,6 +454,7 @@ impl Checker {
 
     /// An application instruction: it takes the rung result like an output.
     fn app(&mut self, form: AppForm, syntax: &InstructionSyntax, site: &Site) {
+        self.state_power(site);
         self.rung.output(site.span, &mut self.diagnostics);
         let spec = form.op.spec();
         let count = spec.operands.len();
@@ -531,6 +541,14 @@ impl Checker {
         };
         let preset = preset.first();
         let op = match (coil, preset) {
+            // Inside a block, OUT of a state is a transfer, exactly as SET.
+            (Coil::Bit(target @ BitRef::Device(BitArea::S, _)), None) if self.blocks.current_state().is_some() => {
+                Output::Set {
+                    target,
+                    count: 1,
+                    transfer_from: self.transfer_source(target, 1),
+                }
+            }
             (Coil::Bit(target), None) => Output::Coil(target),
             (Coil::Bit(_), Some(extra)) => {
                 self.report(
@@ -588,13 +606,7 @@ impl Checker {
         let Some(count) = self.counted_bits(target, operands) else {
             return;
         };
-        let transfer_from = match (self.blocks.current_state(), target) {
-            (Some(source), BitRef::Device(BitArea::S, address)) => {
-                let covers_source = address.is_fixed() && (address.index..address.index + count).contains(&source);
-                (!covers_source).then_some(source)
-            }
-            _ => None,
-        };
+        let transfer_from = self.transfer_source(target, count);
         self.emit(
             Op::Output(Output::Set {
                 target,
@@ -603,6 +615,18 @@ impl Checker {
             }),
             site,
         );
+    }
+
+    /// A SET (or OUT) of states inside the block of another state moves
+    /// out of that block: the state to turn OFF at the next scan.
+    fn transfer_source(&self, target: BitRef, count: u32) -> Option<u32> {
+        match (self.blocks.current_state(), target) {
+            (Some(source), BitRef::Device(BitArea::S, address)) => {
+                let covers_source = address.is_fixed() && (address.index..address.index + count).contains(&source);
+                (!covers_source).then_some(source)
+            }
+            _ => None,
+        }
     }
 
     /// The count of a SET/RST on bits; word bits take no count.

@@ -31,6 +31,16 @@ impl RungTracker {
         self.start.is_none() || self.last_was_output
     }
 
+    /// No rung is open (at the start, after POP, NETWORK, STL, ...).
+    pub fn is_closed(&self) -> bool {
+        self.start.is_none()
+    }
+
+    /// Contacts wait for an output: the open rung is not finished.
+    pub fn has_pending_contacts(&self) -> bool {
+        self.start.is_some() && !self.poisoned && !(self.last_was_output && self.branches == 0)
+    }
+
     /// An unknown instruction: its role is unknown, so the rung around it is
     /// not judged (no follow-up errors), but it is open afterwards.
     pub fn poison(&mut self, span: Span) {

@@ -1,7 +1,7 @@
 //! The JIT back end: the program compiled into this process.
 
 use super::{define_program, target_isa, CodegenError};
-use crate::ir::Function;
+use crate::ir::Program;
 use crate::scenario::ProgramRunner;
 use cranelift_jit::{JITBuilder, JITModule};
 use cranelift_module::{default_libcall_names, Linkage};
@@ -15,7 +15,7 @@ pub struct JitProgram {
 }
 
 impl JitProgram {
-    pub fn compile(program: &Function) -> Result<JitProgram, CodegenError> {
+    pub fn compile(program: &Program) -> Result<JitProgram, CodegenError> {
         let isa = target_isa(None, false)?;
         let mut builder = JITBuilder::with_isa(isa, default_libcall_names());
         for (name, address) in ladder_runtime::helpers::symbols() {

@@ -9,7 +9,7 @@ mod translate;
 pub use jit::JitProgram;
 pub use object::{emit_object, ObjectOptions, DEFAULT_PREFIX};
 
-use crate::ir::Function;
+use crate::ir::{Function, Program};
 use cranelift_codegen::ir::{types, AbiParam, InstBuilder, Signature, StackSlotData, StackSlotKind, UserFuncName};
 use cranelift_codegen::isa::{OwnedTargetIsa, TargetIsa};
 use cranelift_codegen::settings::{self, Configurable};
@@ -122,12 +122,12 @@ pub fn set_chunk_instructions(instructions: usize) {
     CHUNK_INSTRUCTIONS.store(instructions.max(1), Ordering::Relaxed);
 }
 
-/// Defines the program body `fn(mem)` in `module` under `name`: one
-/// function, or for a large program a function that calls its chunks in
-/// order with the master-control powers in a stack slot.
+/// Defines the program body `fn(mem)` in `module` under `name`, and each
+/// subroutine as a local function `{name}.subN` of the same signature that
+/// the body and other subroutines call.
 fn define_program(
     module: &mut dyn Module,
-    program: &Function,
+    program: &Program,
     name: &str,
     linkage: Linkage,
 ) -> Result<FuncId, CodegenError> {
@@ -135,53 +135,26 @@ fn define_program(
     let pointer = module.target_config().pointer_type();
     let body_signature = signature(module.isa(), &[pointer]);
     let id = module.declare_function(name, linkage, &body_signature)?;
-    let chunks = translate::chunks(program, CHUNK_INSTRUCTIONS.load(Ordering::Relaxed));
-    let mut values = vec![None; program.value_types.len()];
+    let subroutines = (0..program.subroutines.len())
+        .map(|number| module.declare_function(&format!("{name}.sub{number}"), Linkage::Local, &body_signature))
+        .collect::<Result<Vec<_>, _>>()?;
     let mut builder_context = FunctionBuilderContext::new();
-    let mut part = Part {
-        program,
-        helpers: &helpers,
-        pointer,
-        values: &mut values,
-        builder_context: &mut builder_context,
+    let mut define = |module: &mut dyn Module, function: &Function, id: FuncId, name: &str| {
+        let mut values = vec![None; function.value_types.len()];
+        let mut part = Part {
+            program: function,
+            helpers: &helpers,
+            subroutines: &subroutines,
+            pointer,
+            values: &mut values,
+            builder_context: &mut builder_context,
+        };
+        part.define_whole(module, id, name, body_signature.clone())
     };
-    if let [whole] = chunks.as_slice() {
-        part.define(module, id, body_signature, whole.clone(), Locals::Variables)?;
-        return Ok(id);
+    define(module, &program.main, id, name)?;
+    for (number, (function, &sub_id)) in program.subroutines.iter().zip(&subroutines).enumerate() {
+        define(module, function, sub_id, &format!("{name}.sub{number}"))?;
     }
-    let chunk_signature = signature(module.isa(), &[pointer, pointer]);
-    let mut chunk_ids = Vec::with_capacity(chunks.len());
-    for (number, range) in chunks.iter().enumerate() {
-        let chunk_id = module.declare_function(&format!("{name}.part{number}"), Linkage::Local, &chunk_signature)?;
-        part.define(module, chunk_id, chunk_signature.clone(), range.clone(), Locals::Memory)?;
-        chunk_ids.push(chunk_id);
-    }
-    let mut context = module.make_context();
-    context.func.signature = body_signature;
-    context.func.name = UserFuncName::user(0, id.as_u32());
-    let mut builder = FunctionBuilder::new(&mut context.func, &mut builder_context);
-    let entry = builder.create_block();
-    builder.append_block_params_for_function_params(entry);
-    builder.switch_to_block(entry);
-    let mem = builder.block_params(entry)[0];
-    let slot = builder.create_sized_stack_slot(StackSlotData::new(
-        StackSlotKind::ExplicitSlot,
-        u32::from(program.locals).max(1),
-        0,
-    ));
-    let zero = builder.ins().iconst(types::I8, 0);
-    for offset in 0..i32::from(program.locals) {
-        builder.ins().stack_store(pointer, zero, slot, offset);
-    }
-    let locals = builder.ins().stack_addr(pointer, slot, 0);
-    for &chunk_id in &chunk_ids {
-        let callee = module.declare_func_in_func(chunk_id, builder.func);
-        builder.ins().call(callee, &[mem, locals]);
-    }
-    builder.ins().return_(&[]);
-    builder.seal_all_blocks();
-    builder.finalize(module.target_config());
-    module.define_function(id, &mut context)?;
     Ok(id)
 }
 
@@ -189,12 +162,63 @@ fn define_program(
 struct Part<'a> {
     program: &'a Function,
     helpers: &'a [FuncId],
+    subroutines: &'a [FuncId],
     pointer: types::Type,
     values: &'a mut Vec<Option<cranelift_codegen::ir::Value>>,
     builder_context: &'a mut FunctionBuilderContext,
 }
 
 impl Part<'_> {
+    /// Defines `fn(mem)` `id` from the whole function: one Cranelift
+    /// function, or for a large one a function that calls its chunks in
+    /// order with the locals (master-control powers, loop counts) in a
+    /// stack slot.
+    fn define_whole(
+        &mut self,
+        module: &mut dyn Module,
+        id: FuncId,
+        name: &str,
+        body_signature: Signature,
+    ) -> Result<(), CodegenError> {
+        let function = self.program;
+        let pointer = self.pointer;
+        let chunks = translate::chunks(function, CHUNK_INSTRUCTIONS.load(Ordering::Relaxed));
+        if let [whole] = chunks.as_slice() {
+            return self.define(module, id, body_signature, whole.clone(), Locals::Variables);
+        }
+        let chunk_signature = signature(module.isa(), &[pointer, pointer]);
+        let mut chunk_ids = Vec::with_capacity(chunks.len());
+        for (number, range) in chunks.iter().enumerate() {
+            let chunk_id = module.declare_function(&format!("{name}.part{number}"), Linkage::Local, &chunk_signature)?;
+            self.define(module, chunk_id, chunk_signature.clone(), range.clone(), Locals::Memory)?;
+            chunk_ids.push(chunk_id);
+        }
+        let mut context = module.make_context();
+        context.func.signature = body_signature;
+        context.func.name = UserFuncName::user(0, id.as_u32());
+        let mut builder = FunctionBuilder::new(&mut context.func, self.builder_context);
+        let entry = builder.create_block();
+        builder.append_block_params_for_function_params(entry);
+        builder.switch_to_block(entry);
+        let mem = builder.block_params(entry)[0];
+        let size = translate::locals_size(function);
+        let slot = builder.create_sized_stack_slot(StackSlotData::new(StackSlotKind::ExplicitSlot, size.max(4), 2));
+        let zero = builder.ins().iconst(types::I8, 0);
+        for offset in 0..size as i32 {
+            builder.ins().stack_store(pointer, zero, slot, offset);
+        }
+        let locals = builder.ins().stack_addr(pointer, slot, 0);
+        for &chunk_id in &chunk_ids {
+            let callee = module.declare_func_in_func(chunk_id, builder.func);
+            builder.ins().call(callee, &[mem, locals]);
+        }
+        builder.ins().return_(&[]);
+        builder.seal_all_blocks();
+        builder.finalize(module.target_config());
+        module.define_function(id, &mut context)?;
+        Ok(())
+    }
+
     /// Defines function `id` from the program's blocks `range`.
     fn define(
         &mut self,
@@ -213,12 +237,18 @@ impl Part<'_> {
             .iter()
             .map(|&helper| module.declare_func_in_func(helper, builder.func))
             .collect();
+        let subroutines: Vec<_> = self
+            .subroutines
+            .iter()
+            .map(|&subroutine| module.declare_func_in_func(subroutine, builder.func))
+            .collect();
         translate(
             self.program,
             range,
             locals,
             &mut builder,
             &refs,
+            &subroutines,
             self.pointer,
             self.values,
         );

@@ -1,7 +1,7 @@
 //! The object-file back end: the program and its C-ABI scan entry point.
 
 use super::{define_program, signature, target_isa, CodegenError};
-use crate::ir::Function;
+use crate::ir::Program;
 use cranelift_codegen::ir::{types, InstBuilder, UserFuncName};
 use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext};
 use cranelift_module::{default_libcall_names, Linkage, Module};
@@ -23,7 +23,7 @@ pub const DEFAULT_PREFIX: &str = "ladder_program_";
 /// `void <prefix>scan(LadderMemory *mem, uint32_t elapsed_ms)`, which runs one
 /// whole scan (a null `mem` does nothing) (it calls the runtime's layout-tagged begin-scan and
 /// `ladder_end_scan`, so it only links against a runtime with its layout).
-pub fn emit_object(program: &Function, options: &ObjectOptions) -> Result<Vec<u8>, CodegenError> {
+pub fn emit_object(program: &Program, options: &ObjectOptions) -> Result<Vec<u8>, CodegenError> {
     let isa = target_isa(options.target.as_deref(), true)?;
     let builder = ObjectBuilder::new(isa, "ladder_program", default_libcall_names())?;
     let mut module = ObjectModule::new(builder);

@@ -41,14 +41,26 @@ fn flags() -> MemFlagsData {
     MemFlagsData::trusted()
 }
 
-/// Where the master-control powers (IR locals) live while `translate` runs.
+/// Where the master-control powers and loop counts (IR locals) live while
+/// `translate` runs.
 pub enum Locals {
-    /// In Cranelift variables: the function is the whole program.
+    /// In Cranelift variables: the function is the whole program part.
     Variables,
-    /// In `locals` bytes behind the function's second parameter, loaded at
-    /// entry and stored at exit: the function is one chunk of a program
-    /// compiled as several functions.
+    /// In `locals_size` bytes behind the function's second parameter,
+    /// loaded at entry and stored at exit: the function is one chunk of a
+    /// program part compiled as several functions.
     Memory,
+}
+
+/// Offset of loop count `level` in the locals memory: after one byte per
+/// master-control power, 4-byte aligned.
+fn loop_count_offset(func: &ir::Function, level: u8) -> i32 {
+    (i32::from(func.locals) + 3) / 4 * 4 + 4 * i32::from(level)
+}
+
+/// Bytes of locals memory a chunked function needs.
+pub fn locals_size(func: &ir::Function) -> u32 {
+    loop_count_offset(func, func.loop_levels) as u32
 }
 
 /// Translates blocks `range` of `func` into the builder, whose function
@@ -56,13 +68,16 @@ pub enum Locals {
 /// A jump to `range.end` and a return both return. `values` maps IR values
 /// to Cranelift values; entries this call defines are cleared again, so one
 /// vector serves every chunk.
-/// `helpers` holds the imported runtime helpers in `Helper::ALL` order.
+/// `helpers` holds the imported runtime helpers in `Helper::ALL` order,
+/// `subroutines` the program's subroutine functions by number.
+#[allow(clippy::too_many_arguments)]
 pub fn translate(
     func: &ir::Function,
     range: std::ops::Range<usize>,
     locals_at: Locals,
     builder: &mut FunctionBuilder,
     helpers: &[FuncRef],
+    subroutines: &[FuncRef],
     pointer: types::Type,
     values: &mut [Option<Value>],
 ) {
@@ -77,10 +92,19 @@ pub fn translate(
         Locals::Memory => Some(builder.block_params(entry)[1]),
     };
     let locals: Vec<Variable> = (0..func.locals).map(|_| builder.declare_var(types::I8)).collect();
+    let loop_counts: Vec<Variable> = (0..func.loop_levels)
+        .map(|_| builder.declare_var(types::I32))
+        .collect();
     if let Some(at) = locals_pointer {
         for (offset, &local) in locals.iter().enumerate() {
             let value = builder.ins().load(types::I8, flags(), at, offset as i32);
             builder.def_var(local, value);
+        }
+        for (level, &count) in (0u8..).zip(&loop_counts) {
+            let value = builder
+                .ins()
+                .load(types::I32, flags(), at, loop_count_offset(func, level));
+            builder.def_var(count, value);
         }
     }
     builder.ins().jump(blocks[0], &[]);
@@ -97,7 +121,9 @@ pub fn translate(
         mem,
         pointer,
         helpers,
+        subroutines,
         locals,
+        loop_counts,
     };
     let mut defined = Vec::new();
     for number in range.clone() {
@@ -134,6 +160,12 @@ pub fn translate(
         for (offset, &local) in t.locals.iter().enumerate() {
             let value = t.builder.use_var(local);
             t.builder.ins().store(flags(), value, at, offset as i32);
+        }
+        for (level, &count) in (0u8..).zip(&t.loop_counts) {
+            let value = t.builder.use_var(count);
+            t.builder
+                .ins()
+                .store(flags(), value, at, loop_count_offset(func, level));
         }
     }
     t.builder.ins().return_(&[]);
@@ -211,7 +243,9 @@ struct Translator<'a, 'b> {
     mem: Value,
     pointer: types::Type,
     helpers: &'a [FuncRef],
+    subroutines: &'a [FuncRef],
     locals: Vec<Variable>,
+    loop_counts: Vec<Variable>,
 }
 
 impl Translator<'_, '_> {
@@ -376,6 +410,16 @@ impl Translator<'_, '_> {
             Inst::GetLocal { local } => self.builder.use_var(self.locals[local.0 as usize]),
             Inst::SetLocal { local, value } => {
                 self.builder.def_var(self.locals[local.0 as usize], get(value));
+                return None;
+            }
+            Inst::LoadLoopCount { level } => self.builder.use_var(self.loop_counts[*level as usize]),
+            Inst::StoreLoopCount { level, value } => {
+                self.builder.def_var(self.loop_counts[*level as usize], get(value));
+                return None;
+            }
+            Inst::CallSubroutine { subroutine } => {
+                let mem = self.mem;
+                self.builder.ins().call(self.subroutines[*subroutine as usize], &[mem]);
                 return None;
             }
             Inst::Not { value } => self.builder.ins().bxor_imm_u(get(value), 1),

@@ -126,20 +126,30 @@ start the rung with a contact (use LD SM0 or LD M8000 for 'always').";
 "The rung's contacts are never used: the rung ends (POP, NETWORK, a new
 rung, STLE, END) before any output or application instruction.";
 
-    NestedStl = "E0020", Error, "STL inside an STL block",
-"State blocks do not nest: close the current block with STLE before the
-next STL.";
+    NestedStl = "E0020", Error, "STL inside an STL block (retired)",
+"No longer reported. State blocks do not nest, but an STL while a block is
+open closes that block and opens the next one, as FX programs are written:
+
+    STL S20
+    OUT Y0
+    STL S21     // closes the block of S20
+    OUT Y1
+    RET         // closes the block of S21 (STLE does the same)";
 
     DuplicateState = "E0021", Error, "state used by two STL blocks",
 "One state number has one block. Use another state, or put the rungs in
 the existing block.";
 
-    UnclosedStl = "E0022", Error, "STL without STLE",
-"Every `STL Sn` block ends with STLE. The error points at the STL whose
-block is never closed.";
+    UnclosedStl = "E0022", Error, "STL block never closed",
+"Every `STL Sn` block ends at the next STL, at STLE or at RET. The error
+points at the STL whose block is still open at END or FEND:
 
-    StrayStle = "E0023", Error, "STLE without STL",
-"STLE closes a state block; there is no open block here.";
+    STL S20
+    OUT Y0
+    FEND        // error: close the block with RET first";
+
+    StrayStle = "E0023", Error, "STLE or RET without STL",
+"STLE and RET close a state block; there is no open block here.";
 
     NotInStl = "E0024", Error, "instruction not allowed in an STL block",
 "MC and MCR are not allowed between STL and STLE: a state block already
@@ -173,6 +183,78 @@ and a program has 16384 of them.";
 "A program holds at most 64 SORT, SORT2 and DSORT2 instructions: each keeps
 its progress in the device image between scans.";
 
+    UnsupportedFx = "E0032", Error, "FX instruction not supported",
+"The instruction exists on Mitsubishi FX PLCs but ladderc does not implement
+it (yet). `ladderc explain` and docs/language.md list what is supported;
+rewrite the rung with supported instructions.
+
+    REF X0 K8   // error: FX instruction `REF` is not supported";
+
+    NotASubroutine = "E0033", Error, "CALL to a label that is not a subroutine",
+"`CALL Pn` needs Pn to start a subroutine: a label after FEND, followed by
+the subroutine's instructions and SRET. A label in the main program is a CJ
+target only.
+
+    LD X0
+    CALL P1
+    FEND
+    P1          // the subroutine
+    LD X1
+    OUT Y1
+    SRET";
+
+    Recursion = "E0034", Error, "recursive subroutine call",
+"A subroutine calls itself, directly or through other subroutines. An FX
+PLC has no call stack for that; the error points at the CALL that closes
+the cycle.";
+
+    MissingSret = "E0035", Error, "subroutine without SRET",
+"A subroutine runs from its label to SRET. The error points at the label
+of a subroutine whose SRET is missing before FEND, END or the end of the
+file.";
+
+    StraySret = "E0036", Error, "SRET outside a subroutine",
+"SRET ends a subroutine; here no subroutine is open (subroutines start at a
+label after FEND).";
+
+    JumpAcrossSubroutine = "E0037", Error, "jump between program parts",
+"A CJ jumps within the main program or within one subroutine. Use CALL to
+run a subroutine.";
+
+    CallTooDeep = "E0038", Error, "subroutine calls nested too deep",
+"Calls nest up to 5 levels: the main program calls a subroutine (level 1),
+which may call another (level 2), and so on up to level 5. The error
+points at the CALL that would be level 6.";
+
+    OutsideSubroutine = "E0039", Error, "instruction after FEND outside a subroutine",
+"After FEND only subroutines follow: a label Pn, its instructions, SRET.
+Instructions between an SRET and the next label (or right after FEND) would
+never run.";
+
+    NotInSubroutine = "E0040", Error, "instruction not allowed in a subroutine",
+"STL blocks and MC/MCR master-control regions belong to the main program; a
+subroutine runs only when called, so it cannot hold them.";
+
+    LoopPairing = "E0041", Error, "FOR/NEXT do not pair",
+"`FOR n` ... `NEXT` is one loop: every FOR needs a NEXT after it in the same
+program part, and every NEXT a FOR. A loop must also stay inside one STL
+block or master-control region (or outside all of them).";
+
+    LoopNotOnBus = "E0042", Error, "FOR or NEXT after contacts",
+"FOR and NEXT stand on the main bus: no contact drives them. Finish the rung
+before FOR, and put conditions inside the loop, or skip the loop with CJ.
+
+    LD X0
+    FOR K3      // error";
+
+    LoopTooDeep = "E0043", Error, "loops nested too deep",
+"FOR/NEXT loops nest up to 5 levels.";
+
+    JumpAcrossLoop = "E0044", Error, "jump into or out of a loop",
+"A CJ inside a loop may jump only to a label in the same loop, and a CJ
+outside a loop may not jump into one: the loop's count would be skipped or
+left behind. Jump over the whole loop instead.";
+
     CodeAfterEnd = "W0001", Warning, "code after END",
 "Instructions after END are never executed.";
 
@@ -183,8 +265,9 @@ the output refresh; this is usually a mistake. Inside STL blocks, the same
 coil in several states is normal and not reported.";
 
     SystemRelayWrite = "W0003", Warning, "write to a special relay the runtime rewrites",
-"SM0-SM3, M8000-M8003, M8150, M8151 and M8160 are set by the runtime at
-the start of every scan; writing them lasts only until then.";
+"SM0-SM3, M8000-M8003, the clock relays M8011-M8014, M8150, M8151 and M8160
+are set by the runtime at the start of every scan; writing them lasts only
+until then.";
 }
 
 impl std::fmt::Display for Code {

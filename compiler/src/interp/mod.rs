@@ -12,6 +12,7 @@ mod app;
 use crate::isa::Sense;
 use crate::program::{BitRef, CheckedProgram, Contact, Instruction, Op, Output, ResetTarget, StlBlock, WordRef};
 use access::{read_bit, resolve_word, write_bit};
+use ladder_runtime::special::LOOP_REPETITION_LIMIT;
 use ladder_runtime::{Memory, OperationError, Width};
 
 /// Runs a checked program against device memory.
@@ -38,12 +39,9 @@ impl<'p> Interpreter<'p> {
             blocks: Vec::new(),
             branches: Vec::new(),
             mc_power: [true; 8],
+            loops: Vec::new(),
         };
-        let instructions = &self.program.instructions;
-        let mut pc = 0;
-        while let Some(instruction) = instructions.get(pc) {
-            pc = run.step(pc, instruction);
-        }
+        run.run_part(0);
     }
 }
 
@@ -59,9 +57,54 @@ struct Run<'a> {
     branches: Vec<bool>,
     /// The condition each master-control level was last opened with.
     mc_power: [bool; 8],
+    /// Repetitions left in each open FOR/NEXT loop, innermost last.
+    loops: Vec<i64>,
 }
 
 impl Run<'_> {
+    /// Runs the main program (from 0) or a subroutine (from its entry) up
+    /// to FEND, SRET or the end of the list.
+    fn run_part(&mut self, start: usize) {
+        let instructions = &self.program.instructions;
+        let mut pc = start;
+        while let Some(instruction) = instructions.get(pc) {
+            if matches!(instruction.op, Op::MainEnd | Op::SubroutineReturn) {
+                return;
+            }
+            pc = self.step(pc, instruction);
+        }
+    }
+
+    /// CALL: the subroutine runs with a logic stack of its own; the rung
+    /// around the CALL continues afterwards with its own.
+    fn call(&mut self, subroutine: usize) {
+        let entry = self.program.subroutines[subroutine].entry;
+        let result = self.result;
+        let blocks = std::mem::take(&mut self.blocks);
+        let branches = std::mem::take(&mut self.branches);
+        self.run_part(entry);
+        self.result = result;
+        self.blocks = blocks;
+        self.branches = branches;
+    }
+
+    /// NEXT: back to the instruction after FOR while repetitions are left
+    /// and the scan's watchdog allows one more.
+    fn next(&mut self, start: usize, pc: usize, line: u32) -> usize {
+        let Some(remaining) = self.loops.last_mut() else {
+            return pc + 1;
+        };
+        *remaining -= 1;
+        if *remaining > 0 {
+            if self.mem.loop_repetitions < LOOP_REPETITION_LIMIT {
+                self.mem.loop_repetitions += 1;
+                return start + 1;
+            }
+            self.mem.record_error(OperationError::LoopWatchdog, line);
+        }
+        self.loops.pop();
+        pc + 1
+    }
     /// Executes one instruction; returns the index of the next one.
     fn step(&mut self, pc: usize, instruction: &Instruction) -> usize {
         let line = instruction.line;
@@ -114,6 +157,22 @@ impl Run<'_> {
             Op::StlBegin { block } => return self.enter_block(&self.program.stl_blocks[*block], pc),
             Op::Label | Op::StlEnd => {}
             Op::Output(output) => self.output(output, self.result, line),
+            Op::Call { subroutine, slot } => {
+                let power = match slot {
+                    Some(slot) => self.edge(*slot, self.result, false),
+                    None => self.result,
+                };
+                if power {
+                    self.call(*subroutine);
+                }
+            }
+            Op::LoopStart { count, .. } => {
+                let count = self.compare_operand(*count, Width::Single, line);
+                self.loops.push(i64::from(count.max(1)));
+            }
+            Op::LoopEnd { start } => return self.next(*start, pc, line),
+            // The end of a part: `run_part` stops before these.
+            Op::MainEnd | Op::SubroutineReturn => {}
         }
         pc + 1
     }

@@ -25,6 +25,7 @@ impl Builder {
                 blocks: Vec::new(),
                 value_types: Vec::new(),
                 locals: 0,
+                loop_levels: 0,
             },
             current: BlockId(0),
             terminated: Vec::new(),
@@ -93,9 +94,13 @@ impl Builder {
         self.jump_to(after);
     }
 
-    pub fn finish(self, locals: u8) -> Function {
+    pub fn finish(self, locals: u8, loop_levels: u8) -> Function {
         debug_assert!(self.terminated.iter().all(|&t| t), "every block ends in a terminator");
-        Function { locals, ..self.func }
+        Function {
+            locals,
+            loop_levels,
+            ..self.func
+        }
     }
 
     fn block_mut(&mut self) -> &mut Block {

@@ -304,6 +304,7 @@ fn access(inst: &Inst) -> Access {
         Inst::LoadBlockActive { state } => Access::Load(Place::BlockActive(*state)),
         Inst::StoreBlockActive { state, value } => Access::Store(Place::BlockActive(*state), *value),
         Inst::Call { helper, .. } => Access::Call(call_footprint(*helper)),
+        Inst::CallSubroutine { .. } => Access::Call(Footprint::Everything),
         // The runtime's `record_error` sets M8067, D8067 and D8069 and
         // reads nothing.
         Inst::RecordError { .. } => Access::Fill(vec![
@@ -314,6 +315,8 @@ fn access(inst: &Inst) -> Access {
         Inst::Const { .. }
         | Inst::GetLocal { .. }
         | Inst::SetLocal { .. }
+        | Inst::LoadLoopCount { .. }
+        | Inst::StoreLoopCount { .. }
         | Inst::Not { .. }
         | Inst::And { .. }
         | Inst::Or { .. }

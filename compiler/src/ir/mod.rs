@@ -156,6 +156,20 @@ pub enum Inst {
         local: Local,
         value: Value,
     },
+    /// The repetitions left in the FOR/NEXT loop at nesting `level` (an
+    /// I32 local of the function).
+    LoadLoopCount {
+        level: u8,
+    },
+    StoreLoopCount {
+        level: u8,
+        value: Value,
+    },
+    /// Runs subroutine `subroutine` (its function in `Program`): may read
+    /// and write anything in the image.
+    CallSubroutine {
+        subroutine: u32,
+    },
     Not {
         value: Value,
     },
@@ -226,7 +240,7 @@ impl Inst {
             | Inst::Or { .. }
             | Inst::Compare { .. } => Type::Bit,
             Inst::LoadWord { .. } => Type::I16,
-            Inst::LoadWideCounter { .. } => Type::I32,
+            Inst::LoadWideCounter { .. } | Inst::LoadLoopCount { .. } => Type::I32,
             Inst::Binary { a, .. } => value_type(*a),
             Inst::Unary { value, .. } => value_type(*value),
             Inst::Extend { to, .. } | Inst::Truncate { to, .. } => *to,
@@ -240,6 +254,8 @@ impl Inst {
             | Inst::StoreSlot { .. }
             | Inst::StoreBlockActive { .. }
             | Inst::SetLocal { .. }
+            | Inst::StoreLoopCount { .. }
+            | Inst::CallSubroutine { .. }
             | Inst::RecordError { .. } => return None,
         })
     }
@@ -270,6 +286,8 @@ impl Inst {
             | Inst::LoadSlot { .. }
             | Inst::LoadBlockActive { .. }
             | Inst::GetLocal { .. }
+            | Inst::LoadLoopCount { .. }
+            | Inst::CallSubroutine { .. }
             | Inst::RecordError { .. } => {}
             Inst::LoadBit { index: i, .. } | Inst::LoadWord { index: i, .. } | Inst::LoadWideCounter { index: i } => {
                 index(i, &mut visit)
@@ -284,6 +302,7 @@ impl Inst {
             Inst::StoreSlot { value, .. }
             | Inst::StoreBlockActive { value, .. }
             | Inst::SetLocal { value, .. }
+            | Inst::StoreLoopCount { value, .. }
             | Inst::Not { value }
             | Inst::Unary { value, .. }
             | Inst::Extend { value, .. }
@@ -351,14 +370,26 @@ pub struct Block {
     pub terminator: Terminator,
 }
 
-/// One compiled program: the body of the scan (step 3).
+/// One function: the main program (the body of the scan, step 3) or a
+/// subroutine.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Function {
     pub blocks: Vec<Block>,
     /// The type of every value, by number.
     pub value_types: Vec<Type>,
-    /// Number of local variables (master-control levels).
+    /// Number of bit locals (master-control levels).
     pub locals: u8,
+    /// Number of loop-count locals (FOR/NEXT nesting levels).
+    pub loop_levels: u8,
+}
+
+/// A whole program: the main program and its subroutines, each compiled
+/// once (a CALL is a call, not a copy).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Program {
+    pub main: Function,
+    /// By subroutine number (`Inst::CallSubroutine`).
+    pub subroutines: Vec<Function>,
 }
 
 impl Function {

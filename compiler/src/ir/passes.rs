@@ -7,24 +7,34 @@
 //! - removal of pure instructions whose values are never used;
 //! - memory forwarding across rungs (`memory.rs`).
 
-use super::{BinOp, Block, BlockId, Function, Index, Inst, Terminator, Type, UnaryOp, Value};
+use super::{BinOp, Block, BlockId, Function, Index, Inst, Program, Terminator, Type, UnaryOp, Value};
 use crate::isa::CompareOp;
 use ladder_runtime::helpers::Param;
 use ladder_runtime::special::{M_ALWAYS_OFF, M_ALWAYS_ON, SM_ALWAYS_OFF, SM_ALWAYS_ON};
 use ladder_runtime::{BitArea, Place};
 use std::collections::HashMap;
 
-/// Runs every pass. Forwarding memory works best on merged blocks, and what
-/// it forwards may fold further.
-pub fn optimize(function: &mut Function) {
-    simplify_control(function);
+/// Runs every pass on every function of the program. The relays the
+/// runtime holds constant are found over the whole program (a subroutine
+/// may write one), before any pass removes a write.
+pub fn optimize(program: &mut Program) {
+    let relays = constant_relays(std::iter::once(&program.main).chain(&program.subroutines));
+    for function in std::iter::once(&mut program.main).chain(&mut program.subroutines) {
+        optimize_function(function, &relays);
+    }
+}
+
+/// Forwarding memory works best on merged blocks, and what it forwards may
+/// fold further.
+fn optimize_function(function: &mut Function, relays: &Relays) {
+    simplify_control(function, relays);
     super::memory::forward_memory(function);
-    simplify_control(function);
+    simplify_control(function, relays);
     remove_dead_values(function);
 }
 
-fn simplify_control(function: &mut Function) {
-    fold_constants(function);
+fn simplify_control(function: &mut Function, relays: &Relays) {
+    fold_constants(function, relays);
     fold_branches(function);
     remove_unreachable(function);
     thread_jumps(function);
@@ -87,9 +97,12 @@ pub(super) fn reverse_postorder(function: &Function) -> Vec<BlockId> {
     order
 }
 
+/// Relays with a value known for the whole program run.
+type Relays = HashMap<(BitArea, u32), bool>;
+
 /// The relays the runtime holds constant during the program, and their value,
-/// unless the program may write them.
-fn constant_relays(function: &Function) -> HashMap<(BitArea, u32), bool> {
+/// unless some function of the program may write them.
+fn constant_relays<'f>(functions: impl Iterator<Item = &'f Function>) -> Relays {
     let mut known: HashMap<(BitArea, u32), bool> = HashMap::new();
     known.insert((BitArea::Sm, SM_ALWAYS_ON), true);
     known.insert((BitArea::Sm, SM_ALWAYS_OFF), false);
@@ -99,21 +112,23 @@ fn constant_relays(function: &Function) -> HashMap<(BitArea, u32), bool> {
     for n in M_ALWAYS_OFF {
         known.insert((BitArea::M, n), false);
     }
-    let constants: HashMap<Value, i64> = function
-        .blocks
-        .iter()
-        .flat_map(|b| b.insts.iter())
-        .filter_map(|(result, inst)| match (result, inst) {
-            (Some(r), Inst::Const { value, .. }) => Some((*r, *value)),
-            _ => None,
-        })
-        .collect();
-    for block in &function.blocks {
-        for (_, inst) in &block.insts {
-            for (area, start, count) in written_bits(inst, &constants) {
-                match start {
-                    Some(start) => known.retain(|&(a, n), _| a != area || !(start..start + count).contains(&n)),
-                    None => known.retain(|&(a, _), _| a != area),
+    for function in functions {
+        let constants: HashMap<Value, i64> = function
+            .blocks
+            .iter()
+            .flat_map(|b| b.insts.iter())
+            .filter_map(|(result, inst)| match (result, inst) {
+                (Some(r), Inst::Const { value, .. }) => Some((*r, *value)),
+                _ => None,
+            })
+            .collect();
+        for block in &function.blocks {
+            for (_, inst) in &block.insts {
+                for (area, start, count) in written_bits(inst, &constants) {
+                    match start {
+                        Some(start) => known.retain(|&(a, n), _| a != area || !(start..start + count).contains(&n)),
+                        None => known.retain(|&(a, _), _| a != area),
+                    }
                 }
             }
         }
@@ -170,6 +185,8 @@ fn written_bits(inst: &Inst, constants: &HashMap<Value, i64>) -> Vec<(BitArea, O
         | Inst::StoreBlockActive { .. }
         | Inst::GetLocal { .. }
         | Inst::SetLocal { .. }
+        | Inst::LoadLoopCount { .. }
+        | Inst::StoreLoopCount { .. }
         | Inst::Not { .. }
         | Inst::And { .. }
         | Inst::Or { .. }
@@ -179,6 +196,8 @@ fn written_bits(inst: &Inst, constants: &HashMap<Value, i64>) -> Vec<(BitArea, O
         | Inst::Extend { .. }
         | Inst::Truncate { .. }
         | Inst::Select { .. }
+        // The subroutine's own writes are counted with its function.
+        | Inst::CallSubroutine { .. }
         | Inst::RecordError { .. } => Vec::new(),
     }
 }
@@ -324,7 +343,10 @@ fn fold(
             None => Folded::Nothing,
         },
         // Loads of the image and of bookkeeping, and effects: nothing known.
-        Inst::LoadBit { .. }
+        Inst::LoadLoopCount { .. }
+        | Inst::StoreLoopCount { .. }
+        | Inst::CallSubroutine { .. }
+        | Inst::LoadBit { .. }
         | Inst::StoreBit { .. }
         | Inst::FillBits { .. }
         | Inst::LoadWord { .. }
@@ -345,8 +367,7 @@ fn fold(
 
 /// Folds instructions with constant operands to constants, and instructions
 /// that compute an existing value (`x AND 1`, `x + 0`) to that value.
-pub fn fold_constants(function: &mut Function) {
-    let relays = constant_relays(function);
+pub fn fold_constants(function: &mut Function, relays: &Relays) {
     let mut constants: HashMap<Value, i64> = HashMap::new();
     let mut replaced: HashMap<Value, Value> = HashMap::new();
     // Value defined by an Extend -> the value it extended.
@@ -366,7 +387,7 @@ pub fn fold_constants(function: &mut Function) {
             if let Inst::Extend { value, .. } = inst {
                 extended_from.insert(result, *value);
             }
-            match fold(inst, ty, &types, &constants, &extended_from, &relays) {
+            match fold(inst, ty, &types, &constants, &extended_from, relays) {
                 Folded::Constant(value) => {
                     let value = wrap(ty, value);
                     constants.insert(result, value);

@@ -100,6 +100,9 @@ fn inst(func: &Function, constants: &Constants, inst: &Inst) -> String {
         StoreBlockActive { state, value } => format!("store.active S{state}, {value}"),
         GetLocal { local } => format!("get.mc N{}", local.0),
         SetLocal { local, value } => format!("set.mc N{}, {value}", local.0),
+        LoadLoopCount { level } => format!("get.loop L{level}"),
+        StoreLoopCount { level, value } => format!("set.loop L{level}, {value}"),
+        CallSubroutine { subroutine } => format!("call.sub sub{subroutine}"),
         Not { value } => format!("not {value}"),
         And { a, b } => format!("and {a}, {b}"),
         Or { a, b } => format!("or {a}, {b}"),
@@ -128,6 +131,17 @@ fn inst(func: &Function, constants: &Constants, inst: &Inst) -> String {
                 args.join(", ")
             )
         }
+    }
+}
+
+impl Display for super::Program {
+    fn fmt(&self, f: &mut Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.main)?;
+        for (number, subroutine) in self.subroutines.iter().enumerate() {
+            let text = subroutine.to_string();
+            write!(f, "sub{number}{}", text.strip_prefix("program").unwrap_or(&text))?;
+        }
+        Ok(())
     }
 }
 

@@ -123,7 +123,25 @@ pub enum BitClass {
     MasterControlReset,
     Jump,
     Stl,
-    StlEnd,
+    /// STLE, or RET (`fx_return`: the FX spelling, which also returns to
+    /// the main bus).
+    StlEnd {
+        fx_return: bool,
+    },
+    /// FEND: the main program ends; subroutines follow.
+    MainEnd,
+    /// CALL/CALLP Pn.
+    Call {
+        pulse: bool,
+    },
+    /// SRET: the end of a subroutine.
+    SubroutineReturn,
+    /// FOR n.
+    LoopStart,
+    /// NEXT.
+    LoopEnd,
+    /// NOP: does nothing.
+    Nop,
     Network,
     /// POP: ends the current rung (not MPP, which pops a branch point).
     RungEnd,

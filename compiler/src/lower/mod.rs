@@ -10,7 +10,7 @@ mod access;
 mod app;
 mod operand;
 
-use crate::ir::{Builder, Function, Inst, Local, Terminator, Type, Value};
+use crate::ir::{Builder, Function, Inst, Local, Program, Terminator, Type, Value};
 use crate::isa::app::Runs;
 use crate::isa::Sense;
 use crate::program::{BitRef, CheckedProgram, Contact, Instruction, Op, Output, ResetTarget, StlBlock};
@@ -18,12 +18,25 @@ use ladder_runtime::helpers::Helper;
 use ladder_runtime::{BitArea, OperationError, Width};
 use std::collections::BTreeMap;
 
-/// Lowers a checked program to the IR of its scan body.
-pub fn lower(program: &CheckedProgram) -> Function {
+/// Lowers a checked program to the IR of its scan body and its
+/// subroutines, each a function of its own.
+pub fn lower(program: &CheckedProgram) -> Program {
+    let main = lower_part(program, 0..program.main_end);
+    let subroutines = program
+        .subroutines
+        .iter()
+        .map(|subroutine| lower_part(program, subroutine.entry..subroutine.end))
+        .collect();
+    Program { main, subroutines }
+}
+
+/// The function of the instructions `range` (the main program, or a
+/// subroutine without its SRET).
+fn lower_part(program: &CheckedProgram, range: std::ops::Range<usize>) -> Function {
     let mut lowering = Lowering::new(program);
-    lowering.run();
-    let locals = lowering.locals;
-    lowering.b.finish(locals)
+    lowering.run(range);
+    let (locals, loop_levels) = (lowering.locals, lowering.loop_levels);
+    lowering.b.finish(locals, loop_levels)
 }
 
 struct Lowering<'p> {
@@ -39,6 +52,9 @@ struct Lowering<'p> {
     /// (labels, the instruction after an STL block, the end).
     targets: BTreeMap<usize, crate::ir::BlockId>,
     locals: u8,
+    /// The first block of each open loop's body, innermost last.
+    loops: Vec<crate::ir::BlockId>,
+    loop_levels: u8,
 }
 
 impl<'p> Lowering<'p> {
@@ -53,11 +69,13 @@ impl<'p> Lowering<'p> {
             branches: Vec::new(),
             targets: BTreeMap::new(),
             locals: 0,
+            loops: Vec::new(),
+            loop_levels: 0,
         }
     }
 
-    fn run(&mut self) {
-        let instructions = &self.program.instructions;
+    fn run(&mut self, range: std::ops::Range<usize>) {
+        let instructions = &self.program.instructions[range.clone()];
         for instruction in instructions {
             let target = match &instruction.op {
                 Op::Jump { target } => Some(*target),
@@ -74,7 +92,12 @@ impl<'p> Lowering<'p> {
                 | Op::ResultEdge { .. }
                 | Op::Output(_)
                 | Op::Label
-                | Op::StlEnd => None,
+                | Op::StlEnd
+                | Op::MainEnd
+                | Op::Call { .. }
+                | Op::SubroutineReturn
+                | Op::LoopStart { .. }
+                | Op::LoopEnd { .. } => None,
             };
             if let Some(target) = target {
                 if !self.targets.contains_key(&target) {
@@ -94,12 +117,69 @@ impl<'p> Lowering<'p> {
                 value: on,
             });
         }
-        for (index, instruction) in instructions.iter().enumerate() {
+        for (index, instruction) in range.clone().zip(instructions) {
             self.enter_target(index);
             self.instruction(instruction);
         }
-        self.enter_target(instructions.len());
+        self.enter_target(range.end);
         self.b.terminate(Terminator::Return);
+    }
+
+    /// A new rung structure: nothing of the logic stack crosses here.
+    fn clear_logic(&mut self) {
+        self.result = self.b.bit(false);
+        self.blocks.clear();
+        self.branches.clear();
+    }
+
+    /// FOR: the loop count (below 1 counts as 1) goes to the local of this
+    /// nesting level; the body starts a block NEXT branches back to.
+    fn loop_start(&mut self, count: crate::program::WordRef, line: u32) {
+        let count = self.compare_operand(count, Width::Single, line);
+        let count = self.b.truncate(count, Type::I32);
+        let one = self.b.constant(Type::I32, 1);
+        let below_one = self.b.compare(crate::isa::CompareOp::Lt, count, one);
+        let count = self.b.select(below_one, one, count);
+        let level = self.loops.len() as u8;
+        self.loop_levels = self.loop_levels.max(level + 1);
+        self.b.effect(Inst::StoreLoopCount { level, value: count });
+        let body = self.b.create_block();
+        self.b.jump_to(body);
+        self.loops.push(body);
+        self.clear_logic();
+    }
+
+    /// NEXT: back to the body while repetitions are left and the runtime's
+    /// watchdog allows one more (it records 6509H when it does not).
+    fn loop_end(&mut self, line: u32) {
+        let Some(body) = self.loops.pop() else {
+            return;
+        };
+        let level = self.loops.len() as u8;
+        let left = self.b.push(Inst::LoadLoopCount { level });
+        let one = self.b.constant(Type::I32, 1);
+        let left = self.b.binary(crate::ir::BinOp::Sub, left, one);
+        self.b.effect(Inst::StoreLoopCount { level, value: left });
+        let zero = self.b.constant(Type::I32, 0);
+        let more = self.b.compare(crate::isa::CompareOp::Gt, left, zero);
+        let ask = self.b.create_block();
+        let exit = self.b.create_block();
+        self.b.terminate(Terminator::Branch {
+            condition: more,
+            then: ask,
+            otherwise: exit,
+        });
+        self.b.switch_to(ask);
+        let line = self.b.number(line);
+        let allowed = self.b.call(Helper::LoopRepeat, vec![line]).unwrap_or(zero);
+        let repeat = self.b.compare(crate::isa::CompareOp::Ne, allowed, zero);
+        self.b.terminate(Terminator::Branch {
+            condition: repeat,
+            then: body,
+            otherwise: exit,
+        });
+        self.b.switch_to(exit);
+        self.clear_logic();
     }
 
     /// Falls through into the block that starts at `index`, if any. Rungs
@@ -107,9 +187,7 @@ impl<'p> Lowering<'p> {
     fn enter_target(&mut self, index: usize) {
         if let Some(&block) = self.targets.get(&index) {
             self.b.jump_to(block);
-            self.result = self.b.bit(false);
-            self.blocks.clear();
-            self.branches.clear();
+            self.clear_logic();
         }
     }
 
@@ -170,6 +248,19 @@ impl<'p> Lowering<'p> {
             }
             Op::Label | Op::StlEnd => {}
             Op::Output(output) => self.output(output, self.result, line),
+            Op::Call { subroutine, slot } => {
+                let power = match slot {
+                    Some(slot) => self.edge(*slot, self.result, false),
+                    None => self.result,
+                };
+                let subroutine = *subroutine as u32;
+                self.b
+                    .if_then(power, |b| b.effect(Inst::CallSubroutine { subroutine }));
+            }
+            Op::LoopStart { count, .. } => self.loop_start(*count, line),
+            Op::LoopEnd { .. } => self.loop_end(line),
+            // Parts end before these: `lower_part` stops at FEND and SRET.
+            Op::MainEnd | Op::SubroutineReturn => {}
         }
     }
 
