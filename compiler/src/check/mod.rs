@@ -139,14 +139,27 @@ impl Checker {
                 Some(Mnemonic::Bit(spec)) => self.instruction(spec, syntax, position, &site),
                 Some(Mnemonic::App(form)) => self.app(form, syntax, &site),
                 None => {
-                    self.report(
+                    let diagnostic = if isa::fx::unsupported_fx(&syntax.mnemonic) {
                         Diagnostic::new(
+                            Code::UnsupportedFx,
+                            syntax.mnemonic_span,
+                            format!("FX instruction `{}` is not supported", syntax.mnemonic),
+                        )
+                        .with_label("ladderc does not implement this FX instruction")
+                        .with_note("docs/language.md lists the supported instructions")
+                    } else {
+                        let diagnostic = Diagnostic::new(
                             Code::UnknownMnemonic,
                             syntax.mnemonic_span,
                             format!("unknown instruction `{}`", syntax.mnemonic),
                         )
-                        .with_label("not an instruction of the dialect"),
-                    );
+                        .with_label("not an instruction of the dialect");
+                        match isa::fx::suggestion(&syntax.mnemonic) {
+                            Some(near) => diagnostic.with_note(format!("did you mean `{near}`?")),
+                            None => diagnostic,
+                        }
+                    };
+                    self.report(diagnostic);
                     self.rung.poison(syntax.mnemonic_span);
                 }
             },

@@ -409,7 +409,7 @@ mod tests {
         let edges = [(None, 0, 10), (Some(0), 1, 11), (Some(1), 0, 12)];
         assert_eq!(CallGraph::new(2, &edges).problems(), vec![(12, CallProblem::Recursion)]);
         // main -> 0 -> 1 -> 2 -> 3 -> 4 is five levels; 4 -> 5 is the sixth.
-        let chain: Vec<_> = (0..6).map(|n| (n.checked_sub(1), n, 20 + n)).collect();
+        let chain: Vec<_> = (0..6usize).map(|n| (n.checked_sub(1), n, 20 + n)).collect();
         assert_eq!(CallGraph::new(6, &chain[..5]).problems(), vec![]);
         assert_eq!(CallGraph::new(6, &chain).problems(), vec![(25, CallProblem::TooDeep)]);
         // Self-call.

@@ -54,9 +54,47 @@ fn unknown_instructions_do_not_cascade() {
 }
 
 #[test]
-fn nested_stl_is_one_error() {
-    let text = "STL S0\nLD X0\nOUT Y0\nSTL S1\nLD X1\nOUT Y1\nSTLE\n";
-    assert_eq!(codes(text), [(Code::NestedStl, 4)]);
+fn an_stl_closes_the_open_block() {
+    let text = "STL S0\nOUT Y0\nSTL S1\nLD X1\nOUT S2\nRET\nLD X2\nOUT Y2\n";
+    let (program, diagnostics) = compile(text);
+    assert!(diagnostics.is_empty(), "{diagnostics:?}");
+    let program = program.expect("compiles");
+    let blocks: Vec<(u32, Op, Op)> = program
+        .stl_blocks
+        .iter()
+        .map(|b| {
+            let op = |i: usize| program.instructions[i].op.clone();
+            (b.state, op(b.begin), op(b.end))
+        })
+        .collect();
+    assert!(matches!(blocks[..], [(0, Op::StlBegin { .. }, Op::StlEnd), (1, Op::StlBegin { .. }, Op::StlEnd)]));
+    // OUT Y0 right after STL takes the state's power; OUT S2 is a transfer.
+    assert!(matches!(
+        program.instructions[1].op,
+        Op::Load {
+            contact: Contact::Constant(true),
+            new_rung: true,
+            ..
+        }
+    ));
+    assert!(program.instructions.iter().any(|i| matches!(
+        i.op,
+        Op::Output(Output::Set {
+            transfer_from: Some(1),
+            ..
+        })
+    )));
+}
+
+#[test]
+fn unknown_mnemonics_get_a_suggestion() {
+    let (_, diagnostics) = compile("LDD X0\nOUT Y0\n");
+    assert_eq!(diagnostics[0].code, Code::UnknownMnemonic);
+    assert!(
+        diagnostics[0].notes.iter().any(|n| n.contains("did you mean `LD`")),
+        "{:?}",
+        diagnostics[0]
+    );
 }
 
 #[test]

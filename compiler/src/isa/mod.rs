@@ -13,6 +13,7 @@
 
 pub mod app;
 pub mod bits;
+pub mod fx;
 pub mod operand;
 pub mod reference;
 mod table;

@@ -1,0 +1,103 @@
+//! Mnemonics of Mitsubishi FX (FX3U) instructions that ladderc does not
+//! implement, so that a program written for an FX PLC gets "not supported"
+//! instead of "unknown", and suggestions for mistyped mnemonics.
+
+use super::table::{lookup, mnemonics};
+
+/// FX3U instructions (base names, without the D prefix and P suffix of
+/// their forms) that ladderc does not implement.
+const UNSUPPORTED_FX: &[&str] = &[
+    // Program flow and interrupts.
+    "IRET", "EI", "DI", "WDT",
+    // Moves and conversions.
+    "SMOV", "CML", "XCH", "BCD", "BIN",
+    // Rotation and shift.
+    "ROR", "ROL", "RCR", "RCL", "SFTR", "SFTL", "WSFR", "WSFL", "SFWR", "SFRD",
+    // Floating point conversion.
+    "FLT", "INT",
+    // High-speed processing.
+    "REF", "REFF", "MTR", "HSCS", "HSCR", "HSZ", "SPD", "PLSY", "PWM", "PLSR", "HSCT",
+    // Handy instructions.
+    "IST", "SER", "ABSD", "INCD", "TTMR", "STMR", "ALT", "RAMP", "ROTC",
+    // External I/O.
+    "TKY", "HKY", "DSW", "SEGD", "SEGL", "ARWS", "ASC", "PR", "FROM", "TO",
+    // Serial devices.
+    "RS", "RS2", "ASCI", "HEX", "CCD", "VRRD", "VRSC", "PID",
+    // Floating point.
+    "ECMP", "EZCP", "EMOV", "ESTR", "EVAL", "EBCD", "EBIN", "EADD", "ESUB", "EMUL", "EDIV", "EXP", "LOGE", "LOG10", "ESQR", "ENEG", "SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN", "RAD", "DEG",
+    // Index register stack.
+    "ZPUSH", "ZPOP",
+    // Positioning.
+    "DSZR", "DVIT", "TBL", "ABS", "ZRN", "PLSV", "DRVI", "DRVA",
+    // Real-time clock.
+    "TCMP", "TZCP", "TADD", "TSUB", "HTOS", "STOH", "TRD", "TWR", "HOUR",
+    // Gray code, analog modules, others.
+    "GRY", "GBIN", "RD3A", "WR3A", "EXTR", "COMRD", "RND", "DUTY", "HCMOV",
+    // Character strings.
+    "BINDA", "DABIN", "STR", "VAL", "LEN", "RIGHT", "LEFT", "MIDR", "MIDW", "INSTR",
+    // Data operation, data tables.
+    "FDEL", "FINS", "SFR", "SFL", "LIMIT", "BAND", "ZONE", "SCL", "SCL2",
+    // Inverter communication, buffer memory, file registers.
+    "IVCK", "IVDR", "IVRD", "IVWR", "IVBWR", "ADPRW", "RBFM", "WBFM", "LOADR", "SAVER", "INITR", "LOGR", "RWER", "INITER",
+];
+
+/// Is `mnemonic` (any case) a form of an FX instruction ladderc does not
+/// implement? (`DECMP` is ECMP in 32 bits, `REFP` the pulse form of REF.)
+pub fn unsupported_fx(mnemonic: &str) -> bool {
+    let upper = mnemonic.to_ascii_uppercase();
+    let without_pulse = upper.strip_suffix('P');
+    let candidates = [
+        Some(upper.as_str()),
+        without_pulse,
+        upper.strip_prefix('D'),
+        without_pulse.and_then(|m| m.strip_prefix('D')),
+    ];
+    lookup(&upper).is_none()
+        && candidates
+            .into_iter()
+            .flatten()
+            .any(|base| UNSUPPORTED_FX.contains(&base))
+}
+
+/// The supported mnemonic closest to a mistyped one, if one is close.
+pub fn suggestion(mnemonic: &str) -> Option<&'static str> {
+    let upper = mnemonic.to_ascii_uppercase();
+    // Two edits for long words, one for short ones: `LDD` -> `LD`, but no
+    // wild guess for `Q`.
+    let most = if upper.chars().count() > 4 { 2 } else { 1 };
+    let first = upper.chars().next();
+    mnemonics()
+        .into_iter()
+        .map(|candidate| {
+            let distance = strsim::damerau_levenshtein(&upper, candidate);
+            // Among equally close ones, a mnemonic with the same first
+            // letter is the likelier typo.
+            (distance, candidate.chars().next() != first, candidate)
+        })
+        .filter(|&(distance, _, _)| distance <= most)
+        .min()
+        .map(|(_, _, candidate)| candidate)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fx_instructions_are_known_as_unsupported() {
+        for mnemonic in ["REF", "refp", "DECMP", "PID", "DPLSY", "RS", "ZPUSH"] {
+            assert!(unsupported_fx(mnemonic), "{mnemonic}");
+        }
+        for mnemonic in ["MOV", "DMOVP", "LD", "QQQ", "SORT"] {
+            assert!(!unsupported_fx(mnemonic), "{mnemonic}");
+        }
+    }
+
+    #[test]
+    fn close_mnemonics_are_suggested() {
+        assert_eq!(suggestion("LDD"), Some("LD"));
+        assert_eq!(suggestion("OTU"), Some("OUT"));
+        assert_eq!(suggestion("MOOV"), Some("MOV"));
+        assert_eq!(suggestion("XYZZY"), None);
+    }
+}
