@@ -27,6 +27,26 @@ fn programs_compiled_in_parts_match_the_interpreter() {
     assert_eq!(totals.programs, 300);
 }
 
+/// FX-structured programs in parts: loop counts travel in the stack slot
+/// with the MC powers (a loop is never cut: its back edge forbids it), and
+/// each subroutine is cut on its own.
+#[test]
+fn fx_programs_compiled_in_parts_match_the_interpreter() {
+    ladderc::codegen::set_chunk_instructions(8);
+    let test = "fx_programs_compiled_in_parts_match_the_interpreter";
+    let aot = differential::aot_host(test);
+    let seed = differential::seed(test);
+    let totals = differential::check(
+        test,
+        differential::case(common::fx::fx_program()),
+        seed,
+        200,
+        100,
+        aot.as_ref(),
+    );
+    assert_eq!(totals.programs, 200);
+}
+
 /// Master-control rungs ending in a data instruction (a branch, so a block
 /// boundary after which no value of the rung lives): cut into many parts,
 /// with the MC power crossing them. (Cuts are only made where no SSA value

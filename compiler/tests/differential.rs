@@ -51,6 +51,19 @@ fn memory_forwarding_matches_the_interpreter() {
     );
 }
 
+/// FX-structured programs: index registers, FOR/NEXT loops (the IR's back
+/// edges) up to the watchdog, subroutines compiled once and called, and an
+/// STL sequence closed by RET (see `common::fx`).
+#[test]
+fn fx_structure_matches_the_interpreter() {
+    run_programs(
+        "fx_structure_matches_the_interpreter",
+        6,
+        common::fx::fx_program().boxed(),
+        400,
+    );
+}
+
 #[test]
 fn every_engine_matches_the_interpreter_1() {
     run_share("every_engine_matches_the_interpreter_1", 1);

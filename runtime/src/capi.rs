@@ -423,8 +423,16 @@ mod tests {
                 assert_eq!(c_device(device), (kind, number));
             }
         }
-        assert_eq!(basic_device(12, 3), Some(Basic::Word(WordArea::Index, 7)), "V3 is word 7");
-        assert_eq!(basic_device(13, 3), Some(Basic::Word(WordArea::Index, 6)), "Z3 is word 6");
+        assert_eq!(
+            basic_device(12, 3),
+            Some(Basic::Word(WordArea::Index, 7)),
+            "V3 is word 7"
+        );
+        assert_eq!(
+            basic_device(13, 3),
+            Some(Basic::Word(WordArea::Index, 6)),
+            "Z3 is word 6"
+        );
         let mut mem = Memory::new_boxed();
         let past_z7 = basic_device(13, 8).expect("a device kind");
         assert!(mem.write_basic(past_z7, 1).is_err(), "Z8 does not exist");

@@ -139,15 +139,18 @@ impl BlockTracker {
     /// `NEXT`: the index of its FOR, when it pairs with one.
     pub fn loop_end(&mut self, span: Span, diagnostics: &mut Diagnostics) -> Option<usize> {
         let Some(open) = self.loops.pop() else {
-            diagnostics
-                .push(Diagnostic::new(Code::LoopPairing, span, "NEXT without FOR").with_label("no open loop"));
+            diagnostics.push(Diagnostic::new(Code::LoopPairing, span, "NEXT without FOR").with_label("no open loop"));
             return None;
         };
         if open.context.without_loops() != self.context().without_loops() {
             diagnostics.push(
-                Diagnostic::new(Code::LoopPairing, span, "the loop crosses an STL block or MC region boundary")
-                    .with_label("this NEXT is in another block or region than its FOR")
-                    .with_related(open.span, "the FOR"),
+                Diagnostic::new(
+                    Code::LoopPairing,
+                    span,
+                    "the loop crosses an STL block or MC region boundary",
+                )
+                .with_label("this NEXT is in another block or region than its FOR")
+                .with_related(open.span, "the FOR"),
             );
             return None;
         }

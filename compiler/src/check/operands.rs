@@ -120,8 +120,16 @@ fn index_register(d: &DeviceSyntax) -> Resolved<Option<IndexRegister>> {
     }
     let (letter, in_range, range) = match o.kind {
         OffsetKind::D => ("D", o.register < WordArea::D.count(), area_text_words(WordArea::D)),
-        OffsetKind::Z => ("Z", o.register < INDEX_REGISTER_COUNT, "index registers are Z0..Z7".to_string()),
-        OffsetKind::V => ("V", o.register < INDEX_REGISTER_COUNT, "index registers are V0..V7".to_string()),
+        OffsetKind::Z => (
+            "Z",
+            o.register < INDEX_REGISTER_COUNT,
+            "index registers are Z0..Z7".to_string(),
+        ),
+        OffsetKind::V => (
+            "V",
+            o.register < INDEX_REGISTER_COUNT,
+            "index registers are V0..V7".to_string(),
+        ),
     };
     if !in_range {
         return Err(Diagnostic::new(
@@ -188,7 +196,10 @@ pub fn bit_source(operand: &Operand) -> Resolved<BitRef> {
         )),
         Prefix::V | Prefix::Z => Err(kind_error(
             operand,
-            format!("`{}` is an index register (a word); this operand is one bit", text_of(d)),
+            format!(
+                "`{}` is an index register (a word); this operand is one bit",
+                text_of(d)
+            ),
             "word, not bit",
         )),
         Prefix::D | Prefix::Sd | Prefix::R => Err(kind_error(
@@ -583,11 +594,17 @@ fn index_register_value(operand: &Operand, d: &DeviceSyntax, wide: bool, multipl
     if wide && v {
         return Err(kind_error(
             operand,
-            format!("`{name}` cannot be a 32-bit operand: the 32-bit index register is Z{} (V{} is its high word)", d.number, d.number),
+            format!(
+                "`{name}` cannot be a 32-bit operand: the 32-bit index register is Z{} (V{} is its high word)",
+                d.number, d.number
+            ),
             "V as a 32-bit operand",
         ));
     }
-    Ok(WordRef::Word(WordArea::Index, Address::fixed(index_register_word(d.number, v))))
+    Ok(WordRef::Word(
+        WordArea::Index,
+        Address::fixed(index_register_word(d.number, v)),
+    ))
 }
 
 fn counter_value(

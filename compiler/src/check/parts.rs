@@ -58,9 +58,13 @@ impl Checker {
         }
         self.parts.reported_outside = true;
         self.report(
-            Diagnostic::new(Code::OutsideSubroutine, span, "instruction after FEND outside a subroutine")
-                .with_label("this would never run")
-                .with_note("after FEND, a subroutine starts at a label `Pn` and ends at SRET"),
+            Diagnostic::new(
+                Code::OutsideSubroutine,
+                span,
+                "instruction after FEND outside a subroutine",
+            )
+            .with_label("this would never run")
+            .with_note("after FEND, a subroutine starts at a label `Pn` and ends at SRET"),
         );
     }
 
@@ -294,8 +298,10 @@ impl Checker {
             let diagnostic = match error {
                 CallProblem::Recursion => Diagnostic::new(Code::Recursion, span, "recursive subroutine call")
                     .with_label("this CALL leads back to a subroutine that is still running"),
-                CallProblem::TooDeep => Diagnostic::new(Code::CallTooDeep, span, "subroutine calls nested deeper than 5")
-                    .with_label("this CALL would be level 6"),
+                CallProblem::TooDeep => {
+                    Diagnostic::new(Code::CallTooDeep, span, "subroutine calls nested deeper than 5")
+                        .with_label("this CALL would be level 6")
+                }
             };
             self.report(diagnostic);
         }
@@ -341,7 +347,12 @@ impl<'e> CallGraph<'e> {
             let mut stack = vec![(root, 0usize)];
             marks[root] = Mark::Active;
             while let Some(&mut (part, ref mut next)) = stack.last_mut() {
-                let outgoing = self.edges.iter().enumerate().filter(|(_, e)| e.0 == Some(part)).nth(*next);
+                let outgoing = self
+                    .edges
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, e)| e.0 == Some(part))
+                    .nth(*next);
                 *next += 1;
                 match outgoing {
                     None => {

@@ -67,7 +67,13 @@ fn an_stl_closes_the_open_block() {
             (b.state, op(b.begin), op(b.end))
         })
         .collect();
-    assert!(matches!(blocks[..], [(0, Op::StlBegin { .. }, Op::StlEnd), (1, Op::StlBegin { .. }, Op::StlEnd)]));
+    assert!(matches!(
+        blocks[..],
+        [
+            (0, Op::StlBegin { .. }, Op::StlEnd),
+            (1, Op::StlBegin { .. }, Op::StlEnd)
+        ]
+    ));
     // OUT Y0 right after STL takes the state's power; OUT S2 is a transfer.
     assert!(matches!(
         program.instructions[1].op,

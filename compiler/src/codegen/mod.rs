@@ -189,7 +189,8 @@ impl Part<'_> {
         let chunk_signature = signature(module.isa(), &[pointer, pointer]);
         let mut chunk_ids = Vec::with_capacity(chunks.len());
         for (number, range) in chunks.iter().enumerate() {
-            let chunk_id = module.declare_function(&format!("{name}.part{number}"), Linkage::Local, &chunk_signature)?;
+            let chunk_id =
+                module.declare_function(&format!("{name}.part{number}"), Linkage::Local, &chunk_signature)?;
             self.define(module, chunk_id, chunk_signature.clone(), range.clone(), Locals::Memory)?;
             chunk_ids.push(chunk_id);
         }

@@ -92,9 +92,7 @@ pub fn translate(
         Locals::Memory => Some(builder.block_params(entry)[1]),
     };
     let locals: Vec<Variable> = (0..func.locals).map(|_| builder.declare_var(types::I8)).collect();
-    let loop_counts: Vec<Variable> = (0..func.loop_levels)
-        .map(|_| builder.declare_var(types::I32))
-        .collect();
+    let loop_counts: Vec<Variable> = (0..func.loop_levels).map(|_| builder.declare_var(types::I32)).collect();
     if let Some(at) = locals_pointer {
         for (offset, &local) in locals.iter().enumerate() {
             let value = builder.ins().load(types::I8, flags(), at, offset as i32);

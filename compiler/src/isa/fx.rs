@@ -8,37 +8,29 @@ use super::table::{lookup, mnemonics};
 /// their forms) that ladderc does not implement.
 const UNSUPPORTED_FX: &[&str] = &[
     // Program flow and interrupts.
-    "IRET", "EI", "DI", "WDT",
-    // Moves and conversions.
-    "SMOV", "CML", "XCH", "BCD", "BIN",
-    // Rotation and shift.
+    "IRET", "EI", "DI", "WDT", // Moves and conversions.
+    "SMOV", "CML", "XCH", "BCD", "BIN", // Rotation and shift.
     "ROR", "ROL", "RCR", "RCL", "SFTR", "SFTL", "WSFR", "WSFL", "SFWR", "SFRD",
     // Floating point conversion.
-    "FLT", "INT",
-    // High-speed processing.
+    "FLT", "INT", // High-speed processing.
     "REF", "REFF", "MTR", "HSCS", "HSCR", "HSZ", "SPD", "PLSY", "PWM", "PLSR", "HSCT",
     // Handy instructions.
-    "IST", "SER", "ABSD", "INCD", "TTMR", "STMR", "ALT", "RAMP", "ROTC",
-    // External I/O.
-    "TKY", "HKY", "DSW", "SEGD", "SEGL", "ARWS", "ASC", "PR", "FROM", "TO",
-    // Serial devices.
-    "RS", "RS2", "ASCI", "HEX", "CCD", "VRRD", "VRSC", "PID",
-    // Floating point.
-    "ECMP", "EZCP", "EMOV", "ESTR", "EVAL", "EBCD", "EBIN", "EADD", "ESUB", "EMUL", "EDIV", "EXP", "LOGE", "LOG10", "ESQR", "ENEG", "SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN", "RAD", "DEG",
-    // Index register stack.
-    "ZPUSH", "ZPOP",
-    // Positioning.
-    "DSZR", "DVIT", "TBL", "ABS", "ZRN", "PLSV", "DRVI", "DRVA",
-    // Real-time clock.
+    "IST", "SER", "ABSD", "INCD", "TTMR", "STMR", "ALT", "RAMP", "ROTC", // External I/O.
+    "TKY", "HKY", "DSW", "SEGD", "SEGL", "ARWS", "ASC", "PR", "FROM", "TO", // Serial devices.
+    "RS", "RS2", "ASCI", "HEX", "CCD", "VRRD", "VRSC", "PID", // Floating point.
+    "ECMP", "EZCP", "EMOV", "ESTR", "EVAL", "EBCD", "EBIN", "EADD", "ESUB", "EMUL", "EDIV", "EXP", "LOGE", "LOG10",
+    "ESQR", "ENEG", "SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN", "RAD", "DEG", // Index register stack.
+    "ZPUSH", "ZPOP", // Positioning.
+    "DSZR", "DVIT", "TBL", "ABS", "ZRN", "PLSV", "DRVI", "DRVA", // Real-time clock.
     "TCMP", "TZCP", "TADD", "TSUB", "HTOS", "STOH", "TRD", "TWR", "HOUR",
     // Gray code, analog modules, others.
-    "GRY", "GBIN", "RD3A", "WR3A", "EXTR", "COMRD", "RND", "DUTY", "HCMOV",
-    // Character strings.
+    "GRY", "GBIN", "RD3A", "WR3A", "EXTR", "COMRD", "RND", "DUTY", "HCMOV", // Character strings.
     "BINDA", "DABIN", "STR", "VAL", "LEN", "RIGHT", "LEFT", "MIDR", "MIDW", "INSTR",
     // Data operation, data tables.
     "FDEL", "FINS", "SFR", "SFL", "LIMIT", "BAND", "ZONE", "SCL", "SCL2",
     // Inverter communication, buffer memory, file registers.
-    "IVCK", "IVDR", "IVRD", "IVWR", "IVBWR", "ADPRW", "RBFM", "WBFM", "LOADR", "SAVER", "INITR", "LOGR", "RWER", "INITER",
+    "IVCK", "IVDR", "IVRD", "IVWR", "IVBWR", "ADPRW", "RBFM", "WBFM", "LOADR", "SAVER", "INITR", "LOGR", "RWER",
+    "INITER",
 ];
 
 /// Is `mnemonic` (any case) a form of an FX instruction ladderc does not

@@ -254,8 +254,7 @@ impl<'p> Lowering<'p> {
                     None => self.result,
                 };
                 let subroutine = *subroutine as u32;
-                self.b
-                    .if_then(power, |b| b.effect(Inst::CallSubroutine { subroutine }));
+                self.b.if_then(power, |b| b.effect(Inst::CallSubroutine { subroutine }));
             }
             Op::LoopStart { count, .. } => self.loop_start(*count, line),
             Op::LoopEnd { .. } => self.loop_end(line),

@@ -497,9 +497,16 @@ mod tests {
     fn index_registers_and_modifiers() {
         assert_eq!((device("V3").prefix, device("z7").number), (Prefix::V, 7));
         let modified = device("D100Z2").offset.unwrap();
-        assert_eq!((modified.kind, modified.register, modified.span), (OffsetKind::Z, 2, Span::new(4, 6)));
+        assert_eq!(
+            (modified.kind, modified.register, modified.span),
+            (OffsetKind::Z, 2, Span::new(4, 6))
+        );
         assert_eq!(device("X10v1").offset.unwrap().kind, OffsetKind::V);
-        assert_eq!(device("X10v1").number, 8, "the octal number is read before the modifier");
+        assert_eq!(
+            device("X10v1").number,
+            8,
+            "the octal number is read before the modifier"
+        );
         let group = device("K4M0Z2");
         assert_eq!((group.digits, group.offset.unwrap().register), (Some(4), 2));
         assert_eq!(error_code("K5Z0"), Code::OperandKind);

@@ -73,6 +73,8 @@ fn fields() -> Vec<Field> {
             4,
             Some((LadderDevice::Cn, 200)),
         ),
+        // Z0, V0, Z1, V1, ...: interleaved, so no single device kind.
+        field("index", offset_of!(Memory, index), 2, None),
         field("timer_remainder_ms", offset_of!(Memory, timer_remainder_ms), 2, None),
         field("timer_coil_was_on", offset_of!(Memory, timer_coil_was_on), 1, None),
         field("counter_coil_was_on", offset_of!(Memory, counter_coil_was_on), 1, None),
@@ -92,6 +94,8 @@ fn fields() -> Vec<Field> {
         field("stl_pending_any", offset_of!(Memory, stl_pending_any), 4, None),
         field("elapsed_ms", offset_of!(Memory, elapsed_ms), 4, None),
         field("scan_count", offset_of!(Memory, scan_count), 4, None),
+        field("clock_ms", offset_of!(Memory, clock_ms), 4, None),
+        field("loop_repetitions", offset_of!(Memory, loop_repetitions), 4, None),
     ]
 }
 

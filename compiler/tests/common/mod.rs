@@ -7,6 +7,7 @@
 #![allow(dead_code)]
 
 pub mod differential;
+pub mod fx;
 pub mod image;
 pub mod stimulus;
 pub mod tools;
@@ -60,7 +61,7 @@ pub fn condition() -> impl Strategy<Value = Condition> {
 }
 
 /// Emits `condition` as a block: starting with an LD-type instruction.
-fn emit_block(condition: &Condition, out: &mut Vec<String>) {
+pub fn emit_block(condition: &Condition, out: &mut Vec<String>) {
     match condition {
         Condition::Contact(kind, device) => out.push(contact_line("LD", kind, device)),
         Condition::Series(parts) | Condition::Parallel(parts) => {
@@ -119,7 +120,7 @@ pub fn rung() -> impl Strategy<Value = Rung> {
         .prop_map(|(condition, outputs)| Rung { condition, outputs })
 }
 
-fn emit_rung(rung: &Rung, out: &mut Vec<String>) {
+pub fn emit_rung(rung: &Rung, out: &mut Vec<String>) {
     emit_block(&rung.condition, out);
     let branches = rung.outputs.iter().any(|(c, _)| c.is_some()) && rung.outputs.len() > 1;
     for (i, (branch, output)) in rung.outputs.iter().enumerate() {

@@ -44,6 +44,8 @@ fn written_device() -> impl Strategy<Value = (LadderDevice, u32, i32)> {
             .prop_map(|(n, v)| (LadderDevice::Cn, n, v)),
         1 => (prop_oneof![0u32..4, Just(200), Just(246)], 0i32..2).prop_map(|(n, v)| (LadderDevice::Ts, n, v)),
         1 => (0u32..3, 0i32..2).prop_map(|(n, v)| (LadderDevice::Cs, n, v)),
+        1 => (prop_oneof![Just(LadderDevice::Z), Just(LadderDevice::V)], 0u32..2, prop_oneof![-3i32..12, Just(300), Just(-300)])
+            .prop_map(|(kind, n, v)| (kind, n, v)),
     ]
 }
 
@@ -129,6 +131,8 @@ pub fn scenario_device(kind: LadderDevice, number: u32) -> String {
         LadderDevice::R => "R",
         LadderDevice::Tn => "TN",
         LadderDevice::Cn => "CN",
+        LadderDevice::V => "V",
+        LadderDevice::Z => "Z",
     };
     format!("{prefix}{number}")
 }
