@@ -72,3 +72,11 @@ fn example_programs() {
     snapshot_scenario("testsuite/scenarios/fx/master_control.scn");
     snapshot_scenario("testsuite/scenarios/data/offset_errors.scn");
 }
+
+/// FX structure: each subroutine a function of its own, a loop a back edge
+/// with its count in a local and the watchdog asked before each repetition.
+#[test]
+fn fx_structure() {
+    snapshot_file("testsuite/programs/fx/fx_station.il");
+    snapshot_scenario("testsuite/scenarios/fx_structure/loop_nested_indexed_table.scn");
+}

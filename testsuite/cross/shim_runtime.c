@@ -1,6 +1,7 @@
 /*
  * Test shim, not a runtime: the scan-boundary calls of the ladderc runtime
- * (runtime/src/scan.rs) for programs that use no runtime helper, so that
+ * (runtime/src/scan.rs) and the loop watchdog's helper, for programs that
+ * use no other runtime helper, so that
  * cross-compiled program code can run under qemu-user where the Rust runtime
  * cannot be built. Forces are not supported (the driver uses none). Offsets
  * come from layout.h, generated from the runtime's layout by the test.
@@ -42,6 +43,25 @@ void LADDER_TAGGED_BEGIN_SCAN(LadderMemory *mem, uint32_t elapsed_ms) {
     set(mem, OFFSET_M, 8002, first);
     set(mem, OFFSET_M, 8150, first);
     set(mem, OFFSET_M, 8003, !first);
+    /* Clock relays M8011-M8014 from the accumulated time, and the loop
+       watchdog's count, as runtime/src/scan.rs does. */
+    U32(mem, OFFSET_CLOCK_MS) = (uint32_t)(((uint64_t)U32(mem, OFFSET_CLOCK_MS) + elapsed_ms) % 60000u);
+    static const uint32_t periods[4] = {10, 100, 1000, 60000};
+    for (unsigned k = 0; k < 4; k++) {
+        set(mem, OFFSET_M, 8011 + k, U32(mem, OFFSET_CLOCK_MS) % periods[k] >= periods[k] / 2);
+    }
+    U32(mem, OFFSET_LOOP_REPETITIONS) = 0;
+}
+
+int32_t ladder_rt_loop_repeat(LadderMemory *mem, uint32_t line) {
+    if (U32(mem, OFFSET_LOOP_REPETITIONS) >= LOOP_REPETITION_LIMIT) {
+        set(mem, OFFSET_M, 8067, 1);
+        *(int16_t *)AT(mem, OFFSET_D + 2 * 8067) = (int16_t)0x6509;
+        *(int16_t *)AT(mem, OFFSET_D + 2 * 8069) = (int16_t)line;
+        return 0;
+    }
+    U32(mem, OFFSET_LOOP_REPETITIONS) += 1;
+    return 1;
 }
 
 void ladder_end_scan(LadderMemory *mem) {

@@ -135,9 +135,10 @@ fn define_program(
     let pointer = module.target_config().pointer_type();
     let body_signature = signature(module.isa(), &[pointer]);
     let id = module.declare_function(name, linkage, &body_signature)?;
-    let subroutines = (0..program.subroutines.len())
-        .map(|number| module.declare_function(&format!("{name}.sub{number}"), Linkage::Local, &body_signature))
-        .collect::<Result<Vec<_>, _>>()?;
+    let mut subroutines = Vec::with_capacity(program.subroutines.len());
+    for number in 0..program.subroutines.len() {
+        subroutines.push(module.declare_function(&format!("{name}.sub{number}"), Linkage::Local, &body_signature)?);
+    }
     let mut builder_context = FunctionBuilderContext::new();
     let mut define = |module: &mut dyn Module, function: &Function, id: FuncId, name: &str| {
         let mut values = vec![None; function.value_types.len()];

@@ -9,8 +9,8 @@
 
 use super::{BinOp, Block, BlockId, Function, Index, Inst, Program, Terminator, Type, UnaryOp, Value};
 use crate::isa::CompareOp;
-use ladder_runtime::helpers::Param;
-use ladder_runtime::special::{M_ALWAYS_OFF, M_ALWAYS_ON, SM_ALWAYS_OFF, SM_ALWAYS_ON};
+use ladder_runtime::helpers::{Param, Writes};
+use ladder_runtime::special::{M_ALWAYS_OFF, M_ALWAYS_ON, M_OPERATION_ERROR, SM_ALWAYS_OFF, SM_ALWAYS_ON};
 use ladder_runtime::{BitArea, Place};
 use std::collections::HashMap;
 
@@ -148,11 +148,13 @@ fn written_bits(inst: &Inst, constants: &HashMap<Value, i64>) -> Vec<(BitArea, O
         Inst::FillBits { area, start, count, .. } => vec![(*area, fixed(start), *count)],
         Inst::Call { helper, args } => {
             let decl = helper.decl();
-            let effects = decl
-                .writes
-                .iter()
-                .flat_map(|w| w.bit_areas())
-                .map(|&area| (area, None, 0));
+            let effects = decl.writes.iter().flat_map(|w| match w {
+                // The error flag is one relay, not the whole of M.
+                Writes::OperationError => vec![(BitArea::M, Some(M_OPERATION_ERROR), 1)],
+                Writes::Timers | Writes::Counters | Writes::StlBookkeeping | Writes::Bits(_) => {
+                    w.bit_areas().iter().map(|&area| (area, None, 0)).collect()
+                }
+            });
             let places = decl
                 .params
                 .iter()

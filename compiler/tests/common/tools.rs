@@ -202,11 +202,19 @@ pub fn layout_header() -> String {
         ("STL_PENDING_ANY", offset_of!(Memory, stl_pending_any)),
         ("ELAPSED_MS", offset_of!(Memory, elapsed_ms)),
         ("SCAN_COUNT", offset_of!(Memory, scan_count)),
+        ("CLOCK_MS", offset_of!(Memory, clock_ms)),
+        ("LOOP_REPETITIONS", offset_of!(Memory, loop_repetitions)),
     ];
     for (name, offset) in fields {
         writeln!(header, "#define OFFSET_{name} {offset}ul").unwrap();
     }
     writeln!(header, "#define MEMORY_SIZE {}ul", layout::MEMORY_SIZE).unwrap();
+    writeln!(
+        header,
+        "#define LOOP_REPETITION_LIMIT {}u",
+        ladder_runtime::special::LOOP_REPETITION_LIMIT
+    )
+    .unwrap();
     writeln!(header, "#define LADDER_TAGGED_BEGIN_SCAN {}", layout::TAGGED_BEGIN_SCAN).unwrap();
     header
 }
