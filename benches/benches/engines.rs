@@ -36,6 +36,19 @@ fn programs() -> Vec<(String, CheckedProgram)> {
             checked("offsets", &workspace_file("testsuite/programs/offsets_out_of_range.il")),
         ),
         ("plant_400_units".into(), checked("plant", &ladderc_benches::plant(400))),
+        (
+            "fx_station".into(),
+            checked("fx_station", &workspace_file("testsuite/programs/fx/fx_station.il")),
+        ),
+        // 1,000 FOR/NEXT repetitions over an index-register table, and a
+        // subroutine called every scan.
+        (
+            "loop_1000_and_call".into(),
+            checked(
+                "loop",
+                "LD SM0\nMOV K0 Z0\nFOR K1000\nLD SM0\nADD D100Z0 D0 D100Z0\nINC Z0\nNEXT\nLD SM0\nCALL P0\nFEND\nP0\nLD X0\nINC D0\nSRET\n",
+            ),
+        ),
     ]
 }
 
