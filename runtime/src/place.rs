@@ -132,6 +132,11 @@ impl Place {
 /// elements, word bits at most 16 times that).
 pub const PLACE_INDEX_MASK: u32 = 0xF_FFFF;
 
+const WORD_AREAS: usize = WordArea::ALL.len();
+const BIT_AREAS: usize = BitArea::ALL.len();
+/// Words, the 32-bit counters, digit groups of 1-8 digits, bits, word bits.
+const TAG_COUNT: usize = WORD_AREAS + 1 + BIT_AREAS * 8 + BIT_AREAS + WORD_AREAS;
+
 /// A place without its index.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PlaceKind {
@@ -144,25 +149,22 @@ pub enum PlaceKind {
 }
 
 impl PlaceKind {
-    /// Every kind that packs (digit counts 1..8).
-    const ALL_TAGS: [PlaceKind; 5 + 1 + 7 * 8 + 7 + 5] = {
-        let mut all = [PlaceKind::WideCounter; 5 + 1 + 7 * 8 + 7 + 5];
+    /// Every kind that packs (digit counts 1..8), sized from the areas so
+    /// that a new area cannot be left out.
+    const ALL_TAGS: [PlaceKind; TAG_COUNT] = {
+        let mut all = [PlaceKind::WideCounter; TAG_COUNT];
         let mut i = 0;
-        while i < 5 {
+        while i < WORD_AREAS {
             all[i] = PlaceKind::Word(WordArea::ALL[i]);
-            all[6 + 7 * 8 + 7 + i] = PlaceKind::WordBit(WordArea::ALL[i]);
+            all[WORD_AREAS + 1 + BIT_AREAS * 8 + BIT_AREAS + i] = PlaceKind::WordBit(WordArea::ALL[i]);
             i += 1;
         }
         let mut area = 0;
-        while area < 7 {
-            all[6 + 7 * 8 + area] = PlaceKind::Bit(BitArea::ALL[area]);
-            area += 1;
-        }
-        let mut area = 0;
-        while area < 7 {
+        while area < BIT_AREAS {
+            all[WORD_AREAS + 1 + BIT_AREAS * 8 + area] = PlaceKind::Bit(BitArea::ALL[area]);
             let mut digits = 1;
             while digits <= 8 {
-                all[6 + area * 8 + (digits - 1)] = PlaceKind::Digits(BitArea::ALL[area], digits as u8);
+                all[WORD_AREAS + 1 + area * 8 + (digits - 1)] = PlaceKind::Digits(BitArea::ALL[area], digits as u8);
                 digits += 1;
             }
             area += 1;
@@ -199,6 +201,20 @@ mod tests {
             Place::WordBit(WordArea::R, 32767 * 16 + 15),
         ] {
             assert_eq!(Place::unpack(place.pack().unwrap()), Some(place), "{place:?}");
+        }
+        for area in WordArea::ALL {
+            for place in [Place::Word(area, 3), Place::WordBit(area, 17)] {
+                assert_eq!(Place::unpack(place.pack().unwrap()), Some(place), "{place:?}");
+            }
+        }
+        for area in BitArea::ALL {
+            for place in [
+                Place::Bit(area, 5),
+                Place::Digits(area, 4, 1),
+                Place::Digits(area, 0, 8),
+            ] {
+                assert_eq!(Place::unpack(place.pack().unwrap()), Some(place), "{place:?}");
+            }
         }
         assert_eq!(Place::Constant(-5).pack(), None);
         assert_eq!(Place::unpack(0), None);

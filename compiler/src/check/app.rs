@@ -63,8 +63,48 @@ fn class_of(operand: &AppOperand) -> DeviceClass {
     }
 }
 
-/// Resolves one operand by its kind, at the instruction's width.
+/// Resolves one operand by its kind, at the instruction's width. An index
+/// register is one word: it cannot start a run of words (BMOV, MEAN, ...),
+/// whose next word would be the other register of its pair.
 fn resolve_kind(operand: &Operand, kind: OperandKind, width: Width) -> Resolved<AppOperand> {
+    let resolved = resolve_any(operand, kind, width)?;
+    let runs_on = match kind {
+        OperandKind::BlockSource
+        | OperandKind::BlockDestination
+        | OperandKind::TableEnd
+        | OperandKind::ByteSource
+        | OperandKind::ElementSource
+        | OperandKind::ElementDestination => true,
+        OperandKind::Source
+        | OperandKind::Count
+        | OperandKind::Destination
+        | OperandKind::Modified
+        | OperandKind::DoubleDestination
+        | OperandKind::BitDestination
+        | OperandKind::BitTriple
+        | OperandKind::RangeEnd
+        | OperandKind::DigitSource
+        | OperandKind::DigitDestination
+        | OperandKind::Timer => false,
+    };
+    let index_register = matches!(
+        resolved,
+        AppOperand::Word(WordRef::Word(WordArea::Index, _))
+            | AppOperand::Element(Element::Word(WordRef::Word(WordArea::Index, _)))
+    );
+    if runs_on && index_register {
+        return Err(Diagnostic::new(
+            Code::OperandKind,
+            operand.span,
+            "an index register is a single word; this operand is a run of words",
+        )
+        .with_label("index register")
+        .with_note("use data registers (D) for tables and blocks"));
+    }
+    Ok(resolved)
+}
+
+fn resolve_any(operand: &Operand, kind: OperandKind, width: Width) -> Resolved<AppOperand> {
     Ok(match kind {
         OperandKind::Source => AppOperand::Word(operands::word_source(operand, width)?),
         OperandKind::Count => AppOperand::Word(operands::word_source(operand, Width::Single)?),

@@ -8,6 +8,7 @@
 
 mod app;
 mod blocks;
+mod index_registers;
 mod lints;
 pub mod operands;
 mod parts;
@@ -21,7 +22,7 @@ use crate::source::{SourceFile, Span};
 use crate::syntax::{self, InstructionSyntax, ParsedProgram, Statement, StatementKind};
 use blocks::{BlockTracker, PendingJump};
 use ladder_runtime::device::{EDGE_SLOT_COUNT, SORT_INSTANCES};
-use ladder_runtime::{BitArea, Width};
+use ladder_runtime::{BitArea, Width, WordArea};
 use operands::{Coil, Resolved};
 use rung::RungTracker;
 use std::collections::HashMap;
@@ -301,6 +302,19 @@ impl Checker {
 
     fn instruction(&mut self, spec: &'static BitSpec, syntax: &InstructionSyntax, position: usize, site: &Site) {
         let operands = self.counted_operands(syntax, spec.required, spec.most, site);
+        // After END nothing runs (W0001 says so): program structure there
+        // is not judged.
+        let structure = matches!(
+            spec.class,
+            BitClass::MainEnd
+                | BitClass::Call { .. }
+                | BitClass::SubroutineReturn
+                | BitClass::LoopStart
+                | BitClass::LoopEnd
+        );
+        if self.ended && structure {
+            return;
+        }
         let span = site.span;
         match spec.class {
             BitClass::Contact(role, sense) => self.contact(role, sense, operands, site),
@@ -699,6 +713,13 @@ impl Checker {
                     else {
                         return;
                     };
+                    if area == WordArea::Index && operands.len() > 1 {
+                        self.report(
+                            Diagnostic::new(Code::OperandKind, site.span, "RST of an index register takes no count")
+                                .with_label("index registers are reset one at a time"),
+                        );
+                        return;
+                    }
                     let Some(count) = self.count(operands, address.index, area.count()) else {
                         return;
                     };

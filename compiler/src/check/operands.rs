@@ -1,10 +1,11 @@
 //! Operand resolution: operand syntax, checked against what its position
 //! accepts, to the devices of the runtime's areas.
 
+use super::index_registers::{index_register, index_register_value};
 use crate::diagnostics::{Code, Diagnostic};
-use crate::program::{Address, BitRef, DigitGroup, Element, IndexRegister, RangeEnd, WordRef};
-use crate::syntax::{Constant, DeviceSyntax, OffsetKind, Operand, OperandSyntax, Prefix};
-use ladder_runtime::device::{index_register_word, FIRST_WIDE_COUNTER, INDEX_REGISTER_COUNT, TIMER_COUNT};
+use crate::program::{Address, BitRef, DigitGroup, Element, RangeEnd, WordRef};
+use crate::syntax::{Constant, DeviceSyntax, Operand, OperandSyntax, Prefix};
+use ladder_runtime::device::{FIRST_WIDE_COUNTER, TIMER_COUNT};
 use ladder_runtime::{BitArea, Width, WordArea};
 
 pub type Resolved<T> = Result<T, Diagnostic>;
@@ -22,7 +23,7 @@ pub enum Coil {
     Counter(u32),
 }
 
-fn kind_error(operand: &Operand, message: impl Into<String>, label: &str) -> Diagnostic {
+pub(super) fn kind_error(operand: &Operand, message: impl Into<String>, label: &str) -> Diagnostic {
     Diagnostic::new(Code::OperandKind, operand.span, message).with_label(label)
 }
 
@@ -37,7 +38,7 @@ fn device(operand: &Operand) -> Option<&DeviceSyntax> {
     }
 }
 
-fn text_of(d: &DeviceSyntax) -> String {
+pub(super) fn text_of(d: &DeviceSyntax) -> String {
     let number = if d.prefix.is_octal() {
         format!("{:o}", d.number)
     } else {
@@ -68,7 +69,14 @@ fn bit_area(prefix: Prefix) -> Option<BitArea> {
 }
 
 /// Checks that `count` units from `index` lie in an area of `len` units.
-fn check_extent(operand: &Operand, name: &str, index: u32, count: u32, len: u32, area_text: &str) -> Resolved<()> {
+pub(super) fn check_extent(
+    operand: &Operand,
+    name: &str,
+    index: u32,
+    count: u32,
+    len: u32,
+    area_text: &str,
+) -> Resolved<()> {
     if index >= len {
         return Err(range_error(
             operand,
@@ -95,61 +103,13 @@ fn area_text_bits(area: BitArea) -> String {
     )
 }
 
-fn area_text_words(area: WordArea) -> String {
+pub(super) fn area_text_words(area: WordArea) -> String {
     format!(
         "{} is {}..{}",
         area.prefix(),
         area.device_name(0),
         area.device_name(area.count() - 1)
     )
-}
-
-/// The index register must be a D, Z or V in range; an index register
-/// cannot itself be modified.
-fn index_register(d: &DeviceSyntax) -> Resolved<Option<IndexRegister>> {
-    let Some(o) = d.offset else {
-        return Ok(None);
-    };
-    if matches!(d.prefix, Prefix::V | Prefix::Z) {
-        return Err(Diagnostic::new(
-            Code::OperandKind,
-            o.span,
-            format!("`{}`: an index register cannot be modified", text_of(d)),
-        )
-        .with_label("modifier on an index register"));
-    }
-    let (letter, in_range, range) = match o.kind {
-        OffsetKind::D => ("D", o.register < WordArea::D.count(), area_text_words(WordArea::D)),
-        OffsetKind::Z => (
-            "Z",
-            o.register < INDEX_REGISTER_COUNT,
-            "index registers are Z0..Z7".to_string(),
-        ),
-        OffsetKind::V => (
-            "V",
-            o.register < INDEX_REGISTER_COUNT,
-            "index registers are V0..V7".to_string(),
-        ),
-    };
-    if !in_range {
-        return Err(Diagnostic::new(
-            Code::DeviceRange,
-            o.span,
-            format!("offset register {letter}{} is out of range", o.register),
-        )
-        .with_label(range)
-        .with_note(format!("in operand `{}`", text_of(d))));
-    }
-    Ok(Some(match o.kind {
-        OffsetKind::D => IndexRegister {
-            area: WordArea::D,
-            number: o.register,
-        },
-        OffsetKind::Z | OffsetKind::V => IndexRegister {
-            area: WordArea::Index,
-            number: index_register_word(o.register, o.kind == OffsetKind::V),
-        },
-    }))
 }
 
 /// A bit a contact reads: X Y M S SM T C, or Dn.b.
@@ -570,41 +530,6 @@ fn word_device(operand: &Operand, d: &DeviceSyntax, width: Width, multiple: u32)
     };
     check_extent(operand, &name, d.number, words, area.count(), &area_text_words(area))?;
     Ok(WordRef::Word(area, address))
-}
-
-/// `Vn`/`Zn` as a word; as a 32-bit operand `Zn` is the pair (Vn, Zn).
-fn index_register_value(operand: &Operand, d: &DeviceSyntax, wide: bool, multiple: u32) -> Resolved<WordRef> {
-    let name = text_of(d);
-    check_extent(
-        operand,
-        &name,
-        d.number,
-        1,
-        INDEX_REGISTER_COUNT,
-        &format!("index registers are {0}0..{0}7", d.prefix.as_str()),
-    )?;
-    if multiple > 1 {
-        return Err(kind_error(
-            operand,
-            "this result is several words long; use D, R, SD or a digit group",
-            "index register",
-        ));
-    }
-    let v = d.prefix == Prefix::V;
-    if wide && v {
-        return Err(kind_error(
-            operand,
-            format!(
-                "`{name}` cannot be a 32-bit operand: the 32-bit index register is Z{} (V{} is its high word)",
-                d.number, d.number
-            ),
-            "V as a 32-bit operand",
-        ));
-    }
-    Ok(WordRef::Word(
-        WordArea::Index,
-        Address::fixed(index_register_word(d.number, v)),
-    ))
 }
 
 fn counter_value(

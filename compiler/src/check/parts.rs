@@ -107,7 +107,7 @@ impl Checker {
             self.report(
                 Diagnostic::new(Code::MissingSret, span, "subroutine without SRET")
                     .with_label("this subroutine never ends")
-                    .with_note("end it with SRET before the next label, FEND or END"),
+                    .with_note("end it with SRET before FEND, END or the end of the file"),
             );
             self.blocks.set_subroutine(None);
         }
@@ -263,14 +263,18 @@ impl Checker {
     /// recursion (E0034) and nesting deeper than `CALL_DEPTH` (E0038).
     pub(super) fn resolve_calls(&mut self) {
         let calls = std::mem::take(&mut self.parts.calls);
-        let mut edges: Vec<(Option<usize>, usize, usize)> = Vec::new();
+        let mut edges = Vec::new();
         for call in &calls {
             match self.parts.by_label.get(&call.label) {
                 Some(&id) => {
                     if let Op::Call { subroutine, .. } = &mut self.instructions[call.instruction].op {
                         *subroutine = id;
                     }
-                    edges.push((call.caller, id, call.instruction));
+                    edges.push(CallEdge {
+                        caller: call.caller,
+                        callee: id,
+                        span: call.span,
+                    });
                 }
                 None if self.blocks.has_label(call.label) => self.report(
                     Diagnostic::new(
@@ -291,11 +295,9 @@ impl Checker {
                 ),
             }
         }
-        let span_of = |instruction: usize| calls.iter().find(|c| c.instruction == instruction).map(|c| c.span);
-        let graph = CallGraph::new(self.parts.subroutines.len(), &edges);
-        for (instruction, error) in graph.problems() {
-            let span = span_of(instruction).unwrap_or_default();
-            let diagnostic = match error {
+        for (edge, problem) in call_problems(self.parts.subroutines.len(), &edges) {
+            let span = edges[edge].span;
+            let diagnostic = match problem {
                 CallProblem::Recursion => Diagnostic::new(Code::Recursion, span, "recursive subroutine call")
                     .with_label("this CALL leads back to a subroutine that is still running"),
                 CallProblem::TooDeep => {
@@ -314,119 +316,145 @@ enum CallProblem {
     TooDeep,
 }
 
-/// Calls between program parts: (caller, callee, CALL instruction).
-struct CallGraph<'e> {
-    subroutines: usize,
-    edges: &'e [(Option<usize>, usize, usize)],
+/// A CALL from a program part (None: the main program) to a subroutine.
+#[derive(Clone, Copy, Debug)]
+struct CallEdge {
+    caller: Option<usize>,
+    callee: usize,
+    span: Span,
 }
 
-impl<'e> CallGraph<'e> {
-    fn new(subroutines: usize, edges: &'e [(Option<usize>, usize, usize)]) -> CallGraph<'e> {
-        CallGraph { subroutines, edges }
+/// Every CALL (by index into `edges`) that closes a cycle, and every CALL
+/// that runs at a level deeper than `CALL_DEPTH` on the deepest path from
+/// the main program, each once. Linear in parts and calls: a depth-first
+/// search from the main program's calls (then from the other parts) marks
+/// the calls to a part still on its path as cycles; without them the graph
+/// is acyclic, and the search's finishing order, reversed, is a topological
+/// order in which each part's level is final before its calls are used.
+fn call_problems(subroutines: usize, edges: &[CallEdge]) -> Vec<(usize, CallProblem)> {
+    #[derive(Clone, Copy, PartialEq)]
+    enum Mark {
+        New,
+        Active,
+        Done,
     }
-
-    /// Every CALL that closes a cycle, and every CALL that runs at a level
-    /// deeper than `CALL_DEPTH` (following the deepest path from the main
-    /// program), each once.
-    fn problems(&self) -> Vec<(usize, CallProblem)> {
-        #[derive(Clone, Copy, PartialEq)]
-        enum Mark {
-            New,
-            Active,
-            Done,
+    let mut outgoing: Vec<Vec<usize>> = vec![Vec::new(); subroutines];
+    let mut from_main = Vec::new();
+    for (index, edge) in edges.iter().enumerate() {
+        match edge.caller {
+            Some(caller) => outgoing[caller].push(index),
+            None => from_main.push(index),
         }
-        // Depth-first from every part, iteratively (call chains can be as
-        // long as there are labels): a call to an Active part closes a cycle.
-        let mut problems = Vec::new();
-        let mut marks = vec![Mark::New; self.subroutines];
-        let mut cyclic = vec![false; self.edges.len()];
-        for root in 0..self.subroutines {
-            if marks[root] != Mark::New {
+    }
+    let mut problems = Vec::new();
+    let mut cyclic = vec![false; edges.len()];
+    let mut marks = vec![Mark::New; subroutines];
+    let mut finished = Vec::with_capacity(subroutines);
+    let roots = from_main.iter().map(|&e| edges[e].callee).chain(0..subroutines);
+    for root in roots {
+        if marks[root] != Mark::New {
+            continue;
+        }
+        marks[root] = Mark::Active;
+        let mut stack = vec![(root, 0usize)];
+        while let Some((part, next)) = stack.last_mut() {
+            let part = *part;
+            let Some(&edge) = outgoing[part].get(*next) else {
+                marks[part] = Mark::Done;
+                finished.push(part);
+                stack.pop();
                 continue;
-            }
-            let mut stack = vec![(root, 0usize)];
-            marks[root] = Mark::Active;
-            while let Some(&mut (part, ref mut next)) = stack.last_mut() {
-                let outgoing = self
-                    .edges
-                    .iter()
-                    .enumerate()
-                    .filter(|(_, e)| e.0 == Some(part))
-                    .nth(*next);
-                *next += 1;
-                match outgoing {
-                    None => {
-                        marks[part] = Mark::Done;
-                        stack.pop();
-                    }
-                    Some((edge, &(_, callee, instruction))) => match marks[callee] {
-                        Mark::Active => {
-                            cyclic[edge] = true;
-                            problems.push((instruction, CallProblem::Recursion));
-                        }
-                        Mark::New => {
-                            marks[callee] = Mark::Active;
-                            stack.push((callee, 0));
-                        }
-                        Mark::Done => {}
-                    },
-                }
-            }
-        }
-        // Levels: the main program is level 0; a part runs at one more than
-        // the deepest level of a CALL to it. Without the cyclic calls the
-        // graph is acyclic, so relaxing the levels settles in as many rounds
-        // as there are parts.
-        let mut level: Vec<Option<u32>> = vec![None; self.subroutines];
-        for _ in 0..=self.subroutines {
-            let mut changed = false;
-            for (edge, &(caller, callee, _)) in self.edges.iter().enumerate() {
-                let caller_level = match caller {
-                    None => Some(0),
-                    Some(caller) => level[caller],
-                };
-                if let (Some(caller_level), false) = (caller_level, cyclic[edge]) {
-                    let at = (caller_level + 1).min(CALL_DEPTH + 1);
-                    if level[callee].is_none_or(|known| known < at) {
-                        level[callee] = Some(at);
-                        changed = true;
-                    }
-                }
-            }
-            if !changed {
-                break;
-            }
-        }
-        for &(caller, _, instruction) in self.edges {
-            let caller_level = match caller {
-                None => Some(0),
-                Some(caller) => level[caller],
             };
-            if caller_level.is_some_and(|l| l + 1 == CALL_DEPTH + 1) {
-                problems.push((instruction, CallProblem::TooDeep));
+            *next += 1;
+            let callee = edges[edge].callee;
+            match marks[callee] {
+                Mark::Active => {
+                    cyclic[edge] = true;
+                    problems.push((edge, CallProblem::Recursion));
+                }
+                Mark::New => {
+                    marks[callee] = Mark::Active;
+                    stack.push((callee, 0));
+                }
+                Mark::Done => {}
             }
         }
-        problems
     }
+    // Levels: the main program is 0, a part one more than the deepest CALL
+    // to it (capped, so that only the first CALL too deep is reported).
+    let mut level: Vec<Option<u32>> = vec![None; subroutines];
+    fn raise(callee: usize, at: u32, level: &mut [Option<u32>]) {
+        let at = at.min(CALL_DEPTH + 1);
+        if level[callee].is_none_or(|known| known < at) {
+            level[callee] = Some(at);
+        }
+    }
+    for &edge in &from_main {
+        raise(edges[edge].callee, 1, &mut level);
+    }
+    for &part in finished.iter().rev() {
+        let Some(at) = level[part] else { continue };
+        for &edge in &outgoing[part] {
+            if !cyclic[edge] {
+                raise(edges[edge].callee, at + 1, &mut level);
+            }
+        }
+    }
+    for (index, edge) in edges.iter().enumerate() {
+        let caller_level = edge.caller.map_or(Some(0), |caller| level[caller]);
+        if caller_level == Some(CALL_DEPTH) {
+            problems.push((index, CallProblem::TooDeep));
+        }
+    }
+    problems
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
+    fn edges(list: &[(Option<usize>, usize)]) -> Vec<CallEdge> {
+        list.iter()
+            .map(|&(caller, callee)| CallEdge {
+                caller,
+                callee,
+                span: Span::default(),
+            })
+            .collect()
+    }
+
     #[test]
     fn recursion_and_depth() {
-        // main -> 0 -> 1 -> 0 (cycle at the call in 1).
-        let edges = [(None, 0, 10), (Some(0), 1, 11), (Some(1), 0, 12)];
-        assert_eq!(CallGraph::new(2, &edges).problems(), vec![(12, CallProblem::Recursion)]);
+        // main -> 0 -> 1 -> 0: the cycle closes at the call in 1.
+        let cycle = edges(&[(None, 0), (Some(0), 1), (Some(1), 0)]);
+        assert_eq!(call_problems(2, &cycle), vec![(2, CallProblem::Recursion)]);
         // main -> 0 -> 1 -> 2 -> 3 -> 4 is five levels; 4 -> 5 is the sixth.
-        let chain: Vec<_> = (0..6usize).map(|n| (n.checked_sub(1), n, 20 + n)).collect();
-        assert_eq!(CallGraph::new(6, &chain[..5]).problems(), vec![]);
-        assert_eq!(CallGraph::new(6, &chain).problems(), vec![(25, CallProblem::TooDeep)]);
-        // Self-call.
+        let chain: Vec<_> = (0..6usize).map(|n| (n.checked_sub(1), n)).collect();
+        assert_eq!(call_problems(6, &edges(&chain[..5])), vec![]);
+        assert_eq!(call_problems(6, &edges(&chain)), vec![(5, CallProblem::TooDeep)]);
+        // The deepest path decides: 0 is called from main and from 3.
+        let deep = edges(&[
+            (None, 1),
+            (Some(1), 2),
+            (Some(2), 3),
+            (Some(3), 0),
+            (Some(0), 4),
+            (Some(4), 5),
+        ]);
+        assert_eq!(call_problems(6, &deep), vec![(5, CallProblem::TooDeep)]);
         assert_eq!(
-            CallGraph::new(1, &[(Some(0), 0, 3)]).problems(),
-            vec![(3, CallProblem::Recursion)]
+            call_problems(1, &edges(&[(Some(0), 0)])),
+            vec![(0, CallProblem::Recursion)]
         );
+    }
+
+    #[test]
+    fn many_calls_are_checked_in_linear_time() {
+        // 200,000 calls of one subroutine to itself and 4,096 chained
+        // subroutines: quadratic work here would take minutes.
+        let selfish = edges(&vec![(Some(0), 0); 200_000]);
+        assert_eq!(call_problems(1, &selfish).len(), 200_000);
+        let chain: Vec<_> = (0..4096usize).map(|n| (n.checked_sub(1), n)).collect();
+        assert_eq!(call_problems(4096, &edges(&chain)), vec![(5, CallProblem::TooDeep)]);
     }
 }

@@ -97,6 +97,19 @@ pub(super) fn reverse_postorder(function: &Function) -> Vec<BlockId> {
     order
 }
 
+/// The value of every constant of the function.
+fn constant_values(function: &Function) -> HashMap<Value, i64> {
+    function
+        .blocks
+        .iter()
+        .flat_map(|b| b.insts.iter())
+        .filter_map(|(result, inst)| match (result, inst) {
+            (Some(r), Inst::Const { value, .. }) => Some((*r, *value)),
+            _ => None,
+        })
+        .collect()
+}
+
 /// Relays with a value known for the whole program run.
 type Relays = HashMap<(BitArea, u32), bool>;
 
@@ -113,15 +126,7 @@ fn constant_relays<'f>(functions: impl Iterator<Item = &'f Function>) -> Relays 
         known.insert((BitArea::M, n), false);
     }
     for function in functions {
-        let constants: HashMap<Value, i64> = function
-            .blocks
-            .iter()
-            .flat_map(|b| b.insts.iter())
-            .filter_map(|(result, inst)| match (result, inst) {
-                (Some(r), Inst::Const { value, .. }) => Some((*r, *value)),
-                _ => None,
-            })
-            .collect();
+        let constants = constant_values(function);
         for block in &function.blocks {
             for (_, inst) in &block.insts {
                 for (area, start, count) in written_bits(inst, &constants) {
@@ -413,15 +418,7 @@ pub fn fold_constants(function: &mut Function, relays: &Relays) {
 
 /// A branch on a constant becomes a jump.
 pub fn fold_branches(function: &mut Function) {
-    let constants: HashMap<Value, i64> = function
-        .blocks
-        .iter()
-        .flat_map(|b| b.insts.iter())
-        .filter_map(|(result, inst)| match (result, inst) {
-            (Some(r), Inst::Const { value, .. }) => Some((*r, *value)),
-            _ => None,
-        })
-        .collect();
+    let constants = constant_values(function);
     for block in &mut function.blocks {
         if let Terminator::Branch {
             condition,

@@ -3,6 +3,7 @@
 //! instead of "unknown", and suggestions for mistyped mnemonics.
 
 use super::table::{lookup, mnemonics};
+use std::sync::OnceLock;
 
 /// FX3U instructions (base names, without the D prefix and P suffix of
 /// their forms) that ladderc does not implement.
@@ -53,14 +54,23 @@ pub fn unsupported_fx(mnemonic: &str) -> bool {
 
 /// The supported mnemonic closest to a mistyped one, if one is close.
 pub fn suggestion(mnemonic: &str) -> Option<&'static str> {
+    static SORTED: OnceLock<Vec<&'static str>> = OnceLock::new();
+    // No mnemonic is longer than this; a long word is no typo of one.
+    const LONGEST: usize = 8;
     let upper = mnemonic.to_ascii_uppercase();
+    let length = upper.chars().count();
+    if length > LONGEST + 2 {
+        return None;
+    }
     // Two edits for long words, one for short ones: `LDD` -> `LD`, but no
     // wild guess for `Q`.
-    let most = if upper.chars().count() > 4 { 2 } else { 1 };
+    let most = if length > 4 { 2 } else { 1 };
     let first = upper.chars().next();
-    mnemonics()
-        .into_iter()
-        .map(|candidate| {
+    SORTED
+        .get_or_init(mnemonics)
+        .iter()
+        .filter(|candidate| candidate.chars().count().abs_diff(length) <= most)
+        .map(|&candidate| {
             let distance = strsim::damerau_levenshtein(&upper, candidate);
             // Among equally close ones, a mnemonic with the same first
             // letter is the likelier typo.
@@ -91,5 +101,10 @@ mod tests {
         assert_eq!(suggestion("OTU"), Some("OUT"));
         assert_eq!(suggestion("MOOV"), Some("MOV"));
         assert_eq!(suggestion("XYZZY"), None);
+        assert_eq!(suggestion(&"A".repeat(100_000)), None);
+        assert!(
+            mnemonics().iter().all(|m| m.chars().count() <= 8),
+            "LONGEST in `suggestion` is the longest mnemonic"
+        );
     }
 }

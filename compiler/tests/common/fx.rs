@@ -32,6 +32,13 @@ fn index_rung() -> impl Strategy<Value = Rung> {
         "DMOV Z1 D4",
         "ADD Z0 V0 D[4-6]",
         "PLS M[0-9]Z0",
+        // Helper instructions with an index register as a single word.
+        "MEAN D[0-3] (Z0|V1) K2",
+        "ENCO (D0|X0) K[1-4] (Z0|V1)",
+        "SUM (Z1|V0) D[4-6]",
+        "MAX D0 D3 Z0",
+        "BMOV D0Z0 D10V1 K2",
+        "RST (Z0|V1)",
     ];
     (condition, proptest::collection::vec((Just(None), output), 1..3))
         .prop_map(|(condition, outputs)| Rung { condition, outputs })
