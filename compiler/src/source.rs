@@ -34,6 +34,69 @@ pub struct SourceFile {
     pub name: String,
     pub text: String,
     line_starts: Vec<usize>,
+    /// Where in `text` the first bytes that could not be decoded are (now
+    /// U+FFFD), if any: the front end reports the encoding there.
+    pub undecodable_at: Option<usize>,
+}
+
+/// How a program file's bytes are text.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Encoding {
+    /// UTF-8 without a byte-order mark.
+    Utf8,
+    /// UTF-8 with the byte-order mark EF BB BF.
+    Utf8WithMark,
+    /// UTF-16 little-endian, byte-order mark FF FE (GX Works2 exports).
+    Utf16Le,
+    /// UTF-16 big-endian, byte-order mark FE FF.
+    Utf16Be,
+}
+
+/// The text of a program file's bytes, its encoding (told by the byte-order
+/// mark, UTF-8 without one), and the offset in the text of the first bytes
+/// that are not valid in that encoding (decoded as U+FFFD).
+pub fn decode(bytes: &[u8]) -> (String, Encoding, Option<usize>) {
+    let utf16 = |rest: &[u8], big_endian: bool| {
+        let units = rest.chunks(2).map(|pair| match (pair, big_endian) {
+            ([high, low], true) | ([low, high], false) => u16::from_le_bytes([*low, *high]),
+            // An odd byte at the end: never a valid unit.
+            _ => 0xDC00,
+        });
+        let mut text = String::with_capacity(rest.len() / 2);
+        let mut undecodable = None;
+        for unit in char::decode_utf16(units) {
+            match unit {
+                Ok(c) => text.push(c),
+                Err(_) => {
+                    undecodable.get_or_insert(text.len());
+                    text.push(char::REPLACEMENT_CHARACTER);
+                }
+            }
+        }
+        (text, undecodable)
+    };
+    let utf8 = |rest: &[u8]| match std::str::from_utf8(rest) {
+        Ok(text) => (text.to_string(), None),
+        Err(error) => (String::from_utf8_lossy(rest).into_owned(), Some(error.valid_up_to())),
+    };
+    match bytes {
+        [0xEF, 0xBB, 0xBF, rest @ ..] => {
+            let (text, bad) = utf8(rest);
+            (text, Encoding::Utf8WithMark, bad)
+        }
+        [0xFF, 0xFE, rest @ ..] => {
+            let (text, bad) = utf16(rest, false);
+            (text, Encoding::Utf16Le, bad)
+        }
+        [0xFE, 0xFF, rest @ ..] => {
+            let (text, bad) = utf16(rest, true);
+            (text, Encoding::Utf16Be, bad)
+        }
+        _ => {
+            let (text, bad) = utf8(bytes);
+            (text, Encoding::Utf8, bad)
+        }
+    }
 }
 
 impl SourceFile {
@@ -46,11 +109,13 @@ impl SourceFile {
             name: name.into(),
             text,
             line_starts,
+            undecodable_at: None,
         }
     }
 
-    /// Reads a program file of at most `MAX_SOURCE_BYTES`; bytes that are
-    /// not UTF-8 become U+FFFD so that the front end can still point at them.
+    /// Reads a program file of at most `MAX_SOURCE_BYTES`, decoded as its
+    /// byte-order mark says (UTF-8 without one); bytes that are not valid
+    /// become U+FFFD and the front end reports where the first one is.
     /// Reading stops at the first NUL byte of a file that is not UTF-16 (it
     /// is not a text file; the front end reports it), so `/dev/zero` ends at
     /// once.
@@ -61,7 +126,11 @@ impl SourceFile {
 
     /// A program file's bytes as the front end sees them.
     pub fn from_bytes(name: impl Into<String>, bytes: &[u8]) -> SourceFile {
-        SourceFile::new(name, String::from_utf8_lossy(bytes).into_owned())
+        let (text, _, undecodable_at) = decode(bytes);
+        SourceFile {
+            undecodable_at,
+            ..SourceFile::new(name, text)
+        }
     }
 
     /// 1-based line number of a byte offset.
@@ -147,6 +216,29 @@ mod tests {
     fn reading_stops_at_binary_data() {
         let bytes = read_bounded(std::path::Path::new("/dev/zero")).unwrap();
         assert_eq!(bytes, [0]);
+    }
+
+    #[test]
+    fn byte_order_marks_decide_the_encoding() {
+        let utf16le: Vec<u8> = [0xFF, 0xFE]
+            .into_iter()
+            .chain("LD X0\r\n".encode_utf16().flat_map(u16::to_le_bytes))
+            .collect();
+        let utf16be: Vec<u8> = [0xFE, 0xFF]
+            .into_iter()
+            .chain("LD X0".encode_utf16().flat_map(u16::to_be_bytes))
+            .collect();
+        assert_eq!(decode(&utf16le), ("LD X0\r\n".to_string(), Encoding::Utf16Le, None));
+        assert_eq!(decode(&utf16be), ("LD X0".to_string(), Encoding::Utf16Be, None));
+        assert_eq!(
+            decode(b"\xEF\xBB\xBFLD X0"),
+            ("LD X0".to_string(), Encoding::Utf8WithMark, None)
+        );
+        assert_eq!(decode(b"LD X0"), ("LD X0".to_string(), Encoding::Utf8, None));
+        // Latin-1 without a mark, an unpaired surrogate, an odd last byte.
+        assert_eq!(decode(b"LD X0 ; caf\xE9").2, Some(11));
+        assert_eq!(decode(&[0xFF, 0xFE, b'L', 0, 0x00, 0xD8, b'D', 0]).2, Some(1));
+        assert_eq!(decode(&[0xFF, 0xFE, b'L', 0, b'D']).2, Some(1));
     }
 
     #[test]

@@ -78,7 +78,8 @@ fn every_mnemonic_is_in_the_language_reference() {
     assert!(missing.is_empty(), "not in docs/language.md: {missing:?}");
 }
 
-/// Every `.scn` file's text and the program files it names.
+/// Every `.scn` file's text and every program file (IL or a CSV export,
+/// decoded as ladderc reads it).
 fn scenario_texts() -> Vec<String> {
     let mut texts = Vec::new();
     let mut pending = vec![workspace().join("testsuite")];
@@ -87,8 +88,8 @@ fn scenario_texts() -> Vec<String> {
             let path = entry.unwrap().path();
             if path.is_dir() {
                 pending.push(path);
-            } else if path.extension().is_some_and(|e| e == "scn" || e == "il") {
-                texts.push(std::fs::read_to_string(&path).unwrap());
+            } else if path.extension().is_some_and(|e| e == "scn" || e == "il" || e == "csv") {
+                texts.push(ladderc::source::SourceFile::read(&path).unwrap().text);
             }
         }
     }

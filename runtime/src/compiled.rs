@@ -8,7 +8,7 @@
 //! (a test makes sure it does not call this module), so that the
 //! differential test compares two implementations.
 
-use crate::device::{BitArea, WordArea, MAX_BLOCK_UNITS};
+use crate::device::{BitArea, WordArea, MAX_BLOCK_UNITS, MAX_SHIFT_BITS};
 use crate::host::Width;
 use crate::memory::Memory;
 use crate::place::Place;
@@ -61,6 +61,42 @@ pub fn block_move(mem: &mut Memory, source: Place, destination: Place, n: u32, w
 /// high byte of 0). WTOB (`split` true): `n` bytes of the words from `source`
 /// (low byte first) into `n` words from `destination`, high bytes 0.
 /// Overlapping ranges give what reading everything first would give.
+/// SFTR (`left` false) / SFTL: the `n1` bits from `destination` move by
+/// `n2` toward it (right) or away from it (left), and the `n2` bits from
+/// `source`, read before anything moves, fill the vacated end. The places
+/// and 1 <= n2 <= n1 <= 1024 are checked by the caller.
+pub fn shift_bits(mem: &mut Memory, source: Place, destination: Place, n1: u32, n2: u32, left: bool) {
+    let n1 = n1.min(MAX_SHIFT_BITS);
+    let n2 = n2.min(n1);
+    let bit = |mem: &Memory, place: Place, k: u32| place.nth(k, Width::Single).read(mem, Width::Single) != 0;
+    // The incoming bits first: the source may lie inside the shifted run.
+    let mut incoming = [0u64; (MAX_SHIFT_BITS / 64) as usize];
+    for k in 0..n2 {
+        incoming[(k / 64) as usize] |= u64::from(bit(mem, source, k)) << (k % 64);
+    }
+    let set = |mem: &mut Memory, k: u32, on: bool| {
+        destination
+            .nth(k, Width::Single)
+            .write(mem, Width::Single, i64::from(on));
+    };
+    if left {
+        for k in (n2..n1).rev() {
+            let moved = bit(mem, destination, k - n2);
+            set(mem, k, moved);
+        }
+    } else {
+        for k in 0..n1 - n2 {
+            let moved = bit(mem, destination, k + n2);
+            set(mem, k, moved);
+        }
+    }
+    let vacated = if left { 0 } else { n1 - n2 };
+    for k in 0..n2 {
+        let on = incoming[(k / 64) as usize] >> (k % 64) & 1 != 0;
+        set(mem, vacated + k, on);
+    }
+}
+
 pub fn bytes(mem: &mut Memory, source: Place, destination: Place, n: u32, split: bool) {
     let word = |mem: &Memory, place: Place, unit: u32| place.nth(unit, Width::Single).read(mem, Width::Single);
     let put = |mem: &mut Memory, unit: u32, value: i32| {

@@ -64,6 +64,8 @@ pub const STATE_COUNT: u32 = 4096;
 pub const SORT_INSTANCES: u32 = 64;
 /// Largest unit count of BMOV/FMOV (more is operation error 4084H).
 pub const MAX_BLOCK_UNITS: u32 = 512;
+/// Most bits SFTR/SFTL shift (n1 above is operation error 4084H).
+pub const MAX_SHIFT_BITS: u32 = 1024;
 /// Number of previous-scan slots available to edge instructions of one program.
 pub const EDGE_SLOT_COUNT: u32 = 16384;
 

@@ -263,6 +263,15 @@ helpers! {
         }
     }
 
+    /// SFTR (`left` 0) or SFTL (`left` 1): `n1` bits from a checked place shift by `n2`; `n2` bits from a checked source fill the vacated end.
+    ShiftBits = fn ladder_rt_shift_bits(
+        mem, source: source_place, destination: destination_place, n1: u32, n2: u32, left: u32
+    ) -> none writes [] {
+        if let (Some(source), Some(destination)) = (Place::unpack(source), Place::unpack(destination)) {
+            compiled::shift_bits(mem, source, destination, n1, n2, left != 0)
+        }
+    }
+
     /// BTOW (`split` 0) or WTOB (`split` 1) of `n` bytes between checked word places.
     Bytes = fn ladder_rt_bytes(mem, source: source_place, destination: destination_place, n: u32, split: u32)
         -> none writes [] {

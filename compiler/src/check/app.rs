@@ -81,6 +81,8 @@ fn resolve_kind(operand: &Operand, kind: OperandKind, width: Width) -> Resolved<
         | OperandKind::Modified
         | OperandKind::DoubleDestination
         | OperandKind::BitDestination
+        | OperandKind::BitSource
+        | OperandKind::BitModified
         | OperandKind::BitTriple
         | OperandKind::RangeEnd
         | OperandKind::DigitSource
@@ -114,7 +116,8 @@ fn resolve_any(operand: &Operand, kind: OperandKind, width: Width) -> Resolved<A
         OperandKind::DoubleDestination => AppOperand::Word(operands::word_destination(operand, width, 2)?),
         OperandKind::BlockSource => AppOperand::Word(operands::word_device_source(operand, width)?),
         OperandKind::BlockDestination => AppOperand::Word(operands::word_destination(operand, width, 1)?),
-        OperandKind::BitDestination => AppOperand::Bit(operands::bit_target(operand)?),
+        OperandKind::BitDestination | OperandKind::BitModified => AppOperand::Bit(operands::bit_target(operand)?),
+        OperandKind::BitSource => AppOperand::Bit(operands::bit_source(operand)?),
         OperandKind::BitTriple => AppOperand::Bit(operands::bit_triple(operand)?),
         OperandKind::ElementSource => AppOperand::Element(operands::element(operand, false)?),
         OperandKind::ElementDestination => AppOperand::Element(operands::element(operand, true)?),
@@ -194,6 +197,8 @@ mod tests {
             (OperandKind::BlockSource, &["D0", "K1X0"]),
             (OperandKind::BlockDestination, &["R0"]),
             (OperandKind::BitDestination, &["M0", "D0.3"]),
+            (OperandKind::BitSource, &["X0", "M0", "D0.3"]),
+            (OperandKind::BitModified, &["Y0", "D0.3"]),
             (OperandKind::BitTriple, &["M0"]),
             (OperandKind::ElementSource, &["X0", "D0", "K3"]),
             (OperandKind::ElementDestination, &["M0", "D0"]),

@@ -37,6 +37,22 @@ pub fn compile_source(file: &SourceFile) -> (Option<CheckedProgram>, Vec<Diagnos
             .with_note("program files are text: UTF-8, UTF-16 with a byte-order mark, or a GX Works2 CSV export");
         return (None, vec![diagnostic]);
     }
+    // Bytes that are not text in the file's encoding: one error, before the
+    // garbage they decode to makes a cascade.
+    if let Some(at) = file.undecodable_at {
+        let end = at + char::REPLACEMENT_CHARACTER.len_utf8();
+        let diagnostic = Diagnostic::new(
+            Code::UnknownEncoding,
+            Span::new(at, end),
+            "text encoding not recognised",
+        )
+        .with_label("not valid UTF-8 (or UTF-16) here")
+        .with_note(
+            "program files are UTF-8 (with or without the byte-order mark EF BB BF) or UTF-16 with \
+                 a byte-order mark (FF FE or FE FF); save the file in one of these",
+        );
+        return (None, vec![diagnostic]);
+    }
     let (parsed, mut diagnostics) = syntax::parse(file);
     let (program, check_diagnostics) = check(&parsed, &file.name, file.text.len());
     diagnostics.extend(check_diagnostics);

@@ -31,6 +31,7 @@ fn write_raw(to_stderr: bool, text: &str) {
 mod build;
 mod check;
 mod explain;
+mod import;
 mod output;
 mod run;
 pub mod test;
@@ -85,6 +86,16 @@ pub enum Command {
     },
     /// Explain a diagnostic code such as E0010.
     Explain { code: String },
+    /// Convert a GX Works2 instruction-list CSV export to plain IL (step
+    /// numbers kept, line statements and notes as comments). The IL compiles
+    /// to the same program as the export.
+    Import {
+        /// The CSV export (UTF-16 or UTF-8).
+        export: PathBuf,
+        /// Where to write the IL (default: standard output).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+    },
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -130,6 +141,7 @@ pub fn main_with_args(args: impl IntoIterator<Item = std::ffi::OsString>) -> u8 
         Command::Run(args) => run::run(&args, shown),
         Command::Test { paths, engine } => test::run(&paths, &engine.kinds()),
         Command::Explain { code } => explain::run(&code),
+        Command::Import { export, output } => import::run(&export, output.as_ref(), shown),
     }
 }
 

@@ -255,6 +255,20 @@ before FOR, and put conditions inside the loop, or skip the loop with CJ.
 outside a loop may not jump into one: the loop's count would be skipped or
 left behind. Jump over the whole loop instead.";
 
+    MalformedCsvRow = "E0045", Error, "unreadable row of a GX Works2 CSV export",
+"A GX Works2 instruction-list export has one row per step: tab-separated
+fields in double quotes (step, line statement, instruction, operand, blank,
+PI statement, note). This row cannot be read: a quote is not closed, text
+follows a closing quote, or it holds an operand with no instruction above
+it. Export the program again, or fix the row.";
+
+    UnknownEncoding = "E0046", Error, "text encoding not recognised",
+"Program files are UTF-8 (with or without the byte-order mark EF BB BF) or
+UTF-16 with a byte-order mark (FF FE little-endian, as GX Works2 exports,
+or FE FF big-endian). The file holds bytes that are not valid in the
+encoding its start says, e.g. a Shift-JIS or Latin-1 file without a mark.
+Save it as UTF-8 or UTF-16.";
+
     CodeAfterEnd = "W0001", Warning, "code after END",
 "Instructions after END are never executed.";
 

@@ -26,13 +26,13 @@ use ladder_runtime::special::{self, SpecialBit};
 /// files (`interp/app/<family>.rs`, `lower/app/<family>.rs`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Family {
-    /// MOV, BMOV, FMOV, PRUN.
+    /// MOV, BMOV, FMOV, PRUN, XCH.
     Move,
     /// ADD, SUB, MUL, DIV, INC, DEC, NEG, SQR.
     Arithmetic,
-    /// WAND, WOR, WXOR, BON, SUM.
+    /// WAND, WOR, WXOR, CML, BON, SUM, ALT.
     Logic,
-    /// SWAP, ENCO, DECO, BTOW, WTOB, DIS, UNI.
+    /// SWAP, ENCO, DECO, BTOW, WTOB, DIS, UNI, BCD, BIN.
     Convert,
     /// CMP, ZCP.
     Compare,
@@ -44,13 +44,16 @@ pub enum Family {
     Check,
     /// ANS, ANR.
     Alarm,
+    /// ROR, ROL, SFTR, SFTL.
+    Shift,
 }
 
 impl Family {
-    pub const ALL: [Family; 9] = [
+    pub const ALL: [Family; 10] = [
         Family::Move,
         Family::Arithmetic,
         Family::Logic,
+        Family::Shift,
         Family::Convert,
         Family::Compare,
         Family::Table,
@@ -70,6 +73,7 @@ impl Family {
             Family::Table => "Tables and sorting",
             Family::Check => "Check codes",
             Family::Alarm => "Alarms",
+            Family::Shift => "Rotation and shift",
         }
     }
 }
@@ -557,6 +561,46 @@ app_instructions! {
         (s: ByteSource(ANY_WORD), d: Destination(WRITABLE_WORD), n: Count(COUNT))
         reads [SM_EIGHT_BIT_MODE] writes []
         "D = the CRC-16/MODBUS of N bytes from S (N 1-256)";
+    /// XCH D1 D2: the two values change places.
+    Xch: "XCH" "DXCH" pulse Move on
+        (d1: Modified(WRITABLE_WORD), d2: Modified(WRITABLE_WORD))
+        reads [] writes []
+        "exchanges D1 and D2";
+    /// ALT D: toggles bit D.
+    Alt: "ALT" _ pulse Logic on
+        (d: BitModified(WRITABLE_BITS))
+        reads [] writes []
+        "toggles bit D at every execution with power (ALTP: once per rising edge)";
+    /// BCD S D: binary to BCD.
+    Bcd: "BCD" "DBCD" pulse Convert on
+        (s: Source(ANY_VALUE), d: Destination(WRITABLE_WORD))
+        reads [] writes []
+        "D = S in BCD (S 0-9999, 0-99999999 for DBCD; else 4084H)";
+    /// BIN S D: BCD to binary.
+    Bin: "BIN" "DBIN" pulse Convert on
+        (s: Source(ANY_VALUE), d: Destination(WRITABLE_WORD))
+        reads [] writes []
+        "D = the BCD value S in binary (a digit above 9: 4084H)";
+    /// ROR D n: rotate right, M8022 the last bit out.
+    Ror: "ROR" "DROR" pulse Shift on
+        (d: Modified(WRITABLE_WORD), n: Count(COUNT))
+        reads [] writes [CARRY_FLAG]
+        "rotates D right by n bits (0-16, 0-32 for DROR; else 4084H); M8022 = the last bit rotated out";
+    /// ROL D n: rotate left, M8022 the last bit out.
+    Rol: "ROL" "DROL" pulse Shift on
+        (d: Modified(WRITABLE_WORD), n: Count(COUNT))
+        reads [] writes [CARRY_FLAG]
+        "rotates D left by n bits (0-16, 0-32 for DROL; else 4084H); M8022 = the last bit rotated out";
+    /// SFTR S D n1 n2: the n1 bits from D shift n2 toward D.
+    ShiftRight: "SFTR" _ pulse Shift on
+        (s: BitSource(ANY_BIT), d: BitModified(WRITABLE_BITS), n1: Count(CONSTANT), n2: Count(COUNT))
+        reads [] writes []
+        "shifts the n1 bits from D by n2 toward D; the n2 bits from S fill the top (1 ≤ n2 ≤ n1 ≤ 1024, else 4084H)";
+    /// SFTL S D n1 n2: the n1 bits from D shift n2 away from D.
+    ShiftLeft: "SFTL" _ pulse Shift on
+        (s: BitSource(ANY_BIT), d: BitModified(WRITABLE_BITS), n1: Count(CONSTANT), n2: Count(COUNT))
+        reads [] writes []
+        "shifts the n1 bits from D by n2 away from D; the n2 bits from S fill the bottom (1 ≤ n2 ≤ n1 ≤ 1024, else 4084H)";
     /// ANS S N D: sets alarm D after the rung was ON for N × 100 ms on timer S.
     Ans: "ANS" _ pulse Alarm always
         (s: Timer(Devices::of(DeviceClass::T)), n: Count(COUNT), d: BitDestination(Devices::of(DeviceClass::S)))

@@ -82,6 +82,11 @@ operand_kinds! {
     BlockDestination => WordRef, read: false, writes_bits: false;
     /// One bit written (BON D).
     BitDestination => BitRef, read: false, writes_bits: true;
+    /// The first of a run of bits read (SFTR S).
+    BitSource => BitRef, read: true, writes_bits: false;
+    /// One bit, or the first of a run of bits, read and then written (ALT D,
+    /// SFTR D).
+    BitModified => BitRef, read: true, writes_bits: true;
     /// The first of three consecutive bits written (CMP, ZCP results).
     BitTriple => BitRef, read: false, writes_bits: true;
     /// The first of a run of bits, or a word, read (ENCO S): a bit device is

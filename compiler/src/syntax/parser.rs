@@ -6,9 +6,18 @@ use super::{InstructionSyntax, ParsedProgram, Statement, StatementKind};
 use crate::diagnostics::{Code, Diagnostic, Diagnostics};
 use crate::source::{SourceFile, Span};
 
-/// Parses a whole source file. Problems are reported, never fatal: the
-/// result holds every statement that could be recognised.
+/// Parses a whole source file, plain IL or a GX Works2 CSV export (told by
+/// its content). Problems are reported, never fatal: the result holds every
+/// statement that could be recognised.
 pub fn parse(file: &SourceFile) -> (ParsedProgram, Diagnostics) {
+    if super::gxworks::is_export(&file.text) {
+        return super::gxworks::parse(file);
+    }
+    parse_il(file)
+}
+
+/// Parses plain IL.
+fn parse_il(file: &SourceFile) -> (ParsedProgram, Diagnostics) {
     let mut diagnostics = Diagnostics::default();
     let tokens = tokenize(&file.text);
     let statements = tokens
@@ -127,7 +136,7 @@ fn parse_line(file: &SourceFile, line: &[Token], diagnostics: &mut Diagnostics) 
 }
 
 /// `P12` or `P12:` (case-insensitive) is a label; returns its number.
-fn label_number(word: &str) -> Option<u32> {
+pub(super) fn label_number(word: &str) -> Option<u32> {
     let body = word.strip_suffix(':').unwrap_or(word);
     let digits = body.strip_prefix(['P', 'p'])?;
     if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {

@@ -1,4 +1,4 @@
-//! Conversions: SWAP, ENCO, DECO, BTOW, WTOB, DIS, UNI.
+//! Conversions: SWAP, ENCO, DECO, BTOW, WTOB, DIS, UNI, BCD, BIN.
 
 use super::{Outcome, Step};
 use crate::program::{Element, WordRef};
@@ -199,4 +199,37 @@ pub fn unite(step: &mut Step, s: &WordRef, d: &WordRef, n: &WordRef) -> Outcome 
     });
     step.write(destination, value);
     Ok(())
+}
+
+/// The largest value BCD converts: 4 or 8 decimal digits.
+fn bcd_limit(width: Width) -> i64 {
+    match width {
+        Width::Single => 9_999,
+        Width::Double => 99_999_999,
+    }
+}
+
+/// BCD S D: binary to BCD; S outside 0..=9999 (99999999) is 4084H.
+pub fn bcd([s]: [i64; 1], width: Width) -> Result<i64, OperationError> {
+    if !(0..=bcd_limit(width)).contains(&s) {
+        return Err(OperationError::DataOutOfRange);
+    }
+    let digits = s.to_string();
+    Ok(digits
+        .bytes()
+        .fold(0, |bcd, digit| (bcd << 4) | i64::from(digit - b'0')))
+}
+
+/// BIN S D: BCD to binary; a 4-bit digit above 9 is 4084H.
+pub fn bin([s]: [i64; 1], width: Width) -> Result<i64, OperationError> {
+    let bits = s as u64 & (u64::MAX >> (64 - width.bits()));
+    let mut value = 0;
+    for position in (0..width.bits() / 4).rev() {
+        let digit = (bits >> (4 * position)) & 0xF;
+        if digit > 9 {
+            return Err(OperationError::DataOutOfRange);
+        }
+        value = value * 10 + digit as i64;
+    }
+    Ok(value)
 }

@@ -1,5 +1,8 @@
-//! Logic and bits: WAND, WOR, WXOR, CML, BON, SUM.
+//! Logic and bits: WAND, WOR, WXOR, CML, BON, SUM, ALT.
 
+use super::{Outcome, Step};
+use crate::interp::access::{read_place, write_place};
+use crate::program::BitRef;
 use ladder_runtime::{OperationError, Width};
 
 pub fn wand([a, b]: [i64; 2], _: Width) -> Result<i64, OperationError> {
@@ -31,4 +34,15 @@ pub fn bon([s, n]: [i64; 2], width: Width) -> Result<bool, OperationError> {
 pub fn sum([s]: [i64; 1], width: Width) -> Result<(i64, [bool; 1]), OperationError> {
     let bits = s as u64 & (u64::MAX >> (64 - width.bits()));
     Ok((i64::from(bits.count_ones()), [bits == 0]))
+}
+
+/// ALT D: bit D turns to its opposite.
+pub fn alternate(step: &mut Step, d: &BitRef) -> Outcome {
+    let place = step.bits(d, 1, true);
+    step.commit()?;
+    if let Some(place) = place {
+        let on = read_place(step.mem, place);
+        write_place(step.mem, place, !on);
+    }
+    Ok(())
 }

@@ -1,4 +1,4 @@
-//! Transfers: MOV, BMOV, FMOV, PRUN.
+//! Transfers: MOV, BMOV, FMOV, PRUN, XCH.
 
 use super::{Outcome, Step};
 use crate::program::{BitRef, DigitGroup, WordRef};
@@ -89,6 +89,20 @@ pub fn octal_move(step: &mut Step, s: &DigitGroup, d: &DigitGroup) -> Outcome {
         .collect();
     for (k, value) in (0..).zip(values) {
         step.write(destination.nth(octal_position(d, k), Width::Single), value);
+    }
+    Ok(())
+}
+
+/// XCH D1 D2: both read, then D1 = old D2 and D2 = old D1 (in that order,
+/// so of overlapping pairs the shared word ends as D2's new value).
+pub fn exchange(step: &mut Step, d1: &WordRef, d2: &WordRef) -> Outcome {
+    let first = step.resolve(d1, step.width, 1, true);
+    let second = step.resolve(d2, step.width, 1, true);
+    step.commit()?;
+    if let (Some(first), Some(second)) = (first, second) {
+        let (a, b) = (step.read(first), step.read(second));
+        step.write(first, b);
+        step.write(second, a);
     }
     Ok(())
 }

@@ -1,4 +1,4 @@
-//! Conversions: SWAP, ENCO, DECO, BTOW, WTOB, DIS, UNI.
+//! Conversions: SWAP, ENCO, DECO, BTOW, WTOB, DIS, UNI, BCD, BIN.
 
 use super::Step;
 use crate::ir::{BinOp, Inst, Type, UnaryOp, Value};
@@ -238,4 +238,45 @@ pub fn unite(step: &mut Step, s: &WordRef, d: &WordRef, n: &WordRef) {
         value = b.binary(BinOp::Or, value, placed);
     }
     step.write(&destination, value);
+}
+
+/// BCD S D: S within 0..=9999 (99999999), else 4084H; each decimal digit by
+/// division into its 4 bits.
+pub fn bcd(step: &mut Step, [s]: [Value; 1]) -> Value {
+    let digits = step.width.bits() / 4;
+    step.require_within(s, 0, 10i64.pow(digits) - 1);
+    let ten = constant(step, 10);
+    let mut rest = s;
+    let mut bcd = constant(step, 0);
+    for position in 0..digits {
+        let b = step.b();
+        let digit = b.binary(BinOp::Rem, rest, ten);
+        rest = b.binary(BinOp::Div, rest, ten);
+        let shift = b.constant(Type::I64, i64::from(4 * position));
+        let placed = b.binary(BinOp::Shl, digit, shift);
+        bcd = b.binary(BinOp::Or, bcd, placed);
+    }
+    bcd
+}
+
+/// BIN S D: every 4-bit digit of S at most 9, else 4084H.
+pub fn bin(step: &mut Step, [s]: [Value; 1]) -> Value {
+    let bits = step.width.bits();
+    let mask = constant(step, (1i64 << bits) - 1);
+    let (fifteen, nine, ten) = (constant(step, 15), constant(step, 9), constant(step, 10));
+    let b = step.b();
+    let unsigned = b.binary(BinOp::And, s, mask);
+    let mut valid = b.bit(true);
+    let mut value = b.constant(Type::I64, 0);
+    for position in (0..bits / 4).rev() {
+        let shift = b.constant(Type::I64, i64::from(4 * position));
+        let shifted = b.binary(BinOp::UShr, unsigned, shift);
+        let digit = b.binary(BinOp::And, shifted, fifteen);
+        let decimal = b.compare(CompareOp::Le, digit, nine);
+        valid = b.and(valid, decimal);
+        let scaled = b.binary(BinOp::Mul, value, ten);
+        value = b.binary(BinOp::Add, scaled, digit);
+    }
+    step.require(valid, OperationError::DataOutOfRange);
+    value
 }

@@ -1,8 +1,11 @@
-//! Logic and bits: WAND, WOR, WXOR, CML, BON, SUM.
+//! Logic and bits: WAND, WOR, WXOR, CML, BON, SUM, ALT.
 
 use super::Step;
 use crate::ir::{BinOp, Inst, Type, UnaryOp, Value};
 use crate::isa::CompareOp;
+use crate::lower::operand::Units;
+use crate::program::BitRef;
+use ladder_runtime::Width;
 
 pub fn wand(step: &mut Step, [a, b]: [Value; 2]) -> Value {
     step.b().binary(BinOp::And, a, b)
@@ -47,4 +50,14 @@ pub fn sum(step: &mut Step, [s]: [Value; 1]) -> (Value, [Value; 1]) {
     let zero = b.constant(Type::I64, 0);
     let none = b.compare(CompareOp::Eq, bits, zero);
     (count, [none])
+}
+
+/// ALT D: the bit is written back inverted.
+pub fn alternate(step: &mut Step, d: &BitRef) {
+    let d = step.bits(d, Units::Checked(1), true);
+    step.commit();
+    let now = step.read_at(&d, Width::Single);
+    let zero = step.b().constant(Type::I64, 0);
+    let off = step.b().compare(CompareOp::Eq, now, zero);
+    step.write_bit(&d, off);
 }

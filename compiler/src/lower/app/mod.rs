@@ -15,6 +15,7 @@ mod compare;
 mod convert;
 mod logic;
 mod moves;
+mod shift;
 mod table;
 mod zone;
 
@@ -100,6 +101,14 @@ fn dispatch(step: &mut Step, args: &AppArgs, run: &Execution) {
         AppArgs::Crc { s, d, n } => check::crc(step, s, d, n),
         AppArgs::Ans { s, n, d } => alarm::set(step, run, s, n, d),
         AppArgs::Anr {} => alarm::reset(step),
+        AppArgs::Xch { d1, d2 } => moves::exchange(step, d1, d2),
+        AppArgs::Alt { d } => logic::alternate(step, d),
+        AppArgs::Bcd { s, d } => step.map([s], d, convert::bcd),
+        AppArgs::Bin { s, d } => step.map([s], d, convert::bin),
+        AppArgs::Ror { d, n } => shift::rotate(step, d, n, true),
+        AppArgs::Rol { d, n } => shift::rotate(step, d, n, false),
+        AppArgs::ShiftRight { s, d, n1, n2 } => shift::shift_bits(step, s, d, n1, n2, false),
+        AppArgs::ShiftLeft { s, d, n1, n2 } => shift::shift_bits(step, s, d, n1, n2, true),
     }
 }
 

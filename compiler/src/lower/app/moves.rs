@@ -1,4 +1,4 @@
-//! Transfers: MOV, BMOV, FMOV, PRUN.
+//! Transfers: MOV, BMOV, FMOV, PRUN, XCH.
 
 use super::Step;
 use crate::ir::{Type, Value};
@@ -84,4 +84,15 @@ pub fn octal_move(step: &mut Step, s: &DigitGroup, d: &DigitGroup) {
         let unit = step.l.nth(&destination, octal_position(d, k), Width::Single);
         step.l.write(&unit, Width::Single, value);
     }
+}
+
+/// XCH D1 D2: both read, then D1 = old D2 and D2 = old D1.
+pub fn exchange(step: &mut Step, d1: &WordRef, d2: &WordRef) {
+    let width = step.width;
+    let first = step.resolve(d1, width, Units::Checked(1), true);
+    let second = step.resolve(d2, width, Units::Checked(1), true);
+    step.commit();
+    let (a, b) = (step.read(&first), step.read(&second));
+    step.write(&first, b);
+    step.write(&second, a);
 }

@@ -1,0 +1,65 @@
+//! `ladderc import`: a GX Works2 instruction-list CSV export as plain IL, so
+//! that a team can keep the program as text in version control.
+
+use super::{output, status, write_raw};
+use crate::diagnostics::Shown;
+use crate::source::SourceFile;
+use crate::syntax::gxworks;
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+
+pub fn run(export: &Path, output_path: Option<&PathBuf>, shown: Shown) -> u8 {
+    let source = match SourceFile::read(export) {
+        Ok(source) => source,
+        Err(error) => {
+            say_err!("error: {error}");
+            return status::UNUSABLE;
+        }
+    };
+    if !gxworks::is_export(&source.text) {
+        say_err!(
+            "error: {} is not a GX Works2 instruction-list CSV export (tab-separated quoted fields, a program-name \
+             line first); plain IL needs no import",
+            export.display()
+        );
+        return status::UNUSABLE;
+    }
+    // Checked before converting: a refused output is refused however the
+    // export is.
+    let target = match output_path.map(|path| output::prepare(path, &[export])) {
+        None => None,
+        Some(Ok(target)) => Some(target),
+        Some(Err(error)) => {
+            say_err!("error: {error}");
+            return status::UNUSABLE;
+        }
+    };
+    if let Some(at) = source.undecodable_at {
+        // The same report the front end gives, then nothing is written.
+        let (_, diagnostics) = crate::check::compile_source(&source);
+        write_raw(true, &crate::diagnostics::render_all(&source, &diagnostics, shown));
+        debug_assert!(diagnostics.iter().any(|d| d.span.start as usize == at));
+        return status::FAILED;
+    }
+    let il = match gxworks::to_il(&source) {
+        Ok(il) => il,
+        Err(diagnostics) => {
+            let diagnostics = diagnostics.into_sorted();
+            write_raw(true, &crate::diagnostics::render_all(&source, &diagnostics, shown));
+            return status::FAILED;
+        }
+    };
+    match target {
+        None => {
+            let _ = std::io::stdout().lock().write_all(il.as_bytes());
+            status::OK
+        }
+        Some(path) => match output::write_atomically(&path, il.as_bytes()) {
+            Ok(()) => status::OK,
+            Err(error) => {
+                say_err!("error: cannot write {}: {error}", path.display());
+                status::FAILED
+            }
+        },
+    }
+}
