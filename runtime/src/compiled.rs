@@ -56,11 +56,6 @@ pub fn block_move(mem: &mut Memory, source: Place, destination: Place, n: u32, w
     }
 }
 
-/// BTOW (`split` false): the low bytes of `n` words from `source` packed two
-/// to a word from `destination` (low byte first; an odd last byte gets a
-/// high byte of 0). WTOB (`split` true): `n` bytes of the words from `source`
-/// (low byte first) into `n` words from `destination`, high bytes 0.
-/// Overlapping ranges give what reading everything first would give.
 /// SFTR (`left` false) / SFTL: the `n1` bits from `destination` move by
 /// `n2` toward it (right) or away from it (left), and the `n2` bits from
 /// `source`, read before anything moves, fill the vacated end. The places
@@ -97,6 +92,11 @@ pub fn shift_bits(mem: &mut Memory, source: Place, destination: Place, n1: u32, 
     }
 }
 
+/// BTOW (`split` false): the low bytes of `n` words from `source` packed two
+/// to a word from `destination` (low byte first; an odd last byte gets a
+/// high byte of 0). WTOB (`split` true): `n` bytes of the words from `source`
+/// (low byte first) into `n` words from `destination`, high bytes 0.
+/// Overlapping ranges give what reading everything first would give.
 pub fn bytes(mem: &mut Memory, source: Place, destination: Place, n: u32, split: bool) {
     let word = |mem: &Memory, place: Place, unit: u32| place.nth(unit, Width::Single).read(mem, Width::Single);
     let put = |mem: &mut Memory, unit: u32, value: i32| {

@@ -34,11 +34,11 @@ pub fn run(export: &Path, output_path: Option<&PathBuf>, shown: Shown) -> u8 {
             return status::UNUSABLE;
         }
     };
-    if let Some(at) = source.undecodable_at {
-        // The same report the front end gives, then nothing is written.
+    if source.undecodable_at.is_some() || source.text.contains('\0') {
+        // Not text: the front end's one diagnostic (E0046 or E0009), and
+        // nothing is written.
         let (_, diagnostics) = crate::check::compile_source(&source);
         write_raw(true, &crate::diagnostics::render_all(&source, &diagnostics, shown));
-        debug_assert!(diagnostics.iter().any(|d| d.span.start as usize == at));
         return status::FAILED;
     }
     let il = match gxworks::to_il(&source) {

@@ -33,9 +33,14 @@ const NOTE: usize = 6;
 /// fields follows within the first lines. (Plain IL never starts with a
 /// quote.)
 pub fn is_export(text: &str) -> bool {
-    let mut lines = text.lines().map(str::trim).filter(|l| !l.is_empty());
-    let starts_quoted = lines.next().is_some_and(|first| first.starts_with('"'));
-    starts_quoted && text.lines().take(8).any(|line| line.contains("\"\t\""))
+    let mut lines = text.lines().filter(|l| !l.trim().is_empty());
+    let starts_quoted = lines.next().is_some_and(|first| first.trim_start().starts_with('"'));
+    starts_quoted
+        && text
+            .lines()
+            .filter(|l| !l.trim().is_empty())
+            .take(8)
+            .any(|line| line.contains("\"\t\""))
 }
 
 /// One field of a row: its text (quotes removed, `""` unescaped) and the
@@ -175,6 +180,10 @@ pub fn parse(file: &SourceFile) -> (ParsedProgram, Diagnostics) {
     let mut statements: Vec<Statement> = Vec::new();
     for row in rows(file, &mut diagnostics) {
         let operand = row.field(OPERAND);
+        if let Some(problem) = row_problem(&row) {
+            diagnostics.push(problem);
+            continue;
+        }
         match row.field(INSTRUCTION) {
             Some(instruction) => {
                 let word = instruction.text.trim();
@@ -237,6 +246,42 @@ pub fn parse(file: &SourceFile) -> (ParsedProgram, Diagnostics) {
     (ParsedProgram { statements }, diagnostics)
 }
 
+/// What makes a row that splits into fields still unreadable: a step that
+/// is not a number, an instruction field that is not one word, an operand
+/// on a label's row. (Such rows would also not survive `to_il`.)
+fn row_problem(row: &Row) -> Option<Diagnostic> {
+    let problem = |field: usize, message: &str, label: &str| {
+        let span = row.fields.get(field).map_or_else(Span::default, |f| f.span);
+        Some(Diagnostic::new(Code::MalformedCsvRow, span, message.to_string()).with_label(label.to_string()))
+    };
+    if !row.text(STEP).bytes().all(|b| b.is_ascii_digit()) {
+        return problem(STEP, "the step column holds a step number", "not a number");
+    }
+    let instruction = row.text(INSTRUCTION);
+    if instruction.contains(|c: char| c.is_whitespace() || c == ';' || c == ',') || instruction.contains("//") {
+        return problem(
+            INSTRUCTION,
+            "the instruction column holds one word",
+            "more than an instruction",
+        );
+    }
+    let operand = row.text(OPERAND);
+    if operand.contains(|c: char| c.is_whitespace() || c == ';' || c == ',') || operand.contains("//") {
+        return problem(OPERAND, "the operand column holds one operand", "more than one operand");
+    }
+    if label_number(instruction).is_some() && !operand.is_empty() {
+        return problem(
+            OPERAND,
+            "a label's row holds no operand",
+            "labels are rows of their own",
+        );
+    }
+    if instruction.contains('\0') || row.comments().any(|c| c.contains('\0')) {
+        return problem(INSTRUCTION, "a NUL character in the row", "not text");
+    }
+    None
+}
+
 fn add_operand(syntax: &mut InstructionSyntax, span: &mut Span, field: &Field, diagnostics: &mut Diagnostics) {
     let text = field.text.trim();
     let offset = field.text.find(text).unwrap_or(0);
@@ -252,101 +297,117 @@ fn add_operand(syntax: &mut InstructionSyntax, span: &mut Span, field: &Field, d
     }
 }
 
+/// One line of the IL `to_il` writes.
+enum IlLine {
+    Comment(String),
+    /// An instruction or label: its step and mnemonic, its operands, and the
+    /// notes of its rows.
+    Instruction {
+        head: String,
+        operands: Vec<String>,
+        notes: Vec<String>,
+    },
+}
+
 /// The export as plain IL: a line per instruction or label with its step
 /// number first, its operands after it, line statements as `//` comment
 /// lines before it and notes as a `;` comment after it; the export's header
 /// lines (program name, PLC information) as comments at the top. Reading
-/// the IL gives the same program as reading the export.
+/// the IL gives the same program as reading the export (its instructions;
+/// the lines D8069 records are the IL's).
 pub fn to_il(file: &SourceFile) -> Result<String, Diagnostics> {
-    let mut diagnostics = Diagnostics::default();
-    let mut header = Vec::new();
-    let starts = file.line_starts();
-    for (index, &start) in starts.iter().enumerate().take(2) {
-        let end = starts.get(index + 1).copied().unwrap_or(file.text.len());
-        if let Ok(row) = split_row(file.text[start..end].trim_end_matches(['\n', '\r']), start, 0) {
-            if !row.is_data() {
-                let words: Vec<&str> = row
-                    .fields
-                    .iter()
-                    .map(|f| f.text.trim())
-                    .filter(|t| !t.is_empty())
-                    .collect();
-                header.push(format!("// {}", words.join(" ")));
-            }
-        }
-    }
     // What `parse` reports is what makes the export unreadable here too.
     let (_, parse_diagnostics) = parse(file);
     if parse_diagnostics.has_errors() {
         return Err(parse_diagnostics);
     }
-    let mut lines = header;
+    let mut diagnostics = Diagnostics::default();
+    let mut lines: Vec<IlLine> = Vec::new();
+    // The program-name and PLC-information lines.
+    let starts = file.line_starts();
+    let header_rows = starts.iter().enumerate().filter_map(|(index, &start)| {
+        let end = starts.get(index + 1).copied().unwrap_or(file.text.len());
+        let line = file.text[start..end].trim_end_matches(['\n', '\r']);
+        (!line.trim().is_empty())
+            .then(|| split_row(line, start, 0).ok())
+            .flatten()
+    });
+    for row in header_rows.take(2).filter(|row| !row.is_data()) {
+        let words: Vec<&str> = row
+            .fields
+            .iter()
+            .map(|f| f.text.trim())
+            .filter(|t| !t.is_empty())
+            .collect();
+        lines.push(IlLine::Comment(one_line(&words.join(" "))));
+    }
     let name = std::path::Path::new(&file.name)
         .file_name()
         .map_or(file.name.clone(), |n| n.to_string_lossy().into_owned());
-    lines.push(format!("// imported from {name} by ladderc import"));
+    lines.push(IlLine::Comment(format!("imported from {name} by ladderc import")));
     // The line of the instruction that operand rows continue.
     let mut instruction_line = None;
     for row in rows(file, &mut diagnostics) {
         let instruction = row.text(INSTRUCTION);
         let operand = row.text(OPERAND);
-        let comments: Vec<&str> = row.comments().collect();
+        let notes = [PI_STATEMENT, NOTE]
+            .into_iter()
+            .map(|i| row.text(i))
+            .filter(|t| !t.is_empty())
+            .map(one_line);
         match (instruction.is_empty(), operand.is_empty()) {
             (false, _) => {
                 let statement = row.text(LINE_STATEMENT);
                 if !statement.is_empty() {
-                    lines.push(format!("// {}", one_line(statement)));
+                    lines.push(IlLine::Comment(one_line(statement)));
                 }
                 let step = row.text(STEP);
-                let mut line = if step.is_empty() {
+                let head = if step.is_empty() {
                     instruction.to_string()
                 } else {
                     format!("{step}\t{instruction}")
                 };
-                if !operand.is_empty() {
-                    line = format!("{line}\t{operand}");
-                }
-                lines.push(line);
+                lines.push(IlLine::Instruction {
+                    head,
+                    operands: (!operand.is_empty()).then(|| operand.to_string()).into_iter().collect(),
+                    notes: notes.collect(),
+                });
                 instruction_line = Some(lines.len() - 1);
-                append_notes(&mut lines, instruction_line, &row);
             }
             (true, false) => {
-                if let Some(last) = instruction_line.and_then(|i| lines.get_mut(i)) {
-                    // Before any `;` comment the instruction line already has.
-                    match last.find(" ;") {
-                        Some(comment) => last.insert_str(comment, &format!(" {operand}")),
-                        None => last.push_str(&format!(" {operand}")),
-                    }
+                // A line statement on an operand row stays with its
+                // instruction, as a note.
+                let statement = Some(row.text(LINE_STATEMENT)).filter(|t| !t.is_empty()).map(one_line);
+                if let Some(IlLine::Instruction {
+                    operands, notes: kept, ..
+                }) = instruction_line.and_then(|i| lines.get_mut(i))
+                {
+                    operands.push(operand.to_string());
+                    kept.extend(statement.into_iter().chain(notes));
                 }
-                append_notes(&mut lines, instruction_line, &row);
             }
-            (true, true) => {
-                for comment in comments {
-                    lines.push(format!("// {}", one_line(comment)));
+            (true, true) => lines.extend(row.comments().map(|c| IlLine::Comment(one_line(c)))),
+        }
+    }
+    let mut il = String::new();
+    for line in lines {
+        match line {
+            IlLine::Comment(text) => il.push_str(format!("// {text}").trim_end()),
+            IlLine::Instruction { head, operands, notes } => {
+                il.push_str(&head);
+                if !operands.is_empty() {
+                    il.push('\t');
+                    il.push_str(&operands.join(" "));
+                }
+                if !notes.is_empty() {
+                    il.push_str(" ; ");
+                    il.push_str(&notes.join(" / "));
                 }
             }
         }
+        il.push('\n');
     }
-    Ok(lines.join("\n") + "\n")
-}
-
-/// The PI statement and note of an instruction or operand row, after the
-/// instruction line as a `;` comment.
-fn append_notes(lines: &mut [String], instruction_line: Option<usize>, row: &Row) {
-    let notes: Vec<String> = [PI_STATEMENT, NOTE]
-        .into_iter()
-        .map(|i| row.text(i))
-        .filter(|t| !t.is_empty())
-        .map(one_line)
-        .collect();
-    if let (Some(last), false) = (instruction_line.and_then(|i| lines.get_mut(i)), notes.is_empty()) {
-        let joined = notes.join(" / ");
-        if last.contains(" ;") {
-            last.push_str(&format!(" / {joined}"));
-        } else {
-            last.push_str(&format!(" ; {joined}"));
-        }
-    }
+    Ok(il)
 }
 
 /// A comment on one line: line breaks inside a field become blanks.
@@ -423,6 +484,33 @@ mod tests {
             .collect();
         found.sort();
         assert_eq!(found, [(Code::MalformedCsvRow, 4), (Code::MalformedCsvRow, 5)]);
+    }
+
+    #[test]
+    fn rows_that_would_not_survive_import_are_errors() {
+        for bad in [
+            row(["6", "", "P1", "K5", "", "", ""]),
+            row(["1", "", "LD X0", "", "", "", ""]),
+            row(["x", "", "OUT", "Y0", "", "", ""]),
+            row(["1", "", "LD", "X0 X1", "", "", ""]),
+        ] {
+            let first = row(["0", "", "LD", "X0", "", "", ""]);
+            let (_, diagnostics) = parse(&export(&[&first, &bad]));
+            assert_eq!(
+                diagnostics.iter().map(|d| d.code).collect::<Vec<_>>(),
+                [Code::MalformedCsvRow],
+                "{bad}"
+            );
+        }
+    }
+
+    #[test]
+    fn import_is_linear_in_operand_rows() {
+        let operands: Vec<String> = (0..200_000).map(|_| row(["", "", "", "K1", "", "", "n"])).collect();
+        let mut rows: Vec<&str> = vec!["\"0\"\t\"\"\t\"LD\"\t\"X0\"\t\"\"\t\"\"\t\"\""];
+        rows.extend(operands.iter().map(String::as_str));
+        let il = to_il(&export(&rows)).unwrap();
+        assert_eq!(il.matches("K1").count(), 200_000);
     }
 
     #[test]
