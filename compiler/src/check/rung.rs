@@ -22,6 +22,14 @@ pub struct RungTracker {
     branches: u32,
     /// The rung holds an unknown instruction: structural errors are skipped.
     poisoned: bool,
+    /// The first contact (or MRD/MPP) after the rung's last output: it
+    /// drives nothing unless another output follows.
+    dangling: Option<Span>,
+    /// The latest open MPS.
+    last_push: Option<Span>,
+    /// An LD-type instruction right after an output while a branch point
+    /// was open: usually the start of a new rung with the MPP forgotten.
+    block_after_branch: Option<Span>,
 }
 
 impl RungTracker {
@@ -58,7 +66,11 @@ impl RungTracker {
             self.close(span, diagnostics);
             self.start = Some(span);
         } else {
+            if self.last_was_output && self.branches > 0 && self.block_after_branch.is_none() {
+                self.block_after_branch = Some(span);
+            }
             self.blocks += 1;
+            self.note_dangling(span);
         }
         self.last_was_output = false;
         new_rung
@@ -67,7 +79,15 @@ impl RungTracker {
     /// AND/OR-type contacts, INV, MEP/MEF: need an open rung.
     pub fn series(&mut self, span: Span, diagnostics: &mut Diagnostics) {
         self.require_rung(span, diagnostics);
+        self.note_dangling(span);
         self.last_was_output = false;
+    }
+
+    /// After an output, a contact starts logic that needs another output.
+    fn note_dangling(&mut self, span: Span) {
+        if self.outputs_seen && self.dangling.is_none() {
+            self.dangling = Some(span);
+        }
     }
 
     /// ANB/ORB.
@@ -89,6 +109,7 @@ impl RungTracker {
     pub fn push(&mut self, span: Span, diagnostics: &mut Diagnostics) {
         if self.require_rung(span, diagnostics) {
             self.branches += 1;
+            self.last_push = Some(span);
             if self.branches == MPS_DEPTH + 1 {
                 diagnostics.push(
                     Diagnostic::new(Code::StackOverflow, span, "MPS nested deeper than 11")
@@ -113,6 +134,7 @@ impl RungTracker {
         } else if pop {
             self.branches -= 1;
         }
+        self.note_dangling(span);
         self.last_was_output = false;
     }
 
@@ -129,9 +151,14 @@ impl RungTracker {
         if self.blocks > 0 && !self.poisoned {
             diagnostics.push(self.pending_blocks(span, "this output"));
             self.blocks = 0;
+            if self.block_after_branch.take().is_some() {
+                // Reported as the missing MPP: not again at the rung's end.
+                self.branches = 0;
+            }
         }
         self.outputs_seen = true;
         self.last_was_output = true;
+        self.dangling = None;
     }
 
     /// POP, NETWORK, STL, STLE, MCR, labels, END and the end of the source:
@@ -163,11 +190,32 @@ impl RungTracker {
                     .with_label("these contacts drive nothing")
                     .with_related(span, "the rung ends here"),
             );
+        } else if let Some(dangling) = self.dangling {
+            diagnostics.push(
+                Diagnostic::new(
+                    Code::NoOutput,
+                    dangling,
+                    "contacts after the rung's last output drive nothing",
+                )
+                .with_label("no output follows this")
+                .with_related(span, "the rung ends here"),
+            );
         }
         *self = RungTracker::default();
     }
 
     fn pending_blocks(&self, span: Span, place: &str) -> Diagnostic {
+        if let Some(block) = self.block_after_branch {
+            // `MPS / AND X1 / OUT Y0 / LD X2 / OUT Y1`: the LD was meant to
+            // start a new rung, but the branch point is still open.
+            let diagnostic = Diagnostic::new(Code::OpenBranch, block, "MPS without MPP before a new rung")
+                .with_label("this LD continues the rung because a branch point is still open")
+                .with_note("end the branches with MPP before the next rung");
+            return match self.last_push {
+                Some(push) => diagnostic.with_related(push, "the open MPS"),
+                None => diagnostic,
+            };
+        }
         Diagnostic::new(
             Code::PendingBlocks,
             span,

@@ -10,10 +10,11 @@ use std::path::PathBuf;
 
 #[derive(Args, Debug)]
 pub struct BuildArgs {
-    /// The instruction-list program.
+    /// The program: IL or a GX Works2 CSV export (`-` reads standard input).
     program: PathBuf,
-    /// Output file (default: the program's name with `.o`; for `--emit ir`,
-    /// standard output).
+    /// Output file, `-` for standard output (default: the program's name
+    /// with `.o`; for `--emit ir` or a program from standard input, standard
+    /// output).
     #[arg(short = 'o', long = "output")]
     output: Option<PathBuf>,
     /// Target triple, e.g. aarch64-unknown-linux-gnu or riscv64gc-unknown-linux-gnu
@@ -42,8 +43,12 @@ pub fn run(args: &BuildArgs, shown: Shown) -> u8 {
         say_err!("error: --prefix `{}`: {message}", args.prefix);
         return status::UNUSABLE;
     }
+    // `-o -`, and a program read from standard input without `-o`, write
+    // to standard output.
     let output = match (&args.output, args.emit) {
+        (Some(path), _) if super::is_standard_stream(path) => None,
         (Some(path), _) => Some(path.clone()),
+        (None, Emit::Obj) if super::is_standard_stream(&args.program) => None,
         (None, Emit::Obj) => Some(args.program.with_extension("o")),
         (None, Emit::Ir) => None,
     };

@@ -3,7 +3,15 @@
 use super::status;
 use crate::diagnostics::Code;
 
-pub fn run(code: &str) -> u8 {
+/// `explain CODE`, or with no code every code with its title.
+pub fn run(code: Option<&str>) -> u8 {
+    let Some(code) = code else {
+        for &code in Code::ALL {
+            say!("{code}  {}", code.title());
+        }
+        say!("\n`ladderc explain CODE` explains one of them.");
+        return status::OK;
+    };
     match code.parse::<Code>() {
         Ok(code) => {
             say!("{code}: {}\n\n{}", code.title(), code.explanation());

@@ -69,7 +69,7 @@ pub struct Cli {
 pub enum Command {
     /// Check a program and print its diagnostics.
     Check {
-        /// The instruction-list program.
+        /// The program: IL or a GX Works2 CSV export (`-` reads standard input).
         program: PathBuf,
     },
     /// Compile a program to an object file (or show its IR).
@@ -78,14 +78,23 @@ pub enum Command {
     Run(run::RunArgs),
     /// Run scenario files (folders are searched for *.scn).
     Test {
+        /// Scenario files, or folders searched for `*.scn` (recursively).
         #[arg(required = true)]
         paths: Vec<PathBuf>,
         /// Engines to run each scenario on.
         #[arg(long, value_enum, default_value_t = EngineChoice::All)]
         engine: EngineChoice,
     },
-    /// Explain a diagnostic code such as E0010.
-    Explain { code: String },
+    /// Explain a diagnostic code such as E0010 (without one: list every code).
+    Explain {
+        /// A code such as E0010 or W0002.
+        code: Option<String>,
+    },
+    /// Print a shell completion script: `ladderc completions bash > /etc/bash_completion.d/ladderc`.
+    Completions {
+        /// The shell.
+        shell: clap_complete::Shell,
+    },
     /// Convert a GX Works2 instruction-list CSV export to plain IL (step
     /// numbers kept, line statements and notes as comments). The IL compiles
     /// to the same program as the export.
@@ -140,7 +149,13 @@ pub fn main_with_args(args: impl IntoIterator<Item = std::ffi::OsString>) -> u8 
         Command::Build(args) => build::run(&args, shown),
         Command::Run(args) => run::run(&args, shown),
         Command::Test { paths, engine } => test::run(&paths, &engine.kinds()),
-        Command::Explain { code } => explain::run(&code),
+        Command::Explain { code } => explain::run(code.as_deref()),
+        Command::Completions { shell } => {
+            use clap::CommandFactory as _;
+            let mut command = Cli::command();
+            clap_complete::generate(shell, &mut command, "ladderc", &mut std::io::stdout());
+            status::OK
+        }
         Command::Import { export, output } => import::run(&export, output.as_ref(), shown),
     }
 }
@@ -148,11 +163,34 @@ pub fn main_with_args(args: impl IntoIterator<Item = std::ffi::OsString>) -> u8 
 /// Reads and compiles a program file, printing diagnostics to stderr.
 /// `Err` holds the exit status to return.
 fn compile_file(path: &std::path::Path, shown: Shown) -> Result<crate::program::CheckedProgram, u8> {
-    let source = crate::source::SourceFile::read(path).map_err(|e| {
+    let source = read_program(path).map_err(|e| {
         say_err!("error: {e}");
         status::UNUSABLE
     })?;
     let (program, diagnostics) = crate::check::compile_source(&source);
     write_raw(true, &crate::diagnostics::render_all(&source, &diagnostics, shown));
     program.ok_or(status::FAILED)
+}
+
+/// `-` for standard input or output.
+fn is_standard_stream(path: &std::path::Path) -> bool {
+    path.as_os_str() == "-"
+}
+
+/// A program file, or standard input for `-` (at most the same 64 MiB).
+fn read_program(path: &std::path::Path) -> Result<crate::source::SourceFile, String> {
+    use std::io::Read as _;
+    if !is_standard_stream(path) {
+        return crate::source::SourceFile::read(path).map_err(|e| e.to_string());
+    }
+    let mut bytes = Vec::new();
+    std::io::stdin()
+        .lock()
+        .take(crate::source::MAX_SOURCE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| format!("cannot read standard input: {e}"))?;
+    if bytes.len() as u64 > crate::source::MAX_SOURCE_BYTES {
+        return Err("standard input is larger than 64 MiB, the most ladderc reads from a program".into());
+    }
+    Ok(crate::source::SourceFile::from_bytes("<stdin>", &bytes))
 }

@@ -11,7 +11,7 @@ use std::path::PathBuf;
 
 #[derive(Args, Debug)]
 pub struct RunArgs {
-    /// The instruction-list program.
+    /// The program: IL or a GX Works2 CSV export (`-` reads standard input).
     program: PathBuf,
     /// Number of scans.
     #[arg(long, default_value_t = 1)]
@@ -126,8 +126,26 @@ fn driven_outputs(program: &CheckedProgram) -> Vec<String> {
 
 fn apply_set(engine: &mut dyn Engine, set: &str) -> Result<(), String> {
     let (name, value) = set.split_once('=').ok_or("expected DEV=VALUE")?;
-    let device = parse_device(name.trim(), false)?;
-    let value = parse_value(value.trim(), device)?;
+    let name = name.trim();
+    let device = parse_device(name, false)?;
+    let value = parse_value(value.trim(), device).map_err(|error| match device.device {
+        // `C0` names the contact; a count is the current value `CN0`.
+        Device::Bit(area @ (BitArea::TimerContact | BitArea::CounterContact), n) => {
+            let value_name = if area == BitArea::TimerContact { "TN" } else { "CN" };
+            format!("{error}; {name} is the contact, its current value is {value_name}{n}")
+        }
+        Device::Bit(..) | Device::WordBit(..) | Device::Word(..) | Device::Digits(..) | Device::WideCounter(_) => error,
+    })?;
+    if let Device::Bit(area @ (BitArea::M | BitArea::Sm), n) = device.device {
+        let rewritten = match area {
+            BitArea::M => ladder_runtime::special::is_system_m(n),
+            BitArea::Sm => ladder_runtime::special::is_system_sm(n),
+            BitArea::X | BitArea::Y | BitArea::S | BitArea::TimerContact | BitArea::CounterContact => false,
+        };
+        if rewritten {
+            say_err!("warning: {name} is set by the runtime at the start of every scan; this --set does not last");
+        }
+    }
     engine.write(device, value)
 }
 

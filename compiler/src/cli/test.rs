@@ -24,6 +24,11 @@ pub fn run_to(out: &mut dyn Write, paths: &[PathBuf], engines: &[EngineKind]) ->
             }
         }
     }
+    if files.is_empty() && !unusable {
+        let shown: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
+        say_err!("error: no scenario files (*.scn) in {}", shown.join(", "));
+        return status::UNUSABLE;
+    }
     let (mut passed, mut failed) = (0usize, 0usize);
     let mut ran: BTreeMap<EngineKind, usize> = BTreeMap::new();
     let mut skipped: BTreeMap<EngineKind, String> = BTreeMap::new();

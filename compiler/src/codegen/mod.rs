@@ -23,8 +23,15 @@ use translate::{translate, Locals};
 /// program; reported rather than panicking.
 #[derive(Debug, thiserror::Error)]
 pub enum CodegenError {
-    #[error("unsupported target `{0}`")]
+    #[error(
+        "unsupported target `{0}`: ladderc builds for x86_64-unknown-linux-gnu, aarch64-unknown-linux-gnu and \
+         riscv64gc-unknown-linux-gnu (and the same CPUs on other systems). 32-bit targets such as Cortex-M \
+         (thumbv7em-none-eabihf) are not among them: Cranelift has no 32-bit Arm back end, and the device \
+         image's layout assumes 64-bit pointers"
+    )]
     Target(String),
+    #[error("this machine is not a target ladderc can compile for: {0}")]
+    HostTarget(String),
     #[error("code generation failed: {0}")]
     Module(String),
     #[error("cannot write the object file: {0}")]
@@ -58,7 +65,7 @@ fn flags(pic: bool) -> settings::Flags {
 /// The ISA for a target triple (`None`: the host).
 fn target_isa(triple: Option<&str>, pic: bool) -> Result<OwnedTargetIsa, CodegenError> {
     let builder = match triple {
-        None => cranelift_native::builder().map_err(|e| CodegenError::Target(e.to_string()))?,
+        None => cranelift_native::builder().map_err(|e| CodegenError::HostTarget(e.to_string()))?,
         Some(name) => {
             let triple: target_lexicon::Triple = name.parse().map_err(|_| CodegenError::Target(name.to_string()))?;
             cranelift_codegen::isa::lookup(triple).map_err(|_| CodegenError::Target(name.to_string()))?
@@ -66,7 +73,7 @@ fn target_isa(triple: Option<&str>, pic: bool) -> Result<OwnedTargetIsa, Codegen
     };
     builder
         .finish(flags(pic))
-        .map_err(|e| CodegenError::Target(e.to_string()))
+        .map_err(|e| CodegenError::HostTarget(e.to_string()))
 }
 
 /// A C signature. 32-bit arguments are sign-extended by the caller: the

@@ -107,7 +107,8 @@ pub fn parse_scenario(path: &Path, text: &str) -> Result<Scenario, ParseError> {
                     let Some((_, program_line)) = lines.next() else {
                         return Err(error("`program <<` without a closing `>>` line".into()));
                     };
-                    if program_line.trim_end_matches('\r') == ">>" {
+                    // Trailing blanks after `>>` are easy to leave and hard to see.
+                    if program_line.trim_end() == ">>" {
                         break;
                     }
                     body.push_str(program_line);

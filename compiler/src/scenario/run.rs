@@ -79,6 +79,29 @@ pub fn load_program(scenario: &Scenario) -> Result<SourceFile, String> {
     }
 }
 
+/// The program's diagnostics as text; for an inline program each also says
+/// which line of the scenario file it is on.
+fn render_program_diagnostics(
+    scenario: &Scenario,
+    source: &SourceFile,
+    diagnostics: &[crate::diagnostics::Diagnostic],
+) -> String {
+    let shown = crate::diagnostics::Shown::default();
+    let ProgramSource::Inline { first_line, .. } = &scenario.program else {
+        return render_all(source, diagnostics, shown);
+    };
+    let located: Vec<_> = diagnostics
+        .iter()
+        .cloned()
+        .map(|diagnostic| {
+            let line = first_line + source.line_of(diagnostic.span.start) - 1;
+            let place = format!("line {line} of {}", scenario.path.display());
+            diagnostic.with_note(place)
+        })
+        .collect();
+    render_all(source, &located, shown)
+}
+
 /// Runs a scenario on `engines`; `source` is its loaded program.
 pub fn run_scenario(scenario: &Scenario, source: &SourceFile, engines: &[EngineKind]) -> ScenarioOutcome {
     let mut outcome = ScenarioOutcome::default();
@@ -117,7 +140,7 @@ pub fn run_scenario(scenario: &Scenario, source: &SourceFile, engines: &[EngineK
                             error.code, error.message
                         ),
                     );
-                    outcome.details = render_all(source, &diagnostics, crate::diagnostics::Shown::default());
+                    outcome.details = render_program_diagnostics(scenario, source, &diagnostics);
                 }
             }
         }
@@ -131,7 +154,7 @@ pub fn run_scenario(scenario: &Scenario, source: &SourceFile, engines: &[EngineK
             "check",
             format!("the program does not compile (first error at program line {line})"),
         );
-        outcome.details = render_all(source, &diagnostics, crate::diagnostics::Shown::default());
+        outcome.details = render_program_diagnostics(scenario, source, &diagnostics);
         return outcome;
     };
     for &kind in engines {

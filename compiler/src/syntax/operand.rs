@@ -167,8 +167,11 @@ impl Cursor<'_> {
         )
     }
 
+    /// A malformed operand from `start` to the end of the operand word, so
+    /// the underline covers what cannot be read (`Q110`, not only `Q`).
     fn error(&self, start: usize, message: String, label: &str) -> Diagnostic {
-        Diagnostic::new(Code::MalformedOperand, self.span_from(start), message).with_label(label)
+        let span = Span::new(self.base + start, self.base + self.text.len().max(start + 1));
+        Diagnostic::new(Code::MalformedOperand, span, message).with_label(label)
     }
 
     fn error_here(&self, message: String, label: &str) -> Diagnostic {
@@ -486,6 +489,11 @@ mod tests {
         assert_eq!(device("D0.F").bit, Some(15));
         assert_eq!(error_code("D0.G"), Code::MalformedOperand);
         assert_eq!(error_code("M0.1"), Code::MalformedOperand);
+        assert_eq!(
+            parse_operand("Q110", 7).unwrap_err().span,
+            Span::new(7, 11),
+            "the whole word is underlined"
+        );
         let offset = device("D10[D2]").offset.unwrap();
         assert_eq!((offset.register, offset.span), (2, Span::new(4, 6)));
         assert_eq!(device("K4M0[D2]").offset.unwrap().register, 2);
