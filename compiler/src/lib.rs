@@ -19,3 +19,4 @@ pub mod program;
 pub mod scenario;
 pub mod source;
 pub mod syntax;
+pub mod waveform;

@@ -33,8 +33,10 @@ mod check;
 mod explain;
 mod import;
 mod output;
+mod report;
 mod run;
 pub mod test;
+mod watch;
 
 use crate::diagnostics::Shown;
 use crate::scenario::EngineKind;
@@ -77,14 +79,7 @@ pub enum Command {
     /// Run a program for some scans and print watched devices after each.
     Run(run::RunArgs),
     /// Run scenario files (folders are searched for *.scn).
-    Test {
-        /// Scenario files, or folders searched for `*.scn` (recursively).
-        #[arg(required = true)]
-        paths: Vec<PathBuf>,
-        /// Engines to run each scenario on.
-        #[arg(long, value_enum, default_value_t = EngineChoice::All)]
-        engine: EngineChoice,
-    },
+    Test(test::TestArgs),
     /// Explain a diagnostic code such as E0010 (without one: list every code).
     Explain {
         /// A code such as E0010 or W0002.
@@ -107,11 +102,12 @@ pub enum Command {
     },
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
 pub enum EngineChoice {
     Interp,
     Jit,
     Aot,
+    #[default]
     All,
 }
 
@@ -148,7 +144,7 @@ pub fn main_with_args(args: impl IntoIterator<Item = std::ffi::OsString>) -> u8 
         Command::Check { program } => check::run(&program, shown),
         Command::Build(args) => build::run(&args, shown),
         Command::Run(args) => run::run(&args, shown),
-        Command::Test { paths, engine } => test::run(&paths, &engine.kinds()),
+        Command::Test(args) => test::run(&args),
         Command::Explain { code } => explain::run(code.as_deref()),
         Command::Completions { shell } => {
             use clap::CommandFactory as _;

@@ -1,33 +1,59 @@
-//! `ladderc run`: scans a program and prints watched devices after each scan.
+//! `ladderc run`: scans a program and prints watched devices after each scan
+//! — for a number of scans, or driven by a stimulus file's directives —
+//! as a table, CSV or JSON, with operation errors as they occur, scan-time
+//! statistics and a VCD waveform on request.
 
-use super::status;
+use super::watch::{parse_watch, show, Radix};
+use super::{output, status};
 use crate::diagnostics::Shown;
 use crate::host_device::{parse_device, parse_value, HostDevice};
 use crate::program::{BitRef, CheckedProgram, Op, Output};
-use crate::scenario::{instantiate, Engine, EngineError, EngineKind};
+use crate::scenario::{drive, instantiate, parse_stimulus, Directive, Engine, EngineError, EngineKind, Observer, Step};
+use crate::waveform::Recorder;
 use clap::{Args, ValueEnum};
-use ladder_runtime::{BitArea, Device, Width};
+use ladder_runtime::special::{D_ERROR_CODE, D_ERROR_LINE, M_OPERATION_ERROR};
+use ladder_runtime::{BitArea, Device, Width, WordArea};
 use std::path::PathBuf;
+use std::time::{Duration, Instant};
 
 #[derive(Args, Debug)]
 pub struct RunArgs {
     /// The program: IL or a GX Works2 CSV export (`-` reads standard input).
     program: PathBuf,
-    /// Number of scans.
+    /// Number of scans (without --stimulus).
     #[arg(long, default_value_t = 1)]
     scans: u32,
-    /// Milliseconds each scan reports as elapsed.
+    /// Milliseconds each scan reports as elapsed (a stimulus may change it).
     #[arg(long, default_value_t = 10)]
     scan_ms: u32,
     /// Write a device before the first scan, e.g. `--set X0=1 --set D10=H7F`.
     #[arg(long = "set", value_name = "DEV=VALUE")]
     sets: Vec<String>,
-    /// Devices to print, comma-separated (default: the Y coils the program drives).
+    /// Force X, Y, M, T or C before the first scan, e.g. `--force X0=1`.
+    #[arg(long = "force", value_name = "DEV=0|1")]
+    forces: Vec<String>,
+    /// Drive the program with a scenario file's set/set32/force/unforce/
+    /// scan-ms/scan/print directives; its expect lines are checked too.
+    #[arg(long, value_name = "FILE")]
+    stimulus: Option<PathBuf>,
+    /// Devices to print, comma-separated: `Y0,D10`, ranges `Y0..Y7`,
+    /// `D100..D109`, 32-bit values `D10:32` (default: the Y coils the
+    /// program drives).
     #[arg(long, value_delimiter = ',', value_name = "DEV,...")]
     watch: Vec<String>,
     /// Output format.
     #[arg(long, value_enum, default_value_t = Format::Table)]
     format: Format,
+    /// How words are shown.
+    #[arg(long, value_enum, default_value_t = Radix::Dec)]
+    radix: Radix,
+    /// Write the watched devices as a VCD waveform (1 ms timescale, the
+    /// reported elapsed time as time axis), e.g. for GTKWave.
+    #[arg(long, value_name = "OUT.vcd")]
+    vcd: Option<PathBuf>,
+    /// Print the minimum, average and maximum time of a scan at the end.
+    #[arg(long)]
+    stats: bool,
     /// Engine that runs the program.
     #[arg(long, value_enum, default_value_t = RunEngine::Jit)]
     engine: RunEngine,
@@ -37,6 +63,8 @@ pub struct RunArgs {
 enum Format {
     Table,
     Csv,
+    /// One JSON object per scan, a line each.
+    Json,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -57,11 +85,26 @@ pub fn run(args: &RunArgs, shown: Shown) -> u8 {
             return status::UNUSABLE;
         }
     };
+    let steps = match stimulus(args) {
+        Ok(steps) => steps,
+        Err(message) => {
+            say_err!("{message}");
+            return status::UNUSABLE;
+        }
+    };
+    let vcd = match args.vcd.as_deref().map(|path| output::prepare(path, &[&args.program])) {
+        None => None,
+        Some(Ok(target)) => Some(target),
+        Some(Err(error)) => {
+            say_err!("error: {error}");
+            return status::UNUSABLE;
+        }
+    };
     let kind = match args.engine {
         RunEngine::Interp => EngineKind::Interp,
         RunEngine::Jit => EngineKind::Jit,
     };
-    let mut engine = match instantiate(kind, &program) {
+    let engine = match instantiate(kind, &program) {
         Ok(engine) => engine,
         Err(EngineError::Unavailable(reason)) => {
             say_err!("error: {reason}");
@@ -72,35 +115,55 @@ pub fn run(args: &RunArgs, shown: Shown) -> u8 {
             return status::FAILED;
         }
     };
-    for set in &args.sets {
-        if let Err(message) = apply_set(engine.as_mut(), set) {
-            say_err!("error: --set {set}: {message}");
-            return status::UNUSABLE;
+    let mut engine = Timed {
+        engine,
+        times: Vec::new(),
+    };
+    if let Err(message) = prepare(&mut engine, args) {
+        say_err!("error: {message}");
+        return status::UNUSABLE;
+    }
+    let mut printer = Printer::new(args, watched.clone());
+    if let Some(target) = &vcd {
+        printer.recorder = Some((Recorder::new(watched), target.clone()));
+    }
+    let failures = drive(&steps, &mut engine, &mut printer);
+    let mut code = status::OK;
+    for (line, message) in &failures {
+        let file = args
+            .stimulus
+            .as_ref()
+            .map_or("--scans".into(), |p| p.display().to_string());
+        say_err!("{file}:{line}: {message}");
+        code = status::FAILED;
+    }
+    if let Some((recorder, target)) = &printer.recorder {
+        let written = recorder
+            .to_vcd()
+            .and_then(|bytes| output::write_atomically(target, &bytes));
+        if let Err(error) = written {
+            say_err!("error: cannot write {}: {error}", target.display());
+            code = status::FAILED;
         }
     }
-    match print_scans(engine.as_mut(), args, &watched) {
-        Ok(()) => status::OK,
-        Err(message) => {
-            say_err!("error: {message}");
-            status::FAILED
-        }
+    if args.stats {
+        say_err!("{}", statistics(&engine.times));
     }
+    code
 }
 
+/// The watched devices.
 fn watch_list(args: &RunArgs, program: &CheckedProgram) -> Result<Vec<(String, HostDevice)>, String> {
     let names: Vec<String> = if args.watch.is_empty() {
         driven_outputs(program)
     } else {
         args.watch.clone()
     };
-    names
-        .into_iter()
-        .map(|name| {
-            let name = name.trim().to_string();
-            let device = parse_device(&name, false).map_err(|e| format!("--watch: {e}"))?;
-            Ok((name.to_ascii_uppercase(), device))
-        })
-        .collect()
+    let mut watched = Vec::new();
+    for name in names {
+        watched.extend(parse_watch(&name).map_err(|e| format!("--watch: {e}"))?);
+    }
+    Ok(watched)
 }
 
 /// The Y devices the program writes at fixed addresses, in order.
@@ -124,10 +187,75 @@ fn driven_outputs(program: &CheckedProgram) -> Vec<String> {
     outputs.into_iter().map(|n| BitArea::Y.device_name(n)).collect()
 }
 
-fn apply_set(engine: &mut dyn Engine, set: &str) -> Result<(), String> {
+/// The directives to run: a stimulus file's, or `--scans` scans of
+/// `--scan-ms`.
+fn stimulus(args: &RunArgs) -> Result<Vec<Step>, String> {
+    let Some(path) = &args.stimulus else {
+        return Ok(vec![
+            Step {
+                directive: Directive::ScanMs(args.scan_ms),
+                line: 0,
+            },
+            Step {
+                directive: Directive::Scan(args.scans),
+                line: 0,
+            },
+        ]);
+    };
+    let bytes = crate::source::read_bounded(path).map_err(|e| format!("error: {e}"))?;
+    let text = String::from_utf8_lossy(&bytes);
+    let mut steps = vec![Step {
+        directive: Directive::ScanMs(args.scan_ms),
+        line: 0,
+    }];
+    steps.extend(
+        parse_stimulus(path, &text).map_err(|e| format!("{}:{}: error: {}", path.display(), e.line, e.message))?,
+    );
+    Ok(steps)
+}
+
+/// `--set` and `--force`, before the first scan. A device set twice is an
+/// error: the later value would silently replace the earlier.
+fn prepare(engine: &mut dyn Engine, args: &RunArgs) -> Result<(), String> {
+    let mut seen: Vec<HostDevice> = Vec::new();
+    for set in &args.sets {
+        let device = apply_set(engine, set).map_err(|message| format!("--set {set}: {message}"))?;
+        if seen.contains(&device) {
+            return Err(format!("--set {set}: the device is already set by an earlier --set"));
+        }
+        seen.push(device);
+    }
+    for force in &args.forces {
+        let (name, value) = force
+            .split_once('=')
+            .ok_or_else(|| format!("--force {force}: expected DEV=0 or DEV=1"))?;
+        let device = parse_device(name.trim(), false).map_err(|e| format!("--force {force}: {e}"))?;
+        let on = parse_value(value.trim(), device).map_err(|e| format!("--force {force}: {e}"))? != 0;
+        let Device::Bit(
+            area @ (BitArea::X | BitArea::Y | BitArea::M | BitArea::TimerContact | BitArea::CounterContact),
+            index,
+        ) = device.device
+        else {
+            return Err(format!("--force {force}: X, Y, M, T and C can be forced"));
+        };
+        if device.width != Width::Single || !device.is_bit() {
+            return Err(format!("--force {force}: X, Y, M, T and C can be forced"));
+        }
+        engine
+            .force(area, index, on)
+            .map_err(|e| format!("--force {force}: {e}"))?;
+    }
+    Ok(())
+}
+
+fn apply_set(engine: &mut dyn Engine, set: &str) -> Result<HostDevice, String> {
     let (name, value) = set.split_once('=').ok_or("expected DEV=VALUE")?;
     let name = name.trim();
-    let device = parse_device(name, false)?;
+    let (bare, double) = match name.strip_suffix(":32") {
+        Some(bare) => (bare, true),
+        None => (name, false),
+    };
+    let device = parse_device(bare, double)?;
     let value = parse_value(value.trim(), device).map_err(|error| match device.device {
         // `C0` names the contact; a count is the current value `CN0`.
         Device::Bit(area @ (BitArea::TimerContact | BitArea::CounterContact), n) => {
@@ -146,43 +274,201 @@ fn apply_set(engine: &mut dyn Engine, set: &str) -> Result<(), String> {
             say_err!("warning: {name} is set by the runtime at the start of every scan; this --set does not last");
         }
     }
-    engine.write(device, value)
+    engine.write(device, value)?;
+    Ok(device)
 }
 
-fn print_scans(engine: &mut dyn Engine, args: &RunArgs, watched: &[(String, HostDevice)]) -> Result<(), String> {
-    let headers: Vec<&str> = std::iter::once("scan")
-        .chain(watched.iter().map(|(n, _)| n.as_str()))
-        .collect();
-    let widths: Vec<usize> = headers
-        .iter()
-        .zip(std::iter::once(None).chain(watched.iter().map(|(_, d)| Some(*d))))
-        .map(|(header, device)| {
-            let value_width = match device.map(|d| (d.device, d.width)) {
-                None => args.scans.to_string().len(),
-                Some((Device::Bit(..) | Device::WordBit(..), _)) => 1,
-                Some((_, Width::Single)) => 6,
-                Some((_, Width::Double)) => 11,
-            };
-            header.len().max(value_width)
-        })
-        .collect();
-    let line = |cells: Vec<String>| match args.format {
-        Format::Csv => cells.join(","),
-        Format::Table => cells
-            .iter()
-            .zip(&widths)
-            .map(|(cell, width)| format!("{cell:>width$}"))
-            .collect::<Vec<_>>()
-            .join("  "),
-    };
-    say!("{}", line(headers.iter().map(|h| h.to_string()).collect()));
-    for scan in 1..=args.scans {
-        engine.scan(args.scan_ms)?;
-        let mut cells = vec![scan.to_string()];
-        for (_, device) in watched {
-            cells.push(engine.read(*device)?.to_string());
-        }
-        say!("{}", line(cells));
+/// An engine whose scans are timed.
+struct Timed<'p> {
+    engine: Box<dyn Engine + 'p>,
+    times: Vec<Duration>,
+}
+
+impl Engine for Timed<'_> {
+    fn read(&mut self, device: HostDevice) -> Result<i32, String> {
+        self.engine.read(device)
     }
-    Ok(())
+    fn write(&mut self, device: HostDevice, value: i32) -> Result<(), String> {
+        self.engine.write(device, value)
+    }
+    fn force(&mut self, area: BitArea, index: u32, on: bool) -> Result<(), String> {
+        self.engine.force(area, index, on)
+    }
+    fn unforce(&mut self, area: BitArea, index: u32) -> Result<(), String> {
+        self.engine.unforce(area, index)
+    }
+    fn scan(&mut self, elapsed_ms: u32) -> Result<(), String> {
+        let start = Instant::now();
+        let result = self.engine.scan(elapsed_ms);
+        self.times.push(start.elapsed());
+        result
+    }
+}
+
+/// `--stats`: what one scan took (the whole scan, input refresh to output
+/// image, as the engine runs it).
+fn statistics(times: &[Duration]) -> String {
+    let (Some(min), Some(max)) = (times.iter().min(), times.iter().max()) else {
+        return "scan time: no scans".to_string();
+    };
+    let total: Duration = times.iter().sum();
+    let average = total / times.len() as u32;
+    format!(
+        "scan time over {} scans: min {:.3} µs, average {:.3} µs, max {:.3} µs",
+        times.len(),
+        min.as_secs_f64() * 1e6,
+        average.as_secs_f64() * 1e6,
+        max.as_secs_f64() * 1e6
+    )
+}
+
+const ERROR_FLAG: HostDevice = HostDevice {
+    device: Device::Bit(BitArea::M, M_OPERATION_ERROR),
+    width: Width::Single,
+};
+const ERROR_CODE: HostDevice = HostDevice {
+    device: Device::Word(WordArea::D, D_ERROR_CODE),
+    width: Width::Single,
+};
+const ERROR_LINE: HostDevice = HostDevice {
+    device: Device::Word(WordArea::D, D_ERROR_LINE),
+    width: Width::Single,
+};
+
+/// Prints the watched devices after every scan.
+struct Printer {
+    format: Format,
+    radix: Radix,
+    watched: Vec<(String, HostDevice)>,
+    widths: Vec<usize>,
+    /// The operation error last seen (code, line), to report new ones.
+    error: Option<(u16, u16)>,
+    recorder: Option<(Recorder, PathBuf)>,
+}
+
+impl Printer {
+    fn new(args: &RunArgs, watched: Vec<(String, HostDevice)>) -> Printer {
+        let scan_width = if args.stimulus.is_some() {
+            6
+        } else {
+            args.scans.to_string().len().max(4)
+        };
+        let widths = std::iter::once(scan_width)
+            .chain(watched.iter().map(|(name, device)| {
+                let value_width = match (device.bits(), args.radix) {
+                    (1, _) => 1,
+                    (16, Radix::Dec) => 6,
+                    (16, Radix::Hex) => 5,
+                    (_, Radix::Dec) => 11,
+                    (_, Radix::Hex) => 9,
+                };
+                name.len().max(value_width)
+            }))
+            .collect();
+        let printer = Printer {
+            format: args.format,
+            radix: args.radix,
+            watched,
+            widths,
+            error: None,
+            recorder: None,
+        };
+        let headers: Vec<String> = std::iter::once("scan".to_string())
+            .chain(printer.watched.iter().map(|(n, _)| n.clone()))
+            .collect();
+        match printer.format {
+            Format::Table | Format::Csv => say!("{}", printer.line(headers)),
+            Format::Json => {}
+        }
+        printer
+    }
+
+    fn line(&self, cells: Vec<String>) -> String {
+        match self.format {
+            Format::Csv | Format::Json => cells.join(","),
+            Format::Table => cells
+                .iter()
+                .zip(&self.widths)
+                .map(|(cell, width)| format!("{cell:>width$}"))
+                .collect::<Vec<_>>()
+                .join("  "),
+        }
+    }
+
+    /// A new operation error since the last scan: (code, line).
+    fn new_error(&mut self, engine: &mut dyn Engine) -> Result<Option<(u16, u16)>, String> {
+        let now = (engine.read(ERROR_FLAG)? != 0)
+            .then(|| -> Result<(u16, u16), String> {
+                Ok((engine.read(ERROR_CODE)? as u16, engine.read(ERROR_LINE)? as u16))
+            })
+            .transpose()?;
+        let new = now.filter(|&error| self.error != Some(error));
+        self.error = now;
+        Ok(new)
+    }
+}
+
+impl Observer for Printer {
+    fn started(&mut self, engine: &mut dyn Engine) -> Result<(), String> {
+        self.error = self.new_error(engine)?;
+        match &mut self.recorder {
+            Some((recorder, _)) => recorder.sample(engine, 0),
+            None => Ok(()),
+        }
+    }
+
+    fn scanned(&mut self, engine: &mut dyn Engine, scan: u64, time_ms: u64) -> Result<(), String> {
+        let mut values = Vec::with_capacity(self.watched.len());
+        for (_, device) in &self.watched {
+            values.push(engine.read(*device)?);
+        }
+        let error = self.new_error(engine)?;
+        match self.format {
+            Format::Table | Format::Csv => {
+                let cells = std::iter::once(scan.to_string())
+                    .chain(
+                        values
+                            .iter()
+                            .zip(&self.watched)
+                            .map(|(v, (_, d))| show(*v, *d, self.radix)),
+                    )
+                    .collect();
+                say!("{}", self.line(cells));
+                if let Some((code, line)) = error {
+                    say_err!("scan {scan}: operation error {code:04X}H at line {line}");
+                }
+            }
+            Format::Json => {
+                let devices: serde_json::Map<String, serde_json::Value> = self
+                    .watched
+                    .iter()
+                    .zip(&values)
+                    .map(|((name, device), value)| {
+                        let shown = match self.radix {
+                            Radix::Dec => serde_json::Value::from(*value),
+                            Radix::Hex => serde_json::Value::from(show(*value, *device, self.radix)),
+                        };
+                        (name.clone(), shown)
+                    })
+                    .collect();
+                let mut object = serde_json::json!({ "scan": scan, "time_ms": time_ms, "devices": devices });
+                if let Some((code, line)) = error {
+                    object["error"] = serde_json::json!({ "code": format!("{code:04X}H"), "line": line });
+                }
+                say!("{object}");
+            }
+        }
+        match &mut self.recorder {
+            Some((recorder, _)) => recorder.sample(engine, time_ms),
+            None => Ok(()),
+        }
+    }
+
+    fn printed(&mut self, line: u32, scan: u64, values: Vec<(String, HostDevice, i32)>) {
+        let shown: Vec<String> = values
+            .into_iter()
+            .map(|(name, device, value)| format!("{name} = {}", show(value, device, self.radix)))
+            .collect();
+        say_err!("line {line} after scan {scan}: {}", shown.join(", "));
+    }
 }

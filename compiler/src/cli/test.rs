@@ -1,21 +1,72 @@
-//! `ladderc test`: scenario files, as SCENARIO.md describes.
+//! `ladderc test`: scenario files, as the scenario format describes. Files
+//! run on every core; the report comes out in file order whatever finished
+//! first, with a progress bar on a terminal for long suites.
 
-use super::status;
-use crate::scenario::{collect_files, parse_scenario, run_scenario, EngineKind};
+use super::{output, status};
+use crate::scenario::{
+    collect_files, parse_scenario, run_scenario, EngineKind, RunOptions, Scenario, ScenarioOutcome, Waveforms,
+};
+use clap::Args;
 use std::collections::BTreeMap;
 use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
 
-pub fn run(paths: &[PathBuf], engines: &[EngineKind]) -> u8 {
-    run_to(&mut std::io::stdout().lock(), paths, engines)
+#[derive(Args, Debug, Default)]
+pub struct TestArgs {
+    /// Scenario files, or folders searched for `*.scn` (recursively).
+    #[arg(required = true)]
+    pub paths: Vec<PathBuf>,
+    /// Engines to run each scenario on.
+    #[arg(long, value_enum, default_value_t = super::EngineChoice::All)]
+    pub engine: super::EngineChoice,
+    /// Write a JUnit XML report (a testsuite per file, a testcase per
+    /// scenario and engine) for CI systems.
+    #[arg(long, value_name = "OUT.xml")]
+    pub junit: Option<PathBuf>,
+    /// Write a VCD waveform per failing scenario and engine into this folder
+    /// (`NAME.ENGINE.vcd`): the devices the scenario sets, forces, expects
+    /// or prints, and the program's coils.
+    #[arg(long, value_name = "DIR")]
+    pub vcd: Option<PathBuf>,
+    /// With --vcd: a waveform for every scenario, passed ones too.
+    #[arg(long, requires = "vcd")]
+    pub vcd_all: bool,
+    /// Show what `print` directives print.
+    #[arg(short, long)]
+    pub verbose: bool,
+}
+
+/// One scenario file's result.
+struct FileResult {
+    path: PathBuf,
+    /// None: the file or its program could not be read (already reported).
+    outcome: Option<ScenarioOutcome>,
+    /// Errors reading or parsing, to print in order.
+    errors: Vec<String>,
+}
+
+pub fn run(args: &TestArgs) -> u8 {
+    run_with(&mut std::io::stdout().lock(), args, &args.engine.kinds())
+}
+
+/// `ladderc test PATHS` on `engines`, writing its report to `out`.
+pub fn run_to(out: &mut dyn Write, paths: &[PathBuf], engines: &[EngineKind]) -> u8 {
+    let args = TestArgs {
+        paths: paths.to_vec(),
+        ..TestArgs::default()
+    };
+    run_with(out, &args, engines)
 }
 
 /// `ladderc test` writing its report to `out` (failures, details, engine
 /// lines, and the summary line last). Errors reading files go to stderr.
-pub fn run_to(out: &mut dyn Write, paths: &[PathBuf], engines: &[EngineKind]) -> u8 {
+pub fn run_with(out: &mut dyn Write, args: &TestArgs, engines: &[EngineKind]) -> u8 {
+    let engines = engines.to_vec();
     let mut unusable = false;
     let mut files = Vec::new();
-    for path in paths {
+    for path in &args.paths {
         match collect_files(path) {
             Ok(found) => files.extend(found),
             Err(error) => {
@@ -25,23 +76,46 @@ pub fn run_to(out: &mut dyn Write, paths: &[PathBuf], engines: &[EngineKind]) ->
         }
     }
     if files.is_empty() && !unusable {
-        let shown: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
+        let shown: Vec<String> = args.paths.iter().map(|p| p.display().to_string()).collect();
         say_err!("error: no scenario files (*.scn) in {}", shown.join(", "));
         return status::UNUSABLE;
     }
+    if let Some(dir) = &args.vcd {
+        if let Err(error) = std::fs::create_dir_all(dir) {
+            say_err!("error: cannot create {}: {error}", dir.display());
+            return status::UNUSABLE;
+        }
+    }
+    let options = RunOptions {
+        waveforms: match (&args.vcd, args.vcd_all) {
+            (None, _) => Waveforms::None,
+            (Some(_), false) => Waveforms::Failing,
+            (Some(_), true) => Waveforms::All,
+        },
+    };
+    let results = run_all(&files, &engines, options);
     let (mut passed, mut failed) = (0usize, 0usize);
     let mut ran: BTreeMap<EngineKind, usize> = BTreeMap::new();
     let mut skipped: BTreeMap<EngineKind, String> = BTreeMap::new();
-    for file in &files {
-        let Some((scenario, source)) = load(file) else {
+    for result in &results {
+        for error in &result.errors {
+            say_err!("{error}");
+        }
+        let Some(outcome) = &result.outcome else {
             unusable = true;
             continue;
         };
-        let outcome = run_scenario(&scenario, &source, engines);
         for failure in &outcome.failures {
             let _ = writeln!(out, "{failure}");
         }
         let _ = out.write_all(outcome.details.as_bytes());
+        if args.verbose {
+            for engine in &outcome.engines {
+                for line in &engine.printed {
+                    let _ = writeln!(out, "{}: {line}", result.path.display());
+                }
+            }
+        }
         for kind in &outcome.ran {
             *ran.entry(*kind).or_default() += 1;
         }
@@ -55,6 +129,18 @@ pub fn run_to(out: &mut dyn Write, paths: &[PathBuf], engines: &[EngineKind]) ->
             failed += 1;
         } else if !ran_nothing {
             passed += 1;
+        }
+    }
+    if let Some(dir) = &args.vcd {
+        if let Err(error) = write_waveforms(dir, &results) {
+            say_err!("error: {error}");
+            unusable = true;
+        }
+    }
+    if let Some(path) = &args.junit {
+        if let Err(error) = super::report::write_junit(path, &results_for_report(&results)) {
+            say_err!("error: {error}");
+            unusable = true;
         }
     }
     let ran_names: Vec<&str> = ran.keys().map(|k| k.name()).collect();
@@ -77,29 +163,100 @@ pub fn run_to(out: &mut dyn Write, paths: &[PathBuf], engines: &[EngineKind]) ->
     }
 }
 
-/// Reads and parses a scenario and its program; reports and returns None
-/// when either cannot be read or parsed.
-fn load(file: &Path) -> Option<(crate::scenario::Scenario, crate::source::SourceFile)> {
-    let text = match crate::source::read_bounded(file) {
-        Ok(bytes) => String::from_utf8_lossy(&bytes).into_owned(),
-        Err(error) => {
-            say_err!("error: {error}");
-            return None;
-        }
-    };
+fn results_for_report(results: &[FileResult]) -> Vec<(&Path, Option<&ScenarioOutcome>)> {
+    results.iter().map(|r| (r.path.as_path(), r.outcome.as_ref())).collect()
+}
 
-    let scenario = match parse_scenario(file, &text) {
-        Ok(scenario) => scenario,
-        Err(error) => {
-            say_err!("{}:{}: error: {}", file.display(), error.line, error.message);
-            return None;
+/// Runs every file on a pool of threads (one per core); results in file
+/// order.
+fn run_all(files: &[PathBuf], engines: &[EngineKind], options: RunOptions) -> Vec<FileResult> {
+    let workers = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .min(files.len())
+        .max(1);
+    let next = AtomicUsize::new(0);
+    let results: Mutex<Vec<Option<FileResult>>> = Mutex::new((0..files.len()).map(|_| None).collect());
+    let progress = indicatif::ProgressBar::new(files.len() as u64);
+    // Drawn on a terminal only, and only for suites long enough to wait for.
+    if files.len() < 20 {
+        progress.set_draw_target(indicatif::ProgressDrawTarget::hidden());
+    }
+    std::thread::scope(|scope| {
+        for _ in 0..workers {
+            scope.spawn(|| loop {
+                let index = next.fetch_add(1, Ordering::Relaxed);
+                let Some(file) = files.get(index) else {
+                    break;
+                };
+                let result = run_file(file, engines, options);
+                if let Ok(mut results) = results.lock() {
+                    results[index] = Some(result);
+                }
+                progress.inc(1);
+            });
         }
+    });
+    progress.finish_and_clear();
+    results
+        .into_inner()
+        .unwrap_or_default()
+        .into_iter()
+        .zip(files)
+        .map(|(result, path)| {
+            result.unwrap_or_else(|| FileResult {
+                path: path.clone(),
+                outcome: None,
+                errors: vec![format!("error: {}: the run did not finish", path.display())],
+            })
+        })
+        .collect()
+}
+
+fn run_file(file: &Path, engines: &[EngineKind], options: RunOptions) -> FileResult {
+    let mut result = FileResult {
+        path: file.to_path_buf(),
+        outcome: None,
+        errors: Vec::new(),
     };
-    match crate::scenario::load_program(&scenario) {
-        Ok(source) => Some((scenario, source)),
-        Err(message) => {
-            say_err!("{}: error: {message}", file.display());
-            None
+    match load(file) {
+        Ok((scenario, source)) => result.outcome = Some(run_scenario(&scenario, &source, engines, options)),
+        Err(error) => result.errors.push(error),
+    }
+    result
+}
+
+/// Reads and parses a scenario and its program.
+fn load(file: &Path) -> Result<(Scenario, crate::source::SourceFile), String> {
+    let bytes = crate::source::read_bounded(file).map_err(|error| format!("error: {error}"))?;
+    let text = String::from_utf8_lossy(&bytes).into_owned();
+    let scenario = parse_scenario(file, &text)
+        .map_err(|error| format!("{}:{}: error: {}", file.display(), error.line, error.message))?;
+    let source =
+        crate::scenario::load_program(&scenario).map_err(|message| format!("{}: error: {message}", file.display()))?;
+    Ok((scenario, source))
+}
+
+/// `DIR/NAME.ENGINE.vcd` for every kept waveform.
+fn write_waveforms(dir: &Path, results: &[FileResult]) -> Result<(), String> {
+    for result in results {
+        let Some(outcome) = &result.outcome else { continue };
+        // The whole path, so that equal names in two folders stay apart.
+        let stem = result
+            .path
+            .with_extension("")
+            .to_string_lossy()
+            .replace(['/', '\\'], "_")
+            .trim_start_matches(['_', '.'])
+            .to_string();
+        for engine in &outcome.engines {
+            let Some(waveform) = &engine.waveform else { continue };
+            let path = dir.join(format!("{stem}.{}.vcd", engine.kind.name()));
+            let bytes = waveform
+                .to_vcd()
+                .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+            let target = output::prepare(&path, &[]).map_err(|e| e.to_string())?;
+            output::write_atomically(&target, &bytes).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
         }
     }
+    Ok(())
 }

@@ -45,6 +45,8 @@ pub enum Directive {
         line: u32,
         code: Option<Code>,
     },
+    /// `print DEV,...`: show the devices' values at this point.
+    Print(Vec<(String, HostDevice)>),
 }
 
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -73,7 +75,8 @@ impl Scenario {
             | Directive::Unforce { .. }
             | Directive::Scan(_)
             | Directive::Expect { .. }
-            | Directive::ExpectError(_) => None,
+            | Directive::ExpectError(_)
+            | Directive::Print(_) => None,
         })
     }
 }
@@ -86,6 +89,35 @@ pub struct ParseError {
 }
 
 pub fn parse_scenario(path: &Path, text: &str) -> Result<Scenario, ParseError> {
+    let (program, steps) = parse_steps(path, text)?;
+    let program = program.ok_or(ParseError {
+        line: 1,
+        message: "no `program` directive".into(),
+    })?;
+    Ok(Scenario {
+        path: path.to_path_buf(),
+        program,
+        steps,
+    })
+}
+
+/// A stimulus file for `ladderc run --stimulus`: a scenario's directives,
+/// its `program` line (if any) ignored, as the program is given apart.
+pub fn parse_stimulus(path: &Path, text: &str) -> Result<Vec<Step>, ParseError> {
+    let (_, steps) = parse_steps(path, text)?;
+    if let Some(step) = steps
+        .iter()
+        .find(|s| matches!(s.directive, Directive::ExpectReject { .. }))
+    {
+        return Err(ParseError {
+            line: step.line,
+            message: "`expect reject` has no meaning in a stimulus".into(),
+        });
+    }
+    Ok(steps)
+}
+
+fn parse_steps(path: &Path, text: &str) -> Result<(Option<ProgramSource>, Vec<Step>), ParseError> {
     let mut program = None;
     let mut steps = Vec::new();
     let mut lines = text.lines().enumerate().map(|(i, l)| (i as u32 + 1, l));
@@ -169,7 +201,22 @@ pub fn parse_scenario(path: &Path, text: &str) -> Result<Scenario, ParseError> {
                     value,
                 }
             }
-            (known @ ("scan-ms" | "scan" | "set" | "set32" | "force" | "unforce" | "expect" | "expect32"), _) => {
+            ("print", devices) if !devices.is_empty() => {
+                let mut printed = Vec::new();
+                for name in devices.iter().flat_map(|d| d.split(',')).filter(|d| !d.is_empty()) {
+                    let (bare, double) = match name.strip_suffix(":32") {
+                        Some(bare) => (bare, true),
+                        None => (name, false),
+                    };
+                    let device = parse_device(bare, double).map_err(error)?;
+                    printed.push((name.to_string(), device));
+                }
+                Directive::Print(printed)
+            }
+            (
+                known @ ("scan-ms" | "scan" | "set" | "set32" | "force" | "unforce" | "expect" | "expect32" | "print"),
+                _,
+            ) => {
                 return Err(error(format!("wrong arguments for `{known}`")));
             }
             _ => return Err(error(format!("unknown directive `{keyword}`"))),
@@ -183,15 +230,7 @@ pub fn parse_scenario(path: &Path, text: &str) -> Result<Scenario, ParseError> {
         }
         steps.push(Step { directive, line });
     }
-    let program = program.ok_or(ParseError {
-        line: 1,
-        message: "no `program` directive".into(),
-    })?;
-    Ok(Scenario {
-        path: path.to_path_buf(),
-        program,
-        steps,
-    })
+    Ok((program, steps))
 }
 
 fn number(text: &str, min: i64, max: i64) -> Result<i64, String> {

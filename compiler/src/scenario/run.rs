@@ -1,15 +1,43 @@
 //! Running one scenario: compile its program once, then drive each engine
 //! through the directives and compare.
 
+use super::drive::{drive, Observer};
 use super::engine::{instantiate, Engine, EngineError, EngineKind};
 use super::parse::{Directive, ProgramSource, Scenario};
 use crate::check::compile_source;
 use crate::diagnostics::render_all;
-use crate::host_device::{format_value, same_bits, HostDevice};
+use crate::host_device::{format_value, HostDevice};
+use crate::program::{BitRef, CheckedProgram, Op, Output};
 use crate::source::SourceFile;
-use ladder_runtime::special::{D_ERROR_CODE, M_OPERATION_ERROR};
-use ladder_runtime::{BitArea, Device, Width, WordArea};
+use crate::waveform::{device_name, Recorder};
+use ladder_runtime::{Device, Width};
 use std::path::{Path, PathBuf};
+
+/// Which runs keep their waveform.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Waveforms {
+    #[default]
+    None,
+    /// Runs with a failed expectation.
+    Failing,
+    All,
+}
+
+/// How scenarios are run.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct RunOptions {
+    pub waveforms: Waveforms,
+}
+
+/// What one engine did with a scenario.
+#[derive(Clone, Debug)]
+pub struct EngineRun {
+    pub kind: EngineKind,
+    /// The output of `print` directives, a line each.
+    pub printed: Vec<String>,
+    /// The waveform, when the options keep it for this run.
+    pub waveform: Option<Recorder>,
+}
 
 /// One failed expectation (or a scenario that could not run).
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -44,6 +72,8 @@ pub struct ScenarioOutcome {
     pub ran: Vec<EngineKind>,
     /// Rendered diagnostics worth showing (a program that did not compile).
     pub details: String,
+    /// Each engine that ran, in order.
+    pub engines: Vec<EngineRun>,
 }
 
 /// Every `*.scn` under `path` (recursively, sorted), or `path` itself.
@@ -103,7 +133,12 @@ fn render_program_diagnostics(
 }
 
 /// Runs a scenario on `engines`; `source` is its loaded program.
-pub fn run_scenario(scenario: &Scenario, source: &SourceFile, engines: &[EngineKind]) -> ScenarioOutcome {
+pub fn run_scenario(
+    scenario: &Scenario,
+    source: &SourceFile,
+    engines: &[EngineKind],
+    options: RunOptions,
+) -> ScenarioOutcome {
     let mut outcome = ScenarioOutcome::default();
     let (program, diagnostics) = compile_source(source);
     let fail = |outcome: &mut ScenarioOutcome, line: u32, engine: &str, message: String| {
@@ -157,13 +192,32 @@ pub fn run_scenario(scenario: &Scenario, source: &SourceFile, engines: &[EngineK
         outcome.details = render_program_diagnostics(scenario, source, &diagnostics);
         return outcome;
     };
+    let signals = match options.waveforms {
+        Waveforms::None => None,
+        Waveforms::Failing | Waveforms::All => Some(waveform_signals(scenario, &program)),
+    };
+    let observe = |kind: EngineKind| ScenarioObserver {
+        kind,
+        printed: Vec::new(),
+        recorder: signals.clone().map(Recorder::new),
+    };
     for &kind in engines {
         match instantiate(kind, &program) {
             Ok(mut engine) => {
                 outcome.ran.push(kind);
-                for failure in drive(scenario, engine.as_mut()) {
+                let mut observer = observe(kind);
+                let failures = drive(&scenario.steps, engine.as_mut(), &mut observer);
+                let failed = !failures.is_empty();
+                for failure in failures {
                     fail(&mut outcome, failure.0, kind.name(), failure.1);
                 }
+                outcome.engines.push(EngineRun {
+                    kind,
+                    printed: observer.printed,
+                    waveform: observer
+                        .recorder
+                        .filter(|_| failed || options.waveforms == Waveforms::All),
+                });
             }
             Err(EngineError::Unavailable(reason)) => outcome.skipped.push((kind, reason)),
             Err(EngineError::Failed(reason)) => {
@@ -175,65 +229,69 @@ pub fn run_scenario(scenario: &Scenario, source: &SourceFile, engines: &[EngineK
     outcome
 }
 
-const ERROR_FLAG: HostDevice = HostDevice {
-    device: Device::Bit(BitArea::M, M_OPERATION_ERROR),
-    width: Width::Single,
-};
-const ERROR_CODE: HostDevice = HostDevice {
-    device: Device::Word(WordArea::D, D_ERROR_CODE),
-    width: Width::Single,
-};
+/// Records a run for the report: `print` lines and, when asked, the
+/// waveform.
+struct ScenarioObserver {
+    kind: EngineKind,
+    printed: Vec<String>,
+    recorder: Option<Recorder>,
+}
 
-/// Drives one engine through the directives: (scenario line, message) per
-/// failed expectation. An engine fault ends the run with one failure.
-fn drive(scenario: &Scenario, engine: &mut dyn Engine) -> Vec<(u32, String)> {
-    let mut failures = Vec::new();
-    let mut scan_ms = 10;
-    for step in &scenario.steps {
-        let result: Result<(), String> = (|| {
-            match &step.directive {
-                Directive::ScanMs(ms) => scan_ms = *ms,
-                Directive::Set { device, value } => engine.write(*device, *value)?,
-                Directive::Force { area, index, on } => engine.force(*area, *index, *on)?,
-                Directive::Unforce { area, index } => engine.unforce(*area, *index)?,
-                Directive::Scan(n) => {
-                    for _ in 0..*n {
-                        engine.scan(scan_ms)?;
-                    }
-                }
-                Directive::Expect { device, name, value } => {
-                    let actual = engine.read(*device)?;
-                    if !same_bits(actual, *value, device.bits()) {
-                        failures.push((
-                            step.line,
-                            format!(
-                                "expected {name} = {}, got {}",
-                                format_value(*value, *device),
-                                format_value(actual, *device)
-                            ),
-                        ));
-                    }
-                }
-                Directive::ExpectError(expected) => {
-                    let flag = engine.read(ERROR_FLAG)? != 0;
-                    let code = engine.read(ERROR_CODE)? as u16;
-                    let actual = flag.then_some(code);
-                    if actual != *expected {
-                        let show = |c: Option<u16>| c.map_or("none".to_string(), |c| format!("{c:04X}H"));
-                        failures.push((
-                            step.line,
-                            format!("expected error {}, got {}", show(*expected), show(actual)),
-                        ));
-                    }
-                }
-                Directive::ExpectReject { .. } => {}
-            }
-            Ok(())
-        })();
-        if let Err(fault) = result {
-            failures.push((step.line, format!("engine fault: {fault}")));
-            break;
+impl Observer for ScenarioObserver {
+    fn started(&mut self, engine: &mut dyn Engine) -> Result<(), String> {
+        match &mut self.recorder {
+            Some(recorder) => recorder.sample(engine, 0),
+            None => Ok(()),
         }
     }
-    failures
+
+    fn scanned(&mut self, engine: &mut dyn Engine, _: u64, time_ms: u64) -> Result<(), String> {
+        match &mut self.recorder {
+            Some(recorder) => recorder.sample(engine, time_ms),
+            None => Ok(()),
+        }
+    }
+
+    fn printed(&mut self, line: u32, scan: u64, values: Vec<(String, HostDevice, i32)>) {
+        let shown: Vec<String> = values
+            .into_iter()
+            .map(|(name, device, value)| format!("{name} = {}", format_value(value, device)))
+            .collect();
+        self.printed.push(format!(
+            "line {line} [{}] after scan {scan}: {}",
+            self.kind.name(),
+            shown.join(", ")
+        ));
+    }
+}
+
+/// What a test's waveform shows: every device the scenario sets, forces,
+/// expects or prints, then the coils the program drives at fixed numbers.
+fn waveform_signals(scenario: &Scenario, program: &CheckedProgram) -> Vec<(String, HostDevice)> {
+    let mut signals: Vec<(String, HostDevice)> = Vec::new();
+    let mut add = |device: HostDevice| {
+        if !signals.iter().any(|(_, known)| *known == device) {
+            signals.push((device_name(device), device));
+        }
+    };
+    let bit = |area, index| HostDevice {
+        device: Device::Bit(area, index),
+        width: Width::Single,
+    };
+    for step in &scenario.steps {
+        match &step.directive {
+            Directive::Set { device, .. } | Directive::Expect { device, .. } => add(*device),
+            Directive::Force { area, index, .. } | Directive::Unforce { area, index } => add(bit(*area, *index)),
+            Directive::Print(devices) => devices.iter().for_each(|(_, device)| add(*device)),
+            Directive::ScanMs(_) | Directive::Scan(_) | Directive::ExpectError(_) | Directive::ExpectReject { .. } => {}
+        }
+    }
+    for instruction in &program.instructions {
+        if let Op::Output(Output::Coil(BitRef::Device(area, address))) = &instruction.op {
+            if address.is_fixed() {
+                add(bit(*area, address.index));
+            }
+        }
+    }
+    signals
 }

@@ -1,0 +1,118 @@
+//! Waveforms of a run: the values of some devices after every scan, with the
+//! reported elapsed time as the time axis, written as a VCD file (1 ms
+//! timescale) that GTKWave and other waveform viewers open. Bits are wires,
+//! words 16- or 32-bit vectors.
+
+use crate::host_device::HostDevice;
+use crate::scenario::Engine;
+use ladder_runtime::{BitArea, Device, Width, WordArea};
+
+/// A device as a person writes it: `X17`, `D0.F`, `K4M0`, `CN200`,
+/// `D10:32` for a 32-bit pair.
+pub fn device_name(device: HostDevice) -> String {
+    let name = match device.device {
+        // Timers and counters by what is meant: contact or current value.
+        Device::Bit(BitArea::TimerContact, n) => format!("TS{n}"),
+        Device::Bit(BitArea::CounterContact, n) => format!("CS{n}"),
+        Device::Word(WordArea::TimerValue, n) => format!("TN{n}"),
+        Device::Word(WordArea::CounterValue, n) => format!("CN{n}"),
+        Device::Bit(area, n) => area.device_name(n),
+        Device::Word(area, n) => area.device_name(n),
+        Device::WordBit(area, n, bit) => format!("{}.{bit:X}", area.device_name(n)),
+        Device::Digits(area, start, digits) => format!("K{digits}{}", area.device_name(start)),
+        Device::WideCounter(n) => format!("CN{n}"),
+    };
+    match (device.device, device.width) {
+        (Device::Word(..), Width::Double) => format!("{name}:32"),
+        _ => name,
+    }
+}
+
+/// Bits of a device's value as a signal: a digit group has 4 per digit.
+fn signal_bits(device: HostDevice) -> u32 {
+    match device.device {
+        Device::Digits(_, _, digits) => 4 * u32::from(digits),
+        Device::Bit(..) | Device::Word(..) | Device::WordBit(..) | Device::WideCounter(_) => device.bits(),
+    }
+}
+
+/// Values of the recorded devices over time.
+#[derive(Clone, Debug)]
+pub struct Recorder {
+    signals: Vec<(String, HostDevice)>,
+    /// (time in ms, value of every signal), times increasing.
+    samples: Vec<(u64, Vec<i32>)>,
+}
+
+impl Recorder {
+    pub fn new(signals: Vec<(String, HostDevice)>) -> Recorder {
+        Recorder {
+            signals,
+            samples: Vec::new(),
+        }
+    }
+
+    pub fn signals(&self) -> &[(String, HostDevice)] {
+        &self.signals
+    }
+
+    /// Reads every signal at `time_ms`. Scans that report 0 ms share a time:
+    /// the last one's values stand for it.
+    pub fn sample(&mut self, engine: &mut dyn Engine, time_ms: u64) -> Result<(), String> {
+        let mut values = Vec::with_capacity(self.signals.len());
+        for (_, device) in &self.signals {
+            values.push(engine.read(*device)?);
+        }
+        match self.samples.last_mut() {
+            Some((last, previous)) if *last == time_ms => *previous = values,
+            _ => self.samples.push((time_ms, values)),
+        }
+        Ok(())
+    }
+
+    /// The recording as a VCD file.
+    pub fn to_vcd(&self) -> std::io::Result<Vec<u8>> {
+        use vcd::{SimulationCommand, TimescaleUnit, Value};
+        let mut writer = vcd::Writer::new(Vec::new());
+        writer.timescale(1, TimescaleUnit::MS)?;
+        writer.add_module("ladderc")?;
+        let mut ids = Vec::with_capacity(self.signals.len());
+        for (name, device) in &self.signals {
+            // VCD names hold no blanks; ours never do.
+            ids.push(writer.add_wire(signal_bits(*device), name)?);
+        }
+        writer.upscope()?;
+        writer.enddefinitions()?;
+        let bits = |value: i32, width: u32| {
+            (0..width).rev().map(move |bit| {
+                if (value as u32 >> bit) & 1 != 0 {
+                    Value::V1
+                } else {
+                    Value::V0
+                }
+            })
+        };
+        let mut previous: Option<&Vec<i32>> = None;
+        for (index, (time, values)) in self.samples.iter().enumerate() {
+            writer.timestamp(*time)?;
+            if index == 0 {
+                writer.begin(SimulationCommand::Dumpvars)?;
+            }
+            for (signal, ((_, device), id)) in self.signals.iter().zip(&ids).enumerate() {
+                let value = &values[signal];
+                if previous.is_some_and(|p| p.get(signal) == Some(value)) {
+                    continue;
+                }
+                match signal_bits(*device) {
+                    1 => writer.change_scalar(*id, if *value != 0 { Value::V1 } else { Value::V0 })?,
+                    width => writer.change_vector(*id, bits(*value, width))?,
+                }
+            }
+            if index == 0 {
+                writer.end()?;
+            }
+            previous = Some(values);
+        }
+        Ok(std::mem::take(writer.writer()))
+    }
+}
