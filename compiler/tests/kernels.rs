@@ -203,7 +203,12 @@ fn kernels_give_the_golden_outputs_on_both_engines() {
         let path = Path::new("kernels.scn");
         let scenario = parse_scenario(path, &text).unwrap_or_else(|e| panic!("{}: {e:?}", vector.instruction));
         let source = SourceFile::new("kernels.il", format!("LD SM0\n{}\n", vector.instruction));
-        let outcome = run_scenario(&scenario, &source, &[EngineKind::Interp, EngineKind::Jit]);
+        let outcome = run_scenario(
+            &scenario,
+            &source,
+            &[EngineKind::Interp, EngineKind::Jit],
+            Default::default(),
+        );
         assert_eq!(outcome.ran.len(), 2, "{}", vector.instruction);
         failures.extend(
             outcome
