@@ -45,14 +45,15 @@ pub fn scenario(data: &[u8]) {
             | Directive::Unforce { .. }
             | Directive::Expect { .. }
             | Directive::ExpectError(_)
-            | Directive::ExpectReject { .. } => 0,
+            | Directive::ExpectReject { .. }
+            | Directive::Print(_) => 0,
         })
         .sum();
     if scans > SCENARIO_SCAN_BUDGET {
         return;
     }
     let source = SourceFile::new("fuzz.scn (program)", text.as_str());
-    let _ = run_scenario(&scenario, &source, &[EngineKind::Interp, EngineKind::Jit]);
+    let _ = run_scenario(&scenario, &source, &[EngineKind::Interp, EngineKind::Jit], Default::default());
 }
 
 pub fn pipeline(data: &[u8]) {
