@@ -8,11 +8,13 @@ use super::{output, status};
 use crate::diagnostics::Shown;
 use crate::host_device::{parse_device, parse_value, HostDevice};
 use crate::program::{BitRef, CheckedProgram, Op, Output};
-use crate::scenario::{drive, instantiate, parse_stimulus, Directive, Engine, EngineError, EngineKind, Observer, Step};
+use crate::scenario::{
+    drive, instantiate, parse_stimulus, Directive, Engine, EngineError, EngineKind, Observer, Step, ERROR_CODE,
+    ERROR_FLAG, ERROR_LINE,
+};
 use crate::waveform::Recorder;
 use clap::{Args, ValueEnum};
-use ladder_runtime::special::{D_ERROR_CODE, D_ERROR_LINE, M_OPERATION_ERROR};
-use ladder_runtime::{BitArea, Device, Width, WordArea};
+use ladder_runtime::{BitArea, Device, Width};
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
@@ -321,19 +323,6 @@ fn statistics(times: &[Duration]) -> String {
         max.as_secs_f64() * 1e6
     )
 }
-
-const ERROR_FLAG: HostDevice = HostDevice {
-    device: Device::Bit(BitArea::M, M_OPERATION_ERROR),
-    width: Width::Single,
-};
-const ERROR_CODE: HostDevice = HostDevice {
-    device: Device::Word(WordArea::D, D_ERROR_CODE),
-    width: Width::Single,
-};
-const ERROR_LINE: HostDevice = HostDevice {
-    device: Device::Word(WordArea::D, D_ERROR_LINE),
-    width: Width::Single,
-};
 
 /// Prints the watched devices after every scan.
 struct Printer {

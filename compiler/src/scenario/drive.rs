@@ -6,7 +6,7 @@
 use super::engine::Engine;
 use super::parse::{Directive, Step};
 use crate::host_device::{format_value, same_bits, HostDevice};
-use ladder_runtime::special::{D_ERROR_CODE, M_OPERATION_ERROR};
+use ladder_runtime::special::{D_ERROR_CODE, D_ERROR_LINE, M_OPERATION_ERROR};
 use ladder_runtime::{BitArea, Device, Width, WordArea};
 
 /// What happens while a scenario is driven.
@@ -32,12 +32,17 @@ impl Observer for Quiet {
     fn printed(&mut self, _: u32, _: u64, _: Vec<(String, HostDevice, i32)>) {}
 }
 
-const ERROR_FLAG: HostDevice = HostDevice {
+/// M8067, D8067 and D8069: the operation error flag, its code and line.
+pub const ERROR_FLAG: HostDevice = HostDevice {
     device: Device::Bit(BitArea::M, M_OPERATION_ERROR),
     width: Width::Single,
 };
-const ERROR_CODE: HostDevice = HostDevice {
+pub const ERROR_CODE: HostDevice = HostDevice {
     device: Device::Word(WordArea::D, D_ERROR_CODE),
+    width: Width::Single,
+};
+pub const ERROR_LINE: HostDevice = HostDevice {
+    device: Device::Word(WordArea::D, D_ERROR_LINE),
     width: Width::Single,
 };
 
