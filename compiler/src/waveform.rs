@@ -56,16 +56,23 @@ impl Recorder {
         &self.signals
     }
 
-    /// Reads every signal at `time_ms`. Scans that report 0 ms share a time:
-    /// the last one's values stand for it.
+    /// Reads every signal at `time_ms`; kept only when something changed,
+    /// so a long run with few changes stays small. Scans that report 0 ms
+    /// share a time: the last one's values stand for it.
     pub fn sample(&mut self, engine: &mut dyn Engine, time_ms: u64) -> Result<(), String> {
         let mut values = Vec::with_capacity(self.signals.len());
         for (_, device) in &self.signals {
             values.push(engine.read(*device)?);
         }
-        match self.samples.last_mut() {
-            Some((last, previous)) if *last == time_ms => *previous = values,
-            _ => self.samples.push((time_ms, values)),
+        let changed = self.samples.last().is_none_or(|(_, previous)| *previous != values);
+        // The first sample (the values before the first scan) stays.
+        let replaces_last = self.samples.len() > 1 && self.samples.last().is_some_and(|(last, _)| *last == time_ms);
+        if replaces_last {
+            if let Some(last) = self.samples.last_mut() {
+                last.1 = values;
+            }
+        } else if changed {
+            self.samples.push((time_ms, values));
         }
         Ok(())
     }

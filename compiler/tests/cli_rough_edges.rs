@@ -94,7 +94,7 @@ fn an_unsupported_target_lists_the_supported_ones() {
         &["build", "p.il", "--target", "thumbv7em-none-eabihf", "-o", "p.o"],
         &dir,
     );
-    assert_eq!(output.status.code(), Some(1));
+    assert_eq!(output.status.code(), Some(2), "a bad argument");
     let stderr = text(&output.stderr);
     for needle in ["aarch64-unknown-linux-gnu", "riscv64gc-unknown-linux-gnu", "32-bit"] {
         assert!(stderr.contains(needle), "{stderr}");
@@ -147,4 +147,41 @@ fn a_malformed_operand_is_underlined_whole() {
         "{}",
         text(&output.stderr)
     );
+}
+
+#[test]
+fn outputs_never_overwrite_scenarios_programs_or_stimuli() {
+    let dir = temp_dir("outputs");
+    std::fs::write(dir.join("p.il"), "LD X0\nOUT Y0\n").unwrap();
+    std::fs::write(dir.join("a.scn"), "program p.il\nset X0 1\nscan\nexpect Y0 1\n").unwrap();
+    for junit in ["a.scn", "p.il"] {
+        let output = ladderc(&["test", "a.scn", "--engine", "interp", "--junit", junit], &dir);
+        assert_eq!(output.status.code(), Some(2), "{junit}: {}", text(&output.stderr));
+    }
+    let output = ladderc(&["run", "p.il", "--stimulus", "a.scn", "--vcd", "a.scn"], &dir);
+    assert_eq!(output.status.code(), Some(2), "{}", text(&output.stderr));
+    assert_eq!(
+        std::fs::read_to_string(dir.join("a.scn")).unwrap(),
+        "program p.il\nset X0 1\nscan\nexpect Y0 1\n"
+    );
+    assert_eq!(std::fs::read_to_string(dir.join("p.il")).unwrap(), "LD X0\nOUT Y0\n");
+    // A folder that does not exist is refused before the run.
+    let output = ladderc(&["run", "p.il", "--scans", "3", "--vcd", "missing/x.vcd"], &dir);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(text(&output.stdout).is_empty(), "nothing ran: {}", text(&output.stdout));
+}
+
+#[test]
+fn a_suite_no_engine_could_run_is_not_a_pass() {
+    let dir = temp_dir("noengine");
+    std::fs::write(dir.join("a.scn"), "program <<\nLD X0\nOUT Y0\n>>\nscan\n").unwrap();
+    let output = Command::new(env!("CARGO_BIN_EXE_ladderc"))
+        .args(["test", "a.scn", "--engine", "aot"])
+        .current_dir(&dir)
+        .env("PATH", "/nonexistent")
+        .env_remove("CC")
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(2), "{}", text(&output.stdout));
+    assert!(text(&output.stdout).contains("skipped aot"), "{}", text(&output.stdout));
 }

@@ -78,8 +78,10 @@ impl RungTracker {
 
     /// AND/OR-type contacts, INV, MEP/MEF: need an open rung.
     pub fn series(&mut self, span: Span, diagnostics: &mut Diagnostics) {
-        self.require_rung(span, diagnostics);
-        self.note_dangling(span);
+        // A contact already reported as having no rung is not also dangling.
+        if self.require_rung(span, diagnostics) {
+            self.note_dangling(span);
+        }
         self.last_was_output = false;
     }
 
@@ -131,10 +133,12 @@ impl RungTracker {
                 )
                 .with_label("no open branch point"),
             );
-        } else if pop {
-            self.branches -= 1;
+        } else {
+            if pop {
+                self.branches -= 1;
+            }
+            self.note_dangling(span);
         }
-        self.note_dangling(span);
         self.last_was_output = false;
     }
 

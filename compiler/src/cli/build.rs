@@ -69,6 +69,13 @@ pub fn run(args: &BuildArgs, shown: Shown) -> u8 {
     };
     match target {
         None => {
+            use std::io::IsTerminal as _;
+            if args.emit == Emit::Obj && std::io::stdout().is_terminal() {
+                say_err!(
+                    "error: not writing an object file to a terminal; name a file with -o (or redirect the output)"
+                );
+                return status::UNUSABLE;
+            }
             let _ = std::io::stdout().lock().write_all(&bytes);
             status::OK
         }
@@ -93,7 +100,13 @@ fn produce(args: &BuildArgs, shown: Shown) -> Result<Vec<u8>, u8> {
             };
             crate::pipeline::object(&program, &options).map_err(|error| {
                 say_err!("error: {error}");
-                status::FAILED
+                match error {
+                    // A target ladderc cannot build for is a bad argument.
+                    crate::codegen::CodegenError::Target(_) => status::UNUSABLE,
+                    crate::codegen::CodegenError::HostTarget(_)
+                    | crate::codegen::CodegenError::Module(_)
+                    | crate::codegen::CodegenError::Object(_) => status::FAILED,
+                }
             })
         }
     }

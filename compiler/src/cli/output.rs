@@ -9,8 +9,10 @@ use std::path::{Path, PathBuf};
 /// Why an output path cannot be used.
 #[derive(Debug, thiserror::Error)]
 pub enum OutputError {
-    #[error("the output `{output}` is the input `{input}`; writing it would destroy the program")]
+    #[error("the output `{output}` is the input `{input}`; writing it would destroy it")]
     SameAsInput { output: PathBuf, input: PathBuf },
+    #[error("the output `{0}` is in a folder that does not exist")]
+    NoFolder(PathBuf),
     #[error("the output `{0}` is {1}; ladderc only replaces regular files")]
     NotRegular(PathBuf, &'static str),
     #[error("the output `{0}` is a symbolic link to a file that does not exist")]
@@ -64,7 +66,17 @@ pub fn prepare(output: &Path, inputs: &[&Path]) -> Result<PathBuf, OutputError> 
             Err(_) => return Err(OutputError::DanglingLink(output.to_path_buf())),
         },
         Ok(_) => output.to_path_buf(),
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(output.to_path_buf()),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            // Found out now, before the work, not when the file is written.
+            let folder = match output.parent() {
+                Some(parent) if !parent.as_os_str().is_empty() => parent,
+                _ => Path::new("."),
+            };
+            if !folder.is_dir() {
+                return Err(OutputError::NoFolder(output.to_path_buf()));
+            }
+            return Ok(output.to_path_buf());
+        }
         Err(e) => return Err(io(e)),
     };
     let metadata = std::fs::metadata(&target).map_err(io)?;

@@ -6,13 +6,27 @@ use crate::scenario::ScenarioOutcome;
 use quick_junit::{NonSuccessKind, Report, TestCase, TestCaseStatus, TestSuite};
 use std::path::Path;
 
+/// One scenario file's results for the report.
+pub struct FileReport<'a> {
+    pub path: &'a Path,
+    /// None when the file or its program could not be read.
+    pub outcome: Option<&'a ScenarioOutcome>,
+    /// Why it could not be read.
+    pub errors: &'a [String],
+}
+
 /// Writes the report: a testsuite per scenario file, a testcase per engine
 /// that ran it (or `check` for a scenario that expects a rejection or whose
 /// program does not compile), failures with the expected and actual value
 /// and the scenario line, skipped engines as skipped cases.
-pub fn write_junit(path: &Path, results: &[(&Path, Option<&ScenarioOutcome>)]) -> Result<(), String> {
+pub fn write_junit(path: &Path, results: &[FileReport], inputs: &[&Path]) -> Result<(), String> {
     let mut report = Report::new("ladderc");
-    for (file, outcome) in results {
+    for FileReport {
+        path: file,
+        outcome,
+        errors,
+    } in results
+    {
         let name = file.display().to_string();
         let mut suite = TestSuite::new(name.clone());
         let stem = file
@@ -20,7 +34,13 @@ pub fn write_junit(path: &Path, results: &[(&Path, Option<&ScenarioOutcome>)]) -
             .map_or(name.clone(), |s| s.to_string_lossy().into_owned());
         let Some(outcome) = outcome else {
             let mut status = TestCaseStatus::non_success(NonSuccessKind::Error);
-            status.set_message("the scenario or its program could not be read");
+            status.set_message(
+                errors
+                    .first()
+                    .cloned()
+                    .unwrap_or_else(|| "the scenario could not be read".into()),
+            );
+            status.set_description(errors.join("\n"));
             suite.add_test_case(TestCase::new(stem, status));
             report.add_test_suite(suite);
             continue;
@@ -71,7 +91,7 @@ pub fn write_junit(path: &Path, results: &[(&Path, Option<&ScenarioOutcome>)]) -
     let xml = report
         .to_string()
         .map_err(|e| format!("cannot write the JUnit report: {e}"))?;
-    let target = super::output::prepare(path, &[]).map_err(|e| e.to_string())?;
+    let target = super::output::prepare(path, inputs).map_err(|e| e.to_string())?;
     super::output::write_atomically(&target, xml.as_bytes())
         .map_err(|e| format!("cannot write {}: {e}", path.display()))
 }

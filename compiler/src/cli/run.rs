@@ -22,8 +22,8 @@ use std::time::{Duration, Instant};
 pub struct RunArgs {
     /// The program: IL or a GX Works2 CSV export (`-` reads standard input).
     program: PathBuf,
-    /// Number of scans (without --stimulus).
-    #[arg(long, default_value_t = 1)]
+    /// Number of scans (without --stimulus, whose scan directives decide).
+    #[arg(long, default_value_t = 1, conflicts_with = "stimulus")]
     scans: u32,
     /// Milliseconds each scan reports as elapsed (a stimulus may change it).
     #[arg(long, default_value_t = 10)]
@@ -94,7 +94,9 @@ pub fn run(args: &RunArgs, shown: Shown) -> u8 {
             return status::UNUSABLE;
         }
     };
-    let vcd = match args.vcd.as_deref().map(|path| output::prepare(path, &[&args.program])) {
+    let mut inputs = vec![args.program.as_path()];
+    inputs.extend(args.stimulus.as_deref());
+    let vcd = match args.vcd.as_deref().map(|path| output::prepare(path, &inputs)) {
         None => None,
         Some(Ok(target)) => Some(target),
         Some(Err(error)) => {
@@ -119,7 +121,7 @@ pub fn run(args: &RunArgs, shown: Shown) -> u8 {
     };
     let mut engine = Timed {
         engine,
-        times: Vec::new(),
+        times: ScanTimes::default(),
     };
     if let Err(message) = prepare(&mut engine, args) {
         say_err!("error: {message}");
@@ -164,6 +166,9 @@ fn watch_list(args: &RunArgs, program: &CheckedProgram) -> Result<Vec<(String, H
     let mut watched = Vec::new();
     for name in names {
         watched.extend(parse_watch(&name).map_err(|e| format!("--watch: {e}"))?);
+    }
+    if watched.is_empty() {
+        say_err!("note: the program drives no Y coil by number; name the devices to show with --watch");
     }
     Ok(watched)
 }
@@ -283,7 +288,17 @@ fn apply_set(engine: &mut dyn Engine, set: &str) -> Result<HostDevice, String> {
 /// An engine whose scans are timed.
 struct Timed<'p> {
     engine: Box<dyn Engine + 'p>,
-    times: Vec<Duration>,
+    times: ScanTimes,
+}
+
+/// Minimum, total and maximum of the scan times (constant memory however
+/// long the run).
+#[derive(Default)]
+struct ScanTimes {
+    count: u64,
+    total: Duration,
+    min: Option<Duration>,
+    max: Duration,
 }
 
 impl Engine for Timed<'_> {
@@ -302,25 +317,29 @@ impl Engine for Timed<'_> {
     fn scan(&mut self, elapsed_ms: u32) -> Result<(), String> {
         let start = Instant::now();
         let result = self.engine.scan(elapsed_ms);
-        self.times.push(start.elapsed());
+        let took = start.elapsed();
+        let times = &mut self.times;
+        times.count += 1;
+        times.total += took;
+        times.min = Some(times.min.map_or(took, |min| min.min(took)));
+        times.max = times.max.max(took);
         result
     }
 }
 
 /// `--stats`: what one scan took (the whole scan, input refresh to output
 /// image, as the engine runs it).
-fn statistics(times: &[Duration]) -> String {
-    let (Some(min), Some(max)) = (times.iter().min(), times.iter().max()) else {
+fn statistics(times: &ScanTimes) -> String {
+    let Some(min) = times.min else {
         return "scan time: no scans".to_string();
     };
-    let total: Duration = times.iter().sum();
-    let average = total / times.len() as u32;
+    let average = times.total.as_secs_f64() / times.count as f64;
     format!(
         "scan time over {} scans: min {:.3} µs, average {:.3} µs, max {:.3} µs",
-        times.len(),
+        times.count,
         min.as_secs_f64() * 1e6,
-        average.as_secs_f64() * 1e6,
-        max.as_secs_f64() * 1e6
+        average * 1e6,
+        times.max.as_secs_f64() * 1e6
     )
 }
 
@@ -433,9 +452,9 @@ impl Observer for Printer {
                     .iter()
                     .zip(&values)
                     .map(|((name, device), value)| {
-                        let shown = match self.radix {
-                            Radix::Dec => serde_json::Value::from(*value),
-                            Radix::Hex => serde_json::Value::from(show(*value, *device, self.radix)),
+                        let shown = match (self.radix, device.bits()) {
+                            (Radix::Dec, _) | (Radix::Hex, 1) => serde_json::Value::from(*value),
+                            (Radix::Hex, _) => serde_json::Value::from(show(*value, *device, self.radix)),
                         };
                         (name.clone(), shown)
                     })

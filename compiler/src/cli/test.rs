@@ -75,6 +75,9 @@ pub fn run_with(out: &mut dyn Write, args: &TestArgs, engines: &[EngineKind]) ->
             }
         }
     }
+    // A file named twice (or found through two folders) runs once.
+    let mut seen = std::collections::HashSet::new();
+    files.retain(|file| seen.insert(file.canonicalize().unwrap_or_else(|_| file.clone())));
     if files.is_empty() && !unusable {
         let shown: Vec<String> = args.paths.iter().map(|p| p.display().to_string()).collect();
         say_err!("error: no scenario files (*.scn) in {}", shown.join(", "));
@@ -93,6 +96,16 @@ pub fn run_with(out: &mut dyn Write, args: &TestArgs, engines: &[EngineKind]) ->
             (Some(_), true) => Waveforms::All,
         },
     };
+    // Outputs must not be any scenario or program file: checked before the
+    // run, so a refused output costs no time and destroys nothing.
+    let programs: Vec<PathBuf> = files.iter().filter_map(|file| program_file(file)).collect();
+    let inputs: Vec<&Path> = files.iter().chain(&programs).map(PathBuf::as_path).collect();
+    if let Some(path) = &args.junit {
+        if let Err(error) = output::prepare(path, &inputs) {
+            say_err!("error: {error}");
+            return status::UNUSABLE;
+        }
+    }
     let results = run_all(&files, &engines, options);
     let (mut passed, mut failed) = (0usize, 0usize);
     let mut ran: BTreeMap<EngineKind, usize> = BTreeMap::new();
@@ -132,13 +145,13 @@ pub fn run_with(out: &mut dyn Write, args: &TestArgs, engines: &[EngineKind]) ->
         }
     }
     if let Some(dir) = &args.vcd {
-        if let Err(error) = write_waveforms(dir, &results) {
+        if let Err(error) = write_waveforms(dir, &results, &inputs) {
             say_err!("error: {error}");
             unusable = true;
         }
     }
     if let Some(path) = &args.junit {
-        if let Err(error) = super::report::write_junit(path, &results_for_report(&results)) {
+        if let Err(error) = super::report::write_junit(path, &results_for_report(&results), &inputs) {
             say_err!("error: {error}");
             unusable = true;
         }
@@ -154,6 +167,12 @@ pub fn run_with(out: &mut dyn Write, args: &TestArgs, engines: &[EngineKind]) ->
         let _ = writeln!(out, "skipped {}: {reason}", kind.name());
     }
     let _ = writeln!(out, "{passed} passed, {failed} failed");
+    if ran.is_empty() && !skipped.is_empty() {
+        // Nothing ran at all (say `--engine aot` without a C compiler): not
+        // a pass.
+        say_err!("error: no engine could run the scenarios");
+        return status::UNUSABLE;
+    }
     if unusable {
         status::UNUSABLE
     } else if failed > 0 {
@@ -163,8 +182,25 @@ pub fn run_with(out: &mut dyn Write, args: &TestArgs, engines: &[EngineKind]) ->
     }
 }
 
-fn results_for_report(results: &[FileResult]) -> Vec<(&Path, Option<&ScenarioOutcome>)> {
-    results.iter().map(|r| (r.path.as_path(), r.outcome.as_ref())).collect()
+fn results_for_report(results: &[FileResult]) -> Vec<super::report::FileReport<'_>> {
+    results
+        .iter()
+        .map(|r| super::report::FileReport {
+            path: &r.path,
+            outcome: r.outcome.as_ref(),
+            errors: &r.errors,
+        })
+        .collect()
+}
+
+/// The program file a scenario names, if it names one and can be read.
+fn program_file(scenario: &Path) -> Option<PathBuf> {
+    let bytes = crate::source::read_bounded(scenario).ok()?;
+    let parsed = parse_scenario(scenario, &String::from_utf8_lossy(&bytes)).ok()?;
+    match parsed.program {
+        crate::scenario::ProgramSource::File(path) => Some(path),
+        crate::scenario::ProgramSource::Inline { .. } => None,
+    }
 }
 
 /// Runs every file on a pool of threads (one per core); results in file
@@ -229,32 +265,43 @@ fn run_file(file: &Path, engines: &[EngineKind], options: RunOptions) -> FileRes
 fn load(file: &Path) -> Result<(Scenario, crate::source::SourceFile), String> {
     let bytes = crate::source::read_bounded(file).map_err(|error| format!("error: {error}"))?;
     let text = String::from_utf8_lossy(&bytes).into_owned();
-    let scenario = parse_scenario(file, &text)
-        .map_err(|error| format!("{}:{}: error: {}", file.display(), error.line, error.message))?;
+    let scenario = parse_scenario(file, &text).map_err(|error| {
+        let hint = match file.extension().and_then(|e| e.to_str()) {
+            Some("scn") | None => String::new(),
+            Some(_) => " (is this a program? `ladderc test` takes scenario files, *.scn)".to_string(),
+        };
+        format!("{}:{}: error: {}{hint}", file.display(), error.line, error.message)
+    })?;
     let source =
         crate::scenario::load_program(&scenario).map_err(|message| format!("{}: error: {message}", file.display()))?;
     Ok((scenario, source))
 }
 
-/// `DIR/NAME.ENGINE.vcd` for every kept waveform.
-fn write_waveforms(dir: &Path, results: &[FileResult]) -> Result<(), String> {
+/// `DIR/NAME.ENGINE.vcd` for every kept waveform, NAME the scenario's path
+/// (`__` for its folder separators); a name taken twice gets `-2`, `-3`.
+fn write_waveforms(dir: &Path, results: &[FileResult], inputs: &[&Path]) -> Result<(), String> {
+    let mut taken = std::collections::HashSet::new();
     for result in results {
         let Some(outcome) = &result.outcome else { continue };
-        // The whole path, so that equal names in two folders stay apart.
         let stem = result
             .path
             .with_extension("")
             .to_string_lossy()
-            .replace(['/', '\\'], "_")
+            .replace(['/', '\\'], "__")
             .trim_start_matches(['_', '.'])
             .to_string();
         for engine in &outcome.engines {
             let Some(waveform) = &engine.waveform else { continue };
-            let path = dir.join(format!("{stem}.{}.vcd", engine.kind.name()));
+            let base = format!("{stem}.{}", engine.kind.name());
+            let name = (1..)
+                .map(|n| if n == 1 { base.clone() } else { format!("{base}-{n}") })
+                .find(|name| taken.insert(name.clone()))
+                .unwrap_or(base);
+            let path = dir.join(format!("{name}.vcd"));
             let bytes = waveform
                 .to_vcd()
                 .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-            let target = output::prepare(&path, &[]).map_err(|e| e.to_string())?;
+            let target = output::prepare(&path, inputs).map_err(|e| e.to_string())?;
             output::write_atomically(&target, &bytes).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
         }
     }

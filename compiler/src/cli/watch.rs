@@ -44,12 +44,22 @@ pub fn parse_watch(entry: &str) -> Result<Vec<(String, HostDevice)>, String> {
         return Err(format!("`{entry}`: ranges are of bits or words (Y0..Y7, D100..D109)"));
     };
     if kind != last_kind {
-        return Err(format!("`{entry}`: both ends of a range are the same kind of device"));
+        return Err(format!(
+            "`{entry}`: both ends of a range must be the same kind of device"
+        ));
     }
     if to < from {
         return Err(format!("`{entry}`: the range ends before it starts"));
     }
-    let step = if double { 2 } else { 1 };
+    // Index registers interleave Z0, V0, Z1, ...: a range of Zn or of Vn
+    // steps over the other kind.
+    let index_registers = matches!(first.device, Device::Word(ladder_runtime::WordArea::Index, _));
+    if index_registers && from % 2 != to % 2 {
+        return Err(format!(
+            "`{entry}`: both ends of a range must be the same kind of device"
+        ));
+    }
+    let step = if double || index_registers { 2 } else { 1 };
     if (to - from) / step >= MOST_IN_RANGE {
         return Err(format!("`{entry}`: a range holds at most {MOST_IN_RANGE} devices"));
     }
@@ -98,6 +108,8 @@ mod tests {
         assert_eq!(names("D10:32"), ["D10:32"]);
         assert_eq!(names("D10..D13:32"), ["D10:32", "D12:32"]);
         assert_eq!(names("X0"), ["X0"]);
+        assert_eq!(names("V0..V2"), ["V0", "V1", "V2"]);
+        assert!(parse_watch("Z0..V3").is_err());
         assert!(parse_watch("Y7..Y0").is_err());
         assert!(parse_watch("Y0..D3").is_err());
         assert!(parse_watch("M0..M8000").is_err());
