@@ -89,7 +89,7 @@ fn unknown_targets_are_an_error_without_output() {
         "--target",
         "vax-dec-ultrix",
     ]);
-    assert_eq!(result.status.code(), Some(1));
+    assert_eq!(result.status.code(), Some(2), "an unsupported target is a bad argument");
     assert!(String::from_utf8_lossy(&result.stderr).contains("unsupported target"));
     assert!(!output.exists());
 }
