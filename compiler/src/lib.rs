@@ -17,6 +17,7 @@ pub mod lower;
 pub mod pipeline;
 pub mod program;
 pub mod scenario;
+pub mod serve;
 pub mod source;
 pub mod syntax;
 pub mod waveform;

@@ -35,6 +35,7 @@ mod import;
 mod output;
 mod report;
 mod run;
+mod serve;
 pub mod test;
 mod watch;
 
@@ -85,6 +86,8 @@ pub enum Command {
         /// A code such as E0010 or W0002.
         code: Option<String>,
     },
+    /// Run the program as a soft PLC: scans in real time, serves Modbus TCP.
+    Serve(serve::ServeArgs),
     /// Print a shell completion script: `ladderc completions bash > /etc/bash_completion.d/ladderc`.
     Completions {
         /// The shell.
@@ -152,6 +155,7 @@ pub fn main_with_args(args: impl IntoIterator<Item = std::ffi::OsString>) -> u8 
             clap_complete::generate(shell, &mut command, "ladderc", &mut std::io::stdout());
             status::OK
         }
+        Command::Serve(args) => serve::run(&args, shown),
         Command::Import { export, output } => import::run(&export, output.as_ref(), shown),
     }
 }

@@ -44,6 +44,10 @@ pub trait Engine {
     fn unforce(&mut self, area: BitArea, index: u32) -> Result<(), String>;
     /// One whole scan reporting `elapsed_ms`.
     fn scan(&mut self, elapsed_ms: u32) -> Result<(), String>;
+    /// The device image, for engines that hold it in this process.
+    fn image(&self) -> Option<&Memory> {
+        None
+    }
 }
 
 /// Something that runs step 3 of the scan on a memory image.
@@ -98,6 +102,10 @@ impl<R: ProgramRunner> Engine for InProcess<R> {
         let runner = &self.runner;
         self.memory.scan_with(elapsed_ms, |mem| runner.run_program(mem));
         Ok(())
+    }
+
+    fn image(&self) -> Option<&Memory> {
+        Some(&self.memory)
     }
 }
 

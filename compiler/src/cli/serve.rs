@@ -1,0 +1,96 @@
+//! `ladderc serve`: the program as a soft PLC (see `crate::serve`).
+
+use super::status;
+use crate::diagnostics::Shown;
+use crate::scenario::EngineKind;
+use crate::serve::{serve, ServeOptions};
+use clap::{Args, ValueEnum};
+use std::net::SocketAddr;
+use std::path::PathBuf;
+use std::time::Duration;
+
+/// The Modbus mapping, shown by `--help`.
+const MAPPING: &str = "Modbus TCP mapping:
+  discrete inputs 0-255        X0-X377 (read)
+  coils 0-255                  Y0-Y377 (read/write)
+  coils 1000-9511              M0-M8511 (read/write)
+  coils 20000-20255            the input image X0-X377 (write to drive the inputs)
+  holding registers 0-8511     D0-D8511 (read/write; 32-bit values low word first)
+  input registers 0-511        timer current values T0-T511
+  input registers 1000-1199    counter current values C0-C199
+A write acts like a host write before the next scan. Addresses outside these get
+exception 02 (illegal data address), other functions exception 01 (illegal function).";
+
+#[derive(Args, Debug)]
+#[command(after_help = MAPPING)]
+pub struct ServeArgs {
+    /// The program: IL or a GX Works2 CSV export.
+    program: PathBuf,
+    /// The scan period in milliseconds (each scan reports the real time
+    /// since the previous one).
+    #[arg(long, default_value_t = 10)]
+    scan_ms: u32,
+    /// Serve Modbus TCP on this address (loopback unless --allow-remote).
+    #[arg(long, value_name = "ADDRESS:PORT")]
+    modbus: Option<SocketAddr>,
+    /// Refuse every write (exception 01).
+    #[arg(long)]
+    read_only: bool,
+    /// Allow addresses other than loopback: anyone on the network could then
+    /// write the machine's inputs and outputs.
+    #[arg(long)]
+    allow_remote: bool,
+    /// Engine that runs the program.
+    #[arg(long, value_enum, default_value_t = ServeEngine::Jit)]
+    engine: ServeEngine,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum ServeEngine {
+    Interp,
+    Jit,
+}
+
+pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
+    if let Some(address) = args.modbus {
+        if !address.ip().is_loopback() && !args.allow_remote {
+            say_err!("error: --modbus {address} is not a loopback address; add --allow-remote to serve the network");
+            return status::UNUSABLE;
+        }
+    }
+    if args.scan_ms == 0 {
+        say_err!("error: --scan-ms is at least 1");
+        return status::UNUSABLE;
+    }
+    let program = match super::compile_file(&args.program, shown) {
+        Ok(program) => program,
+        Err(code) => return code,
+    };
+    let options = ServeOptions {
+        period: Duration::from_millis(u64::from(args.scan_ms)),
+        modbus: args.modbus,
+        read_only: args.read_only,
+        engine: match args.engine {
+            ServeEngine::Interp => EngineKind::Interp,
+            ServeEngine::Jit => EngineKind::Jit,
+        },
+    };
+    match serve(program, &options) {
+        Ok(stats) => {
+            say_err!(
+                "{} scans: scan time min {:.1} µs, average {:.1} µs, max {:.1} µs; start jitter up to {:.2} ms; {} overruns",
+                stats.scans,
+                stats.min.unwrap_or_default().as_secs_f64() * 1e6,
+                stats.average().as_secs_f64() * 1e6,
+                stats.max.as_secs_f64() * 1e6,
+                stats.jitter.as_secs_f64() * 1e3,
+                stats.overruns
+            );
+            status::OK
+        }
+        Err(message) => {
+            say_err!("error: {message}");
+            status::UNUSABLE
+        }
+    }
+}

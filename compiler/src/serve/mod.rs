@@ -1,0 +1,205 @@
+//! `ladderc serve`: a soft PLC. A scan thread runs the program at a fixed
+//! period with the real elapsed time (so timers run in real time) and
+//! publishes the image after every scan; a Modbus TCP server (tokio-modbus)
+//! reads that copy and queues writes for the next scan. Ctrl-C or SIGTERM
+//! stops it cleanly and prints the scan statistics.
+
+mod modbus;
+mod shared;
+
+pub use modbus::{COUNTERS, DATA, INPUTS, INPUT_IMAGE, OUTPUTS, RELAYS, TIMERS};
+use shared::{HostWrite, Shared, Stats};
+
+use crate::host_device::HostDevice;
+use crate::program::CheckedProgram;
+use crate::scenario::{instantiate, Engine, EngineKind};
+use ladder_runtime::{BitArea, Device, Width, WordArea};
+use std::net::SocketAddr;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// How `serve` runs.
+#[derive(Clone, Debug)]
+pub struct ServeOptions {
+    pub period: Duration,
+    pub modbus: Option<SocketAddr>,
+    pub read_only: bool,
+    pub engine: EngineKind,
+}
+
+/// Runs the program until Ctrl-C or SIGTERM; `Err` is a message for an
+/// unusable setup (a port in use, an engine that cannot run).
+pub fn serve(program: CheckedProgram, options: &ServeOptions) -> Result<Stats, String> {
+    let shared = Arc::new(Shared::default());
+    let runtime = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()
+        .map_err(|e| format!("cannot start the server runtime: {e}"))?;
+    // The listener first: a port in use is an error before anything runs.
+    let listener = match options.modbus {
+        None => None,
+        Some(address) => Some(
+            runtime
+                .block_on(tokio::net::TcpListener::bind(address))
+                .map_err(|e| format!("cannot listen for Modbus on {address}: {e}"))?,
+        ),
+    };
+    if let Some(listener) = &listener {
+        let address = listener.local_addr().map_err(|e| e.to_string())?;
+        announce(&format!("modbus listening on {address}"));
+    }
+    let (ready, started) = std::sync::mpsc::channel();
+    let scanner = {
+        let shared = Arc::clone(&shared);
+        let (period, kind) = (options.period, options.engine);
+        std::thread::spawn(move || scan_loop(&program, kind, period, &shared, &ready))
+    };
+    started
+        .recv()
+        .map_err(|_| "the scan thread ended before it started".to_string())??;
+    announce(&format!("scanning every {} ms", options.period.as_millis()));
+    let read_only = options.read_only;
+    let served = Arc::clone(&shared);
+    runtime.block_on(async move {
+        if let Some(listener) = listener {
+            let server = tokio_modbus::server::tcp::Server::new(listener);
+            let shared = Arc::clone(&served);
+            tokio::spawn(async move {
+                let on_connected = |stream, address| {
+                    let shared = Arc::clone(&shared);
+                    let new_service = move |_| {
+                        Ok(Some(modbus::Service {
+                            shared: Arc::clone(&shared),
+                            read_only,
+                        }))
+                    };
+                    async move { tokio_modbus::server::tcp::accept_tcp_connection(stream, address, new_service) }
+                };
+                // A malformed frame ends that connection only.
+                let _ = server.serve(&on_connected, |_error| {}).await;
+            });
+        }
+        wait_for_stop(&served).await;
+    });
+    shared.stop();
+    scanner.join().map_err(|_| "the scan thread failed".to_string())?;
+    Ok(shared.stats())
+}
+
+/// A line on standard output for whoever started the server (tests read the
+/// port from it); a closed output is not an error.
+fn announce(line: &str) {
+    use std::io::Write as _;
+    let mut out = std::io::stdout().lock();
+    let _ = writeln!(out, "{line}");
+    let _ = out.flush();
+}
+
+/// Ctrl-C, SIGTERM, or the scan thread stopping on its own.
+async fn wait_for_stop(shared: &Shared) {
+    #[cfg(unix)]
+    let terminate = async {
+        match tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate()) {
+            Ok(mut signal) => {
+                signal.recv().await;
+            }
+            Err(_) => std::future::pending::<()>().await,
+        }
+    };
+    #[cfg(not(unix))]
+    let terminate = std::future::pending::<()>();
+    let stopped = async {
+        while !shared.stopping() {
+            tokio::time::sleep(Duration::from_millis(50)).await;
+        }
+    };
+    tokio::select! {
+        _ = tokio::signal::ctrl_c() => {}
+        () = terminate => {}
+        () = stopped => {}
+    }
+}
+
+/// The scan thread: the engine lives here (compiled code need not be sent
+/// between threads). Each scan reports the real time since the previous
+/// one, carrying what is below a millisecond.
+fn scan_loop(
+    program: &CheckedProgram,
+    kind: EngineKind,
+    period: Duration,
+    shared: &Shared,
+    ready: &std::sync::mpsc::Sender<Result<(), String>>,
+) {
+    let mut engine = match instantiate(kind, program) {
+        Ok(engine) => engine,
+        Err(error) => {
+            let _ = ready.send(Err(format!("{error:?}")));
+            shared.stop();
+            return;
+        }
+    };
+    let _ = ready.send(Ok(()));
+    let start = Instant::now();
+    let mut due = start;
+    let mut previous = start;
+    let mut carried = Duration::ZERO;
+    while !shared.stopping() {
+        let now = Instant::now();
+        if now < due {
+            std::thread::sleep(due - now);
+        }
+        let began = Instant::now();
+        let late = began.saturating_duration_since(due);
+        let elapsed = began - previous + carried;
+        previous = began;
+        let elapsed_ms = elapsed.as_millis().min(u128::from(u32::MAX)) as u32;
+        carried = elapsed - Duration::from_millis(u64::from(elapsed_ms));
+        for write in shared.take_writes() {
+            apply(engine.as_mut(), write);
+        }
+        if engine.scan(elapsed_ms).is_err() {
+            shared.stop();
+            break;
+        }
+        if let Some(image) = engine.image() {
+            shared.publish(image);
+        }
+        let took = began.elapsed();
+        due += period;
+        let overrun = Instant::now() > due;
+        if overrun {
+            // Behind: the next scan starts now, not in a burst.
+            due = Instant::now();
+        }
+        shared.update_stats(|stats| {
+            stats.scans += 1;
+            stats.last = took;
+            stats.min = Some(stats.min.map_or(took, |min| min.min(took)));
+            stats.max = stats.max.max(took);
+            stats.total += took;
+            stats.jitter = stats.jitter.max(late);
+            stats.overruns += u64::from(overrun);
+        });
+    }
+}
+
+/// A client's write as a host write (the same call a firmware host makes).
+fn apply(engine: &mut dyn Engine, write: HostWrite) {
+    let bit = |area, index| HostDevice {
+        device: Device::Bit(area, index),
+        width: Width::Single,
+    };
+    let _ = match write {
+        HostWrite::Input(n, on) => engine.write(bit(BitArea::X, n), i32::from(on)),
+        HostWrite::Output(n, on) => engine.write(bit(BitArea::Y, n), i32::from(on)),
+        HostWrite::Relay(n, on) => engine.write(bit(BitArea::M, n), i32::from(on)),
+        HostWrite::Data(n, value) => engine.write(
+            HostDevice {
+                device: Device::Word(WordArea::D, n),
+                width: Width::Single,
+            },
+            i32::from(value),
+        ),
+    };
+}

@@ -1,0 +1,150 @@
+//! The Modbus TCP side of `ladderc serve` (tokio-modbus): the documented
+//! mapping of Modbus addresses to devices. Reads come from the image as the
+//! latest scan left it; writes are queued and applied as host writes before
+//! the next scan. Bad addresses and unsupported functions get exception
+//! responses; nothing a client sends stops the scan loop.
+
+use super::shared::{HostWrite, Shared};
+use std::future;
+use std::sync::Arc;
+use tokio_modbus::prelude::{ExceptionCode, Request, Response};
+
+/// Discrete inputs 0-255: X0-X377 (the input image as the program saw it).
+pub const INPUTS: (u16, u16) = (0, 256);
+/// Coils 0-255: Y0-Y377.
+pub const OUTPUTS: (u16, u16) = (0, 256);
+/// Coils 1000-9511: M0-M8511.
+pub const RELAYS: (u16, u16) = (1000, 8512);
+/// Coils 20000-20255: the input image X0-X377, for plant simulators.
+pub const INPUT_IMAGE: (u16, u16) = (20000, 256);
+/// Holding registers 0-8511: D0-D8511.
+pub const DATA: (u16, u16) = (0, 8512);
+/// Input registers 0-511: timer current values T0-T511.
+pub const TIMERS: (u16, u16) = (0, 512);
+/// Input registers 1000-1199: counter current values C0-C199.
+pub const COUNTERS: (u16, u16) = (1000, 200);
+
+/// Where a run of `count` addresses from `address` lies in a block
+/// `(first, len)`: its offset, if all of it is inside.
+fn within(block: (u16, u16), address: u16, count: u16) -> Option<usize> {
+    let (first, len) = block;
+    let offset = address.checked_sub(first)?;
+    (count >= 1 && u32::from(offset) + u32::from(count) <= u32::from(len)).then_some(usize::from(offset))
+}
+
+/// The service of one connection.
+pub struct Service {
+    pub shared: Arc<Shared>,
+    pub read_only: bool,
+}
+
+impl Service {
+    fn respond(&self, request: Request<'_>) -> Result<Response, ExceptionCode> {
+        use ExceptionCode::{IllegalDataAddress, IllegalFunction};
+        let image = || self.shared.image();
+        let bits = |values: &[u8], offset: usize, count: u16| -> Vec<bool> {
+            values[offset..offset + usize::from(count)]
+                .iter()
+                .map(|&b| b != 0)
+                .collect()
+        };
+        let words = |values: &[i16], offset: usize, count: u16| -> Vec<u16> {
+            values[offset..offset + usize::from(count)]
+                .iter()
+                .map(|&w| w as u16)
+                .collect()
+        };
+        let write = |writes: Vec<HostWrite>| -> Result<(), ExceptionCode> {
+            if self.read_only {
+                return Err(IllegalFunction);
+            }
+            self.shared.queue(writes);
+            Ok(())
+        };
+        match request {
+            Request::ReadDiscreteInputs(address, count) => {
+                let offset = within(INPUTS, address, count).ok_or(IllegalDataAddress)?;
+                Ok(Response::ReadDiscreteInputs(bits(&image().x, offset, count)))
+            }
+            Request::ReadCoils(address, count) => {
+                let image = image();
+                if let Some(offset) = within(OUTPUTS, address, count) {
+                    Ok(Response::ReadCoils(bits(&image.y, offset, count)))
+                } else if let Some(offset) = within(RELAYS, address, count) {
+                    Ok(Response::ReadCoils(bits(&image.m, offset, count)))
+                } else if let Some(offset) = within(INPUT_IMAGE, address, count) {
+                    Ok(Response::ReadCoils(bits(&image.input_image, offset, count)))
+                } else {
+                    Err(IllegalDataAddress)
+                }
+            }
+            Request::WriteSingleCoil(address, on) => {
+                write(vec![coil_write(address, 1).ok_or(IllegalDataAddress)?(0, on)])?;
+                Ok(Response::WriteSingleCoil(address, on))
+            }
+            Request::WriteMultipleCoils(address, values) => {
+                let count = u16::try_from(values.len()).map_err(|_| IllegalDataAddress)?;
+                let make = coil_write(address, count).ok_or(IllegalDataAddress)?;
+                write(values.iter().enumerate().map(|(i, &on)| make(i, on)).collect())?;
+                Ok(Response::WriteMultipleCoils(address, count))
+            }
+            Request::ReadHoldingRegisters(address, count) => {
+                let offset = within(DATA, address, count).ok_or(IllegalDataAddress)?;
+                Ok(Response::ReadHoldingRegisters(words(&image().d, offset, count)))
+            }
+            Request::ReadInputRegisters(address, count) => {
+                let image = image();
+                if let Some(offset) = within(TIMERS, address, count) {
+                    Ok(Response::ReadInputRegisters(words(&image.timer_value, offset, count)))
+                } else if let Some(offset) = within(COUNTERS, address, count) {
+                    Ok(Response::ReadInputRegisters(words(&image.counter_value, offset, count)))
+                } else {
+                    Err(IllegalDataAddress)
+                }
+            }
+            Request::WriteSingleRegister(address, value) => {
+                let offset = within(DATA, address, 1).ok_or(IllegalDataAddress)?;
+                write(vec![HostWrite::Data(offset as u32, value as i16)])?;
+                Ok(Response::WriteSingleRegister(address, value))
+            }
+            Request::WriteMultipleRegisters(address, values) => {
+                let count = u16::try_from(values.len()).map_err(|_| IllegalDataAddress)?;
+                let offset = within(DATA, address, count).ok_or(IllegalDataAddress)?;
+                write(
+                    values
+                        .iter()
+                        .enumerate()
+                        .map(|(i, &value)| HostWrite::Data((offset + i) as u32, value as i16))
+                        .collect(),
+                )?;
+                Ok(Response::WriteMultipleRegisters(address, count))
+            }
+            _ => Err(IllegalFunction),
+        }
+    }
+}
+
+/// The write of coil `address + i` for a run of `count` coils in one block.
+fn coil_write(address: u16, count: u16) -> Option<impl Fn(usize, bool) -> HostWrite> {
+    let (kind, offset): (fn(u32, bool) -> HostWrite, usize) = if let Some(offset) = within(OUTPUTS, address, count) {
+        (HostWrite::Output, offset)
+    } else if let Some(offset) = within(RELAYS, address, count) {
+        (HostWrite::Relay, offset)
+    } else if let Some(offset) = within(INPUT_IMAGE, address, count) {
+        (HostWrite::Input, offset)
+    } else {
+        return None;
+    };
+    Some(move |i: usize, on: bool| kind((offset + i) as u32, on))
+}
+
+impl tokio_modbus::server::Service for Service {
+    type Request = Request<'static>;
+    type Response = Response;
+    type Exception = ExceptionCode;
+    type Future = future::Ready<Result<Response, ExceptionCode>>;
+
+    fn call(&self, request: Self::Request) -> Self::Future {
+        future::ready(self.respond(request))
+    }
+}
