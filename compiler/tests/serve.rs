@@ -5,6 +5,8 @@
 //! responses, `--read-only` refuses writes, many clients poll at once while
 //! the scan keeps its period, and SIGTERM stops it cleanly with statistics.
 
+mod common;
+
 use std::io::{BufRead, BufReader};
 use std::net::SocketAddr;
 use std::process::{Child, Command, Stdio};
@@ -17,6 +19,8 @@ const PROGRAM: &str = "LD X0\nOR Y0\nANI X1\nOUT Y0\nLD Y0\nOUT T0 K5\nLD X2\nMO
 struct Server {
     child: Child,
     address: SocketAddr,
+    /// The HTTP address, when started with `--http`.
+    web: Option<SocketAddr>,
     _dir: tempfile::TempDir,
 }
 
@@ -46,9 +50,17 @@ impl Server {
             .unwrap_or_else(|| panic!("{first}"))
             .parse()
             .unwrap();
+        let web = extra.contains(&"--http").then(|| {
+            let line = lines.next().expect("a line").expect("text");
+            line.strip_prefix("http listening on ")
+                .unwrap_or_else(|| panic!("{line}"))
+                .parse()
+                .unwrap()
+        });
         Server {
             child,
             address,
+            web,
             _dir: dir,
         }
     }
@@ -183,4 +195,160 @@ fn a_non_loopback_address_needs_an_explicit_flag() {
         .unwrap();
     assert_eq!(output.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&output.stderr).contains("--allow-remote"));
+}
+
+/// One HTTP/1.1 request on a fresh connection: (status, body).
+fn http(address: SocketAddr, method: &str, path: &str, body: &str) -> (u16, String) {
+    use std::io::{Read, Write};
+    let mut stream = std::net::TcpStream::connect(address).unwrap();
+    stream.set_read_timeout(Some(Duration::from_secs(10))).unwrap();
+    write!(
+        stream,
+        "{method} {path} HTTP/1.1\r\nHost: test\r\nContent-Type: application/json\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
+        body.len()
+    )
+    .unwrap();
+    let mut response = String::new();
+    let _ = stream.read_to_string(&mut response);
+    let status = response
+        .split_whitespace()
+        .nth(1)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(0);
+    let body = response.split_once("\r\n\r\n").map_or("", |(_, b)| b).to_string();
+    (status, body)
+}
+
+fn json(body: &str) -> serde_json::Value {
+    serde_json::from_str(body).unwrap_or_else(|e| panic!("{e}: {body}"))
+}
+
+#[test]
+fn the_json_api_reads_writes_and_refuses_bad_requests() {
+    let server = Server::start(&["--http", "127.0.0.1:0"]);
+    let web = server.web.unwrap();
+    let (status, body) = http(web, "POST", "/api/set", r#"{"device": "D7", "value": 9}"#);
+    assert_eq!(status, 200, "{body}");
+    let (status, _) = http(web, "POST", "/api/set", r#"{"device": "X2", "value": "on"}"#);
+    assert_eq!(status, 200);
+    std::thread::sleep(Duration::from_millis(80));
+    let (status, body) = http(web, "GET", "/api/devices?watch=D7,D5,X2", "");
+    assert_eq!(status, 200);
+    let value = json(&body);
+    assert_eq!(value["devices"]["D7"], 9);
+    assert_eq!(value["devices"]["D5"], 123, "X2 ran MOV K123 D5: {body}");
+    assert!(value["scan"].as_u64().unwrap() > 0);
+    // Forcing Y0 ON holds it whatever the program does.
+    let (status, _) = http(web, "POST", "/api/force", r#"{"device": "Y0", "value": 1}"#);
+    assert_eq!(status, 200);
+    std::thread::sleep(Duration::from_millis(80));
+    assert_eq!(
+        json(&http(web, "GET", "/api/devices?watch=Y0", "").1)["devices"]["Y0"],
+        1
+    );
+    // Bad requests: clear errors, and the server keeps running.
+    for (path, body, expected) in [
+        ("/api/set", "{not json", 400),
+        ("/api/set", r#"{"device": "Q5", "value": 1}"#, 400),
+        ("/api/set", r#"{"device": "D0"}"#, 400),
+        ("/api/force", r#"{"device": "D0", "value": 1}"#, 400),
+        ("/api/devices?watch=M99999", "", 400),
+    ] {
+        let method = if body.is_empty() { "GET" } else { "POST" };
+        let (status, answer) = http(web, method, path, body);
+        assert_eq!(status, expected, "{path} {body}: {answer}");
+        assert!(json(&answer)["error"].is_string(), "{answer}");
+    }
+    let huge = format!(r#"{{"device": "D0", "value": "{}"}}"#, "9".repeat(200_000));
+    assert_eq!(http(web, "POST", "/api/set", &huge).0, 413, "a size cap on uploads");
+    let (status, body) = http(web, "GET", "/api/stats", "");
+    assert_eq!(status, 200);
+    assert!(json(&body)["scans"].as_u64().unwrap() > 0);
+    let (code, stderr) = server.stop();
+    assert_eq!(code, Some(0), "{stderr}");
+}
+
+#[test]
+fn values_are_pushed_as_server_sent_events() {
+    use std::io::{BufRead, Write};
+    let server = Server::start(&["--http", "127.0.0.1:0"]);
+    let mut stream = std::net::TcpStream::connect(server.web.unwrap()).unwrap();
+    stream.set_read_timeout(Some(Duration::from_secs(10))).unwrap();
+    write!(stream, "GET /api/events?watch=Y0,TN0 HTTP/1.1\r\nHost: test\r\n\r\n").unwrap();
+    let events: Vec<serde_json::Value> = BufReader::new(stream)
+        .lines()
+        .map_while(Result::ok)
+        .filter_map(|line| line.strip_prefix("data: ").map(json))
+        .take(3)
+        .collect();
+    assert_eq!(events.len(), 3);
+    assert!(events[2]["scan"].as_u64() > events[0]["scan"].as_u64(), "{events:?}");
+    assert!(events[0]["devices"].get("TN0").is_some());
+    server.stop();
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_monitor_page_shows_a_modbus_write_in_a_real_browser() {
+    let test = "the_monitor_page_shows_a_modbus_write_in_a_real_browser";
+    if let Err(why) = tools_ensure_chromium() {
+        eprintln!("SKIPPED {test}: {why}");
+        println!("SKIPPED {test}: {why}");
+        return;
+    }
+    let server = Server::start(&["--http", "127.0.0.1:0"]);
+    let page = format!("http://{}/?poll=50&watch=D5,Y0", server.web.unwrap());
+    let cell = |dom: &str| {
+        dom.split(r#"id="value-D5""#)
+            .nth(1)
+            .and_then(|rest| rest.split_once('>'))
+            .and_then(|(_, rest)| rest.split_once('<'))
+            .map(|(value, _)| value.to_string())
+    };
+    assert_eq!(
+        cell(&browse(&page, &["--dump-dom"])).as_deref(),
+        Some("0"),
+        "before the write"
+    );
+    let mut ctx = tcp::connect(server.address).await.unwrap();
+    ctx.write_single_coil(20002, true).await.unwrap().unwrap();
+    settle().await;
+    assert_eq!(
+        cell(&browse(&page, &["--dump-dom"])).as_deref(),
+        Some("123"),
+        "after X2 through Modbus"
+    );
+    let shot = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("monitor.png");
+    let _ = std::fs::remove_file(&shot);
+    browse(
+        &page.replace("poll=50", "poll=0"),
+        &[
+            &format!("--screenshot={}", shot.display()),
+            "--window-size=1000,800",
+            "--timeout=1500",
+        ],
+    );
+    assert!(
+        std::fs::metadata(&shot).map(|m| m.len() > 1000).unwrap_or(false),
+        "a screenshot at {}",
+        shot.display()
+    );
+    server.stop();
+}
+
+/// Headless Chromium on `url`; its standard output.
+fn browse(url: &str, args: &[&str]) -> String {
+    let virtual_time = args.iter().any(|a| a.starts_with("--dump-dom"));
+    let mut command = Command::new("chromium");
+    command.args(["--headless", "--no-sandbox", "--disable-gpu"]);
+    let profile = std::env::temp_dir().join(format!("ladderc-chromium-{}", std::process::id()));
+    command.arg(format!("--user-data-dir={}", profile.display()));
+    if virtual_time {
+        command.arg("--virtual-time-budget=1500");
+    }
+    let output = command.args(args).arg(url).output().expect("chromium runs");
+    String::from_utf8_lossy(&output.stdout).into_owned()
+}
+
+fn tools_ensure_chromium() -> Result<(), String> {
+    common::tools::ensure("chromium", &["--version"], &["chromium"])
 }

@@ -18,7 +18,10 @@ const MAPPING: &str = "Modbus TCP mapping:
   holding registers 0-8511     D0-D8511 (read/write; 32-bit values low word first)
   input registers 0-511        timer current values T0-T511
   input registers 1000-1199    counter current values C0-C199
-A write acts like a host write before the next scan. Addresses outside these get
+A write acts like a host write before the next scan.
+HTTP (--http): / the live monitor page; GET /api/devices?watch=Y0,D0 and
+/api/stats; GET /api/events?watch=... pushes the devices (server-sent events);
+POST /api/set, /api/force, /api/unforce with {\"device\": \"Y0\", \"value\": 1}. Addresses outside these get
 exception 02 (illegal data address), other functions exception 01 (illegal function).";
 
 #[derive(Args, Debug)]
@@ -33,7 +36,11 @@ pub struct ServeArgs {
     /// Serve Modbus TCP on this address (loopback unless --allow-remote).
     #[arg(long, value_name = "ADDRESS:PORT")]
     modbus: Option<SocketAddr>,
-    /// Refuse every write (exception 01).
+    /// Serve the live monitor page and the JSON API on this address
+    /// (loopback unless --allow-remote).
+    #[arg(long, value_name = "ADDRESS:PORT")]
+    http: Option<SocketAddr>,
+    /// Refuse every write (Modbus exception 01, HTTP 403).
     #[arg(long)]
     read_only: bool,
     /// Allow addresses other than loopback: anyone on the network could then
@@ -52,10 +59,12 @@ enum ServeEngine {
 }
 
 pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
-    if let Some(address) = args.modbus {
-        if !address.ip().is_loopback() && !args.allow_remote {
-            say_err!("error: --modbus {address} is not a loopback address; add --allow-remote to serve the network");
-            return status::UNUSABLE;
+    for (flag, address) in [("--modbus", args.modbus), ("--http", args.http)] {
+        if let Some(address) = address {
+            if !address.ip().is_loopback() && !args.allow_remote {
+                say_err!("error: {flag} {address} is not a loopback address; add --allow-remote to serve the network");
+                return status::UNUSABLE;
+            }
         }
     }
     if args.scan_ms == 0 {
@@ -69,6 +78,7 @@ pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
     let options = ServeOptions {
         period: Duration::from_millis(u64::from(args.scan_ms)),
         modbus: args.modbus,
+        http: args.http,
         read_only: args.read_only,
         engine: match args.engine {
             ServeEngine::Interp => EngineKind::Interp,

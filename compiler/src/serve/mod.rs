@@ -4,6 +4,7 @@
 //! reads that copy and queues writes for the next scan. Ctrl-C or SIGTERM
 //! stops it cleanly and prints the scan statistics.
 
+mod http;
 mod modbus;
 mod shared;
 
@@ -23,6 +24,7 @@ use std::time::{Duration, Instant};
 pub struct ServeOptions {
     pub period: Duration,
     pub modbus: Option<SocketAddr>,
+    pub http: Option<SocketAddr>,
     pub read_only: bool,
     pub engine: EngineKind,
 }
@@ -48,6 +50,18 @@ pub fn serve(program: CheckedProgram, options: &ServeOptions) -> Result<Stats, S
     if let Some(listener) = &listener {
         let address = listener.local_addr().map_err(|e| e.to_string())?;
         announce(&format!("modbus listening on {address}"));
+    }
+    let web = match options.http {
+        None => None,
+        Some(address) => Some(
+            runtime
+                .block_on(tokio::net::TcpListener::bind(address))
+                .map_err(|e| format!("cannot listen for HTTP on {address}: {e}"))?,
+        ),
+    };
+    if let Some(web) = &web {
+        let address = web.local_addr().map_err(|e| e.to_string())?;
+        announce(&format!("http listening on {address}"));
     }
     let (ready, started) = std::sync::mpsc::channel();
     let scanner = {
@@ -78,6 +92,12 @@ pub fn serve(program: CheckedProgram, options: &ServeOptions) -> Result<Stats, S
                 };
                 // A malformed frame ends that connection only.
                 let _ = server.serve(&on_connected, |_error| {}).await;
+            });
+        }
+        if let Some(web) = web {
+            let app = http::router(Arc::clone(&served), read_only);
+            tokio::spawn(async move {
+                let _ = axum::serve(web, app).await;
             });
         }
         wait_for_stop(&served).await;
@@ -201,5 +221,8 @@ fn apply(engine: &mut dyn Engine, write: HostWrite) {
             },
             i32::from(value),
         ),
+        HostWrite::Set(device, value) => engine.write(device, value),
+        HostWrite::Force(area, index, on) => engine.force(area, index, on),
+        HostWrite::Unforce(area, index) => engine.unforce(area, index),
     };
 }

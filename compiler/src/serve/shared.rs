@@ -15,6 +15,10 @@ pub enum HostWrite {
     Output(u32, bool),
     Relay(u32, bool),
     Data(u32, i16),
+    /// Any device, as `ladderc run --set` writes it.
+    Set(crate::host_device::HostDevice, i32),
+    Force(ladder_runtime::BitArea, u32, bool),
+    Unforce(ladder_runtime::BitArea, u32),
 }
 
 /// Scan timing since the start.
