@@ -352,3 +352,85 @@ fn browse(url: &str, args: &[&str]) -> String {
 fn tools_ensure_chromium() -> Result<(), String> {
     common::tools::ensure("chromium", &["--version"], &["chromium"])
 }
+
+#[test]
+fn online_change_swaps_programs_under_load_and_keeps_memory() {
+    let server = Server::start(&["--http", "127.0.0.1:0"]);
+    let web = server.web.unwrap();
+    // Memory the new program must find: D7 from a host write, Y0 sealed in.
+    assert_eq!(
+        http(web, "POST", "/api/set", r#"{"device": "D7", "value": 4242}"#).0,
+        200
+    );
+    assert_eq!(http(web, "POST", "/api/set", r#"{"device": "X0", "value": 1}"#).0, 200);
+    std::thread::sleep(Duration::from_millis(60));
+    assert_eq!(http(web, "POST", "/api/set", r#"{"device": "X0", "value": 0}"#).0, 200);
+    std::thread::sleep(Duration::from_millis(60));
+    // Clients poll the whole time.
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let pollers: Vec<_> = (0..4)
+        .map(|_| {
+            let stop = std::sync::Arc::clone(&stop);
+            std::thread::spawn(move || {
+                let mut scans = Vec::new();
+                while !stop.load(std::sync::atomic::Ordering::Relaxed) {
+                    let (status, body) = http(web, "GET", "/api/devices?watch=D7", "");
+                    assert_eq!(status, 200);
+                    scans.push(json(&body)["scan"].as_u64().unwrap());
+                }
+                scans
+            })
+        })
+        .collect();
+    // A program that does not compile is refused; the old one goes on.
+    let (status, body) = http(web, "POST", "/api/program", "LD X0\nOUTT Y0\n");
+    assert_eq!(status, 422, "{body}");
+    assert!(json(&body)["diagnostics"].as_str().unwrap().contains("E0001"), "{body}");
+    // The new program: Y0 still sealed in by its own rung, D8 = D7 + 1.
+    let new = "LD X0\nOR Y0\nANI X1\nOUT Y0\nLD SM0\nADD D7 K1 D8\n";
+    let (status, body) = http(web, "POST", "/api/program", new);
+    assert_eq!(status, 200, "{body}");
+    assert_eq!(json(&body)["swapped"], true);
+    std::thread::sleep(Duration::from_millis(60));
+    stop.store(true, std::sync::atomic::Ordering::Relaxed);
+    for poller in pollers {
+        let scans = poller.join().unwrap();
+        assert!(
+            scans.windows(2).all(|w| w[0] <= w[1]),
+            "the scan count never goes back: {scans:?}"
+        );
+    }
+    let value = json(&http(web, "GET", "/api/devices?watch=D7,D8,Y0", "").1);
+    assert_eq!(value["devices"]["D7"], 4242, "memory kept: {value}");
+    assert_eq!(value["devices"]["D8"], 4243, "the new program runs: {value}");
+    assert_eq!(value["devices"]["Y0"], 1, "the seal-in kept: {value}");
+    let (code, stderr) = server.stop();
+    assert_eq!(code, Some(0), "{stderr}");
+}
+
+#[test]
+fn a_changed_program_file_is_swapped_in() {
+    let server = Server::start(&["--http", "127.0.0.1:0", "--watch-file"]);
+    let web = server.web.unwrap();
+    let program = server._dir.path().join("plc.il");
+    std::thread::sleep(Duration::from_millis(50));
+    // A version that does not compile changes nothing.
+    std::fs::write(&program, "LD X0\nOUTT Y0\n").unwrap();
+    std::thread::sleep(Duration::from_millis(500));
+    std::fs::write(&program, "LD SM0\nMOV K99 D9\n").unwrap();
+    let mut value = serde_json::Value::Null;
+    for _ in 0..50 {
+        std::thread::sleep(Duration::from_millis(100));
+        value = json(&http(web, "GET", "/api/devices?watch=D9", "").1);
+        if value["devices"]["D9"] == 99 {
+            break;
+        }
+    }
+    assert_eq!(value["devices"]["D9"], 99, "{value}");
+    let (code, stderr) = server.stop();
+    assert_eq!(code, Some(0));
+    assert!(
+        stderr.contains("does not compile; the running program goes on"),
+        "{stderr}"
+    );
+}

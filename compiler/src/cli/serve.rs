@@ -21,7 +21,8 @@ const MAPPING: &str = "Modbus TCP mapping:
 A write acts like a host write before the next scan.
 HTTP (--http): / the live monitor page; GET /api/devices?watch=Y0,D0 and
 /api/stats; GET /api/events?watch=... pushes the devices (server-sent events);
-POST /api/set, /api/force, /api/unforce with {\"device\": \"Y0\", \"value\": 1}. Addresses outside these get
+POST /api/set, /api/force, /api/unforce with {\"device\": \"Y0\", \"value\": 1};
+POST /api/program with a new program's text swaps it in between two scans. Addresses outside these get
 exception 02 (illegal data address), other functions exception 01 (illegal function).";
 
 #[derive(Args, Debug)]
@@ -40,6 +41,10 @@ pub struct ServeArgs {
     /// (loopback unless --allow-remote).
     #[arg(long, value_name = "ADDRESS:PORT")]
     http: Option<SocketAddr>,
+    /// Swap the program in online whenever its file changes (devices,
+    /// timers, forces and edge values kept).
+    #[arg(long)]
+    watch_file: bool,
     /// Refuse every write (Modbus exception 01, HTTP 403).
     #[arg(long)]
     read_only: bool,
@@ -71,21 +76,30 @@ pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
         say_err!("error: --scan-ms is at least 1");
         return status::UNUSABLE;
     }
-    let program = match super::compile_file(&args.program, shown) {
-        Ok(program) => program,
-        Err(code) => return code,
+    let source = match super::read_program(&args.program) {
+        Ok(source) => source,
+        Err(message) => {
+            say_err!("error: {message}");
+            return status::UNUSABLE;
+        }
+    };
+    let (program, diagnostics) = crate::check::compile_source(&source);
+    super::write_raw(true, &crate::diagnostics::render_all(&source, &diagnostics, shown));
+    let Some(program) = program else {
+        return status::FAILED;
     };
     let options = ServeOptions {
         period: Duration::from_millis(u64::from(args.scan_ms)),
         modbus: args.modbus,
         http: args.http,
         read_only: args.read_only,
+        watch_file: args.watch_file.then(|| args.program.clone()),
         engine: match args.engine {
             ServeEngine::Interp => EngineKind::Interp,
             ServeEngine::Jit => EngineKind::Jit,
         },
     };
-    match serve(program, &options) {
+    match serve(program, &source, &options) {
         Ok(stats) => {
             say_err!(
                 "{} scans: scan time min {:.1} µs, average {:.1} µs, max {:.1} µs; start jitter up to {:.2} ms; {} overruns",

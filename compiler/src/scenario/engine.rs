@@ -48,6 +48,11 @@ pub trait Engine {
     fn image(&self) -> Option<&Memory> {
         None
     }
+    /// Replaces the device image (online change); false when the engine
+    /// does not hold one in this process.
+    fn load_image(&mut self, _image: &Memory) -> bool {
+        false
+    }
 }
 
 /// Something that runs step 3 of the scan on a memory image.
@@ -106,6 +111,11 @@ impl<R: ProgramRunner> Engine for InProcess<R> {
 
     fn image(&self) -> Option<&Memory> {
         Some(&self.memory)
+    }
+
+    fn load_image(&mut self, image: &Memory) -> bool {
+        *self.memory = *image;
+        true
     }
 }
 

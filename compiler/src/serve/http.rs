@@ -20,6 +20,8 @@ use std::time::Duration;
 
 /// Request bodies larger than this are refused (413).
 const BODY_LIMIT: usize = 64 * 1024;
+/// Uploaded programs larger than this are refused (413).
+const PROGRAM_LIMIT: usize = 8 * 1024 * 1024;
 /// How often the event stream sends the watched devices.
 const PUSH_PERIOD: Duration = Duration::from_millis(100);
 
@@ -39,6 +41,10 @@ pub fn router(shared: Arc<Shared>, read_only: bool) -> Router {
         .route("/api/force", post(force))
         .route("/api/unforce", post(unforce))
         .layer(DefaultBodyLimit::max(BODY_LIMIT))
+        .route(
+            "/api/program",
+            post(program).layer(DefaultBodyLimit::max(PROGRAM_LIMIT)),
+        )
         .with_state(App { shared, read_only })
 }
 
@@ -196,4 +202,52 @@ async fn unforce(
         let (area, index) = forceable(device)?;
         Ok(HostWrite::Unforce(area, index))
     })
+}
+
+/// Online change: the body is the new program's text. It is compiled here
+/// (not in the scan thread); one that does not compile is refused (422,
+/// with its diagnostics) and the running program goes on. Otherwise it
+/// replaces the running one between two scans, and the answer comes once
+/// it runs.
+async fn program(State(app): State<App>, text: String) -> Response {
+    if app.read_only {
+        return error(StatusCode::FORBIDDEN, "the server is read-only");
+    }
+    let compiled = tokio::task::spawn_blocking(move || {
+        let source = crate::source::SourceFile::new("<upload>", text);
+        let (program, diagnostics) = crate::check::compile_source(&source);
+        match program {
+            Some(program) => Ok(super::change::Loaded::new(program, &source)),
+            None => Err(crate::diagnostics::render_all(
+                &source,
+                &diagnostics,
+                crate::diagnostics::Shown::default(),
+            )),
+        }
+    })
+    .await;
+    let loaded = match compiled {
+        Ok(Ok(loaded)) => loaded,
+        Ok(Err(diagnostics)) => return (
+            StatusCode::UNPROCESSABLE_ENTITY,
+            Json(
+                json!({ "error": "the program does not compile; the running one goes on", "diagnostics": diagnostics }),
+            ),
+        )
+            .into_response(),
+        Err(_) => return error(StatusCode::INTERNAL_SERVER_ERROR, "compiling failed"),
+    };
+    let before = app.shared.swaps();
+    app.shared.offer(loaded);
+    for _ in 0..200 {
+        if app.shared.swaps() > before {
+            let scan = app.shared.image().scan_count;
+            return Json(json!({ "swapped": true, "scan": scan })).into_response();
+        }
+        tokio::time::sleep(Duration::from_millis(10)).await;
+    }
+    error(
+        StatusCode::SERVICE_UNAVAILABLE,
+        "the scan thread did not take the program",
+    )
 }

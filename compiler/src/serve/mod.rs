@@ -4,6 +4,7 @@
 //! reads that copy and queues writes for the next scan. Ctrl-C or SIGTERM
 //! stops it cleanly and prints the scan statistics.
 
+mod change;
 mod http;
 mod modbus;
 mod shared;
@@ -27,11 +28,18 @@ pub struct ServeOptions {
     pub http: Option<SocketAddr>,
     pub read_only: bool,
     pub engine: EngineKind,
+    /// Online change when this program file changes on disk.
+    pub watch_file: Option<std::path::PathBuf>,
 }
 
 /// Runs the program until Ctrl-C or SIGTERM; `Err` is a message for an
 /// unusable setup (a port in use, an engine that cannot run).
-pub fn serve(program: CheckedProgram, options: &ServeOptions) -> Result<Stats, String> {
+pub fn serve(
+    program: CheckedProgram,
+    source: &crate::source::SourceFile,
+    options: &ServeOptions,
+) -> Result<Stats, String> {
+    let loaded = change::Loaded::new(program, source);
     let shared = Arc::new(Shared::default());
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
@@ -67,12 +75,16 @@ pub fn serve(program: CheckedProgram, options: &ServeOptions) -> Result<Stats, S
     let scanner = {
         let shared = Arc::clone(&shared);
         let (period, kind) = (options.period, options.engine);
-        std::thread::spawn(move || scan_loop(&program, kind, period, &shared, &ready))
+        std::thread::spawn(move || scan_loop(loaded, kind, period, &shared, &ready))
     };
     started
         .recv()
         .map_err(|_| "the scan thread ended before it started".to_string())??;
     announce(&format!("scanning every {} ms", options.period.as_millis()));
+    if let Some(path) = options.watch_file.clone() {
+        let shared = Arc::clone(&shared);
+        std::thread::spawn(move || watch_file(&path, &shared));
+    }
     let read_only = options.read_only;
     let served = Arc::clone(&shared);
     runtime.block_on(async move {
@@ -105,6 +117,42 @@ pub fn serve(program: CheckedProgram, options: &ServeOptions) -> Result<Stats, S
     shared.stop();
     scanner.join().map_err(|_| "the scan thread failed".to_string())?;
     Ok(shared.stats())
+}
+
+/// `--watch-file`: when the program file changes, compiles it and offers it
+/// for online change; a version that does not compile is reported on
+/// stderr and the running program goes on.
+fn watch_file(path: &std::path::Path, shared: &Shared) {
+    // The length too: two writes within a coarse file-system clock tick.
+    let modified = || std::fs::metadata(path).ok().map(|m| (m.modified().ok(), m.len()));
+    let mut seen = modified();
+    while !shared.stopping() {
+        std::thread::sleep(Duration::from_millis(200));
+        let now = modified();
+        if now == seen {
+            continue;
+        }
+        seen = now;
+        let Ok(source) = crate::source::SourceFile::read(path) else {
+            continue;
+        };
+        let (program, diagnostics) = crate::check::compile_source(&source);
+        let shown = crate::diagnostics::render_all(&source, &diagnostics, crate::diagnostics::Shown::default());
+        match program {
+            Some(program) => {
+                announce(&format!("{}: changed, swapping it in", path.display()));
+                shared.offer(change::Loaded::new(program, &source));
+            }
+            None => {
+                use std::io::Write as _;
+                let _ = writeln!(
+                    std::io::stderr(),
+                    "{shown}{}: does not compile; the running program goes on",
+                    path.display()
+                );
+            }
+        }
+    }
 }
 
 /// A line on standard output for whoever started the server (tests read the
@@ -141,42 +189,84 @@ async fn wait_for_stop(shared: &Shared) {
     }
 }
 
+/// When the next scan is due, and the time to report to it.
+struct Clock {
+    period: Duration,
+    due: Instant,
+    previous: Instant,
+    carried: Duration,
+}
+
 /// The scan thread: the engine lives here (compiled code need not be sent
-/// between threads). Each scan reports the real time since the previous
-/// one, carrying what is below a millisecond.
+/// between threads). Between two scans it swaps in a new program when one
+/// is offered, keeping the image (see `change`); the scan count and the
+/// clock go on.
 fn scan_loop(
-    program: &CheckedProgram,
+    first: change::Loaded,
     kind: EngineKind,
     period: Duration,
     shared: &Shared,
     ready: &std::sync::mpsc::Sender<Result<(), String>>,
 ) {
-    let mut engine = match instantiate(kind, program) {
-        Ok(engine) => engine,
-        Err(error) => {
-            let _ = ready.send(Err(format!("{error:?}")));
-            shared.stop();
-            return;
-        }
-    };
-    let _ = ready.send(Ok(()));
     let start = Instant::now();
-    let mut due = start;
-    let mut previous = start;
-    let mut carried = Duration::ZERO;
+    let mut clock = Clock {
+        period,
+        due: start,
+        previous: start,
+        carried: Duration::ZERO,
+    };
+    let mut loaded = first;
+    let mut image: Option<Box<ladder_runtime::Memory>> = None;
+    let mut started = false;
+    loop {
+        let (next, last_image) = {
+            let mut engine = match instantiate(kind, &loaded.program) {
+                Ok(engine) => engine,
+                Err(error) => {
+                    if !started {
+                        let _ = ready.send(Err(format!("{error:?}")));
+                    }
+                    shared.stop();
+                    return;
+                }
+            };
+            if let Some(image) = image.take() {
+                engine.load_image(&image);
+            }
+            if !started {
+                started = true;
+                let _ = ready.send(Ok(()));
+            }
+            let next = run(engine.as_mut(), &mut clock, shared);
+            (next, engine.image().map(|m| Box::new(*m)))
+        };
+        let (Some(next), Some(last_image)) = (next, last_image) else {
+            return;
+        };
+        image = Some(change::carry_over(&last_image, &loaded, &next));
+        loaded = next;
+        shared.swapped();
+    }
+}
+
+/// Scans until stopped (None) or offered a new program (between two scans).
+fn run(engine: &mut dyn Engine, clock: &mut Clock, shared: &Shared) -> Option<change::Loaded> {
     while !shared.stopping() {
+        if let Some(next) = shared.take_program() {
+            return Some(next);
+        }
         let now = Instant::now();
-        if now < due {
-            std::thread::sleep(due - now);
+        if now < clock.due {
+            std::thread::sleep(clock.due - now);
         }
         let began = Instant::now();
-        let late = began.saturating_duration_since(due);
-        let elapsed = began - previous + carried;
-        previous = began;
+        let late = began.saturating_duration_since(clock.due);
+        let elapsed = began - clock.previous + clock.carried;
+        clock.previous = began;
         let elapsed_ms = elapsed.as_millis().min(u128::from(u32::MAX)) as u32;
-        carried = elapsed - Duration::from_millis(u64::from(elapsed_ms));
+        clock.carried = elapsed - Duration::from_millis(u64::from(elapsed_ms));
         for write in shared.take_writes() {
-            apply(engine.as_mut(), write);
+            apply(engine, write);
         }
         if engine.scan(elapsed_ms).is_err() {
             shared.stop();
@@ -186,11 +276,11 @@ fn scan_loop(
             shared.publish(image);
         }
         let took = began.elapsed();
-        due += period;
-        let overrun = Instant::now() > due;
+        clock.due += clock.period;
+        let overrun = Instant::now() > clock.due;
         if overrun {
             // Behind: the next scan starts now, not in a burst.
-            due = Instant::now();
+            clock.due = Instant::now();
         }
         shared.update_stats(|stats| {
             stats.scans += 1;
@@ -202,6 +292,7 @@ fn scan_loop(
             stats.overruns += u64::from(overrun);
         });
     }
+    None
 }
 
 /// A client's write as a host write (the same call a firmware host makes).

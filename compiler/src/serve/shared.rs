@@ -47,6 +47,10 @@ impl Stats {
 
 pub struct Shared {
     image: Mutex<Box<Memory>>,
+    /// A program waiting to replace the running one between two scans.
+    pending: Mutex<Option<super::change::Loaded>>,
+    /// Programs swapped in so far.
+    swaps: std::sync::atomic::AtomicU64,
     writes: Mutex<Vec<HostWrite>>,
     stats: Mutex<Stats>,
     stop: AtomicBool,
@@ -56,6 +60,8 @@ impl Default for Shared {
     fn default() -> Self {
         Shared {
             image: Mutex::new(Memory::new_boxed()),
+            pending: Mutex::new(None),
+            swaps: std::sync::atomic::AtomicU64::new(0),
             writes: Mutex::new(Vec::new()),
             stats: Mutex::new(Stats::default()),
             stop: AtomicBool::new(false),
@@ -92,6 +98,24 @@ impl Shared {
 
     pub fn update_stats(&self, update: impl FnOnce(&mut Stats)) {
         update(&mut lock(&self.stats));
+    }
+
+    /// Hands a compiled program to the scan thread (replacing one that is
+    /// still waiting).
+    pub fn offer(&self, program: super::change::Loaded) {
+        *lock(&self.pending) = Some(program);
+    }
+
+    pub fn take_program(&self) -> Option<super::change::Loaded> {
+        lock(&self.pending).take()
+    }
+
+    pub fn swapped(&self) {
+        self.swaps.fetch_add(1, Ordering::Relaxed);
+    }
+
+    pub fn swaps(&self) -> u64 {
+        self.swaps.load(Ordering::Relaxed)
     }
 
     pub fn stop(&self) {

@@ -1,0 +1,119 @@
+//! Online change: a new program replaces the running one between two scans,
+//! keeping the device image — devices, forces, timers and counters, STL
+//! states and their blocks' flags (by state number). The previous-scan
+//! values of edge instructions (LDP, PLS, MOVP, ...) are carried by
+//! instruction identity: an edge instruction of the new program takes the
+//! value of the old one with the same text (mnemonic and operands, the n-th
+//! of equal texts); new edge instructions start OFF.
+
+use crate::program::{CheckedProgram, Contact, Op, Output};
+use crate::source::SourceFile;
+use ladder_runtime::Memory;
+use std::collections::HashMap;
+
+/// A compiled program with what online change needs to know of it.
+pub struct Loaded {
+    pub program: CheckedProgram,
+    /// Each edge slot and the identity of its instruction.
+    pub slots: Vec<(u32, String)>,
+}
+
+impl Loaded {
+    pub fn new(program: CheckedProgram, source: &SourceFile) -> Loaded {
+        let mut seen: HashMap<String, u32> = HashMap::new();
+        let mut slots = Vec::new();
+        for instruction in &program.instructions {
+            let Some(slot) = edge_slot(&instruction.op) else {
+                continue;
+            };
+            let text: String = source
+                .slice(instruction.span)
+                .split_whitespace()
+                .collect::<Vec<_>>()
+                .join(" ")
+                .to_ascii_uppercase();
+            let nth = seen.entry(text.clone()).or_default();
+            *nth += 1;
+            slots.push((slot, format!("{text}#{nth}")));
+        }
+        Loaded { program, slots }
+    }
+}
+
+/// The previous-scan slot an instruction owns, if any.
+fn edge_slot(op: &Op) -> Option<u32> {
+    match op {
+        Op::Load { contact, .. } | Op::And(contact) | Op::Or(contact) => match contact {
+            Contact::Edge { slot, .. } => Some(*slot),
+            Contact::Level { .. } | Contact::Constant(_) | Contact::Compare { .. } => None,
+        },
+        Op::ResultEdge { slot, .. } => Some(*slot),
+        Op::Output(Output::Pulse { slot, .. }) => Some(*slot),
+        Op::Output(Output::App(app)) => app.pulse_slot,
+        Op::Call { slot, .. } => *slot,
+        Op::Output(
+            Output::Coil(_)
+            | Output::Timer { .. }
+            | Output::Counter { .. }
+            | Output::Set { .. }
+            | Output::Reset { .. }
+            | Output::StateJump { .. }
+            | Output::MasterControl { .. },
+        )
+        | Op::AndBlock
+        | Op::OrBlock
+        | Op::BranchPush
+        | Op::BranchRead
+        | Op::BranchPop
+        | Op::Invert
+        | Op::Jump { .. }
+        | Op::Label
+        | Op::StlBegin { .. }
+        | Op::StlEnd
+        | Op::MainEnd
+        | Op::SubroutineReturn
+        | Op::LoopStart { .. }
+        | Op::LoopEnd { .. } => None,
+    }
+}
+
+/// The image the new program starts from: the old one, with the edge
+/// slots moved to where the same instructions are now.
+pub fn carry_over(image: &Memory, old: &Loaded, new: &Loaded) -> Box<Memory> {
+    let mut next = Box::new(*image);
+    next.edge_slot.fill(0);
+    let old_slots: HashMap<&str, u32> = old.slots.iter().map(|(slot, key)| (key.as_str(), *slot)).collect();
+    for (slot, key) in &new.slots {
+        if let Some(&before) = old_slots.get(key.as_str()) {
+            next.edge_slot[*slot as usize] = image.edge_slot[before as usize];
+        }
+    }
+    // Sort jobs belong to instructions that may be gone: they start again.
+    next.sort_state.fill(0);
+    next.sort_scans.fill(0);
+    next
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn load(text: &str) -> Loaded {
+        let source = SourceFile::new("t.il", text);
+        let (program, diagnostics) = crate::check::compile_source(&source);
+        Loaded::new(program.unwrap_or_else(|| panic!("{diagnostics:?}")), &source)
+    }
+
+    #[test]
+    fn edge_values_follow_their_instructions() {
+        let old = load("LDP X0\nOUT Y0\nLDP X1\nOUT Y1\n");
+        let new = load("LDP X5\nOUT Y5\nLDP  x1\nOUT Y1\nLDP X0\nOUT Y0\n");
+        let mut image = Memory::new_boxed();
+        image.edge_slot[0] = 1; // LDP X0
+        image.edge_slot[1] = 0; // LDP X1
+        image.d[3] = 77;
+        let next = carry_over(&image, &old, &new);
+        assert_eq!(&next.edge_slot[..3], [0, 0, 1], "X5 new, X1 kept, X0 moved to slot 2");
+        assert_eq!(next.d[3], 77, "devices kept");
+    }
+}
