@@ -434,3 +434,56 @@ fn a_changed_program_file_is_swapped_in() {
         "{stderr}"
     );
 }
+
+/// An independent Modbus client: mbpoll from Debian's package.
+#[test]
+fn mbpoll_reads_and_writes_through_the_same_map() {
+    let test = "mbpoll_reads_and_writes_through_the_same_map";
+    if let Err(why) = common::tools::ensure("mbpoll", &["-V"], &["mbpoll"]) {
+        common::tools::skip(test, &why);
+        return;
+    }
+    let server = Server::start(&[]);
+    let port = server.address.port().to_string();
+    let mbpoll = |args: &[&str]| {
+        let output = Command::new("mbpoll")
+            .args(["-m", "tcp", "-a", "1", "-0", "-1", "-p", &port])
+            .args(args)
+            .output()
+            .unwrap();
+        String::from_utf8_lossy(&output.stdout).into_owned()
+    };
+    // Write D20 = 555 (holding register 20), then read it back.
+    mbpoll(&["-r", "20", "-t", "4", "127.0.0.1", "555"]);
+    std::thread::sleep(Duration::from_millis(60));
+    let read = mbpoll(&["-r", "20", "-t", "4", "127.0.0.1"]);
+    assert!(read.contains("[20]: \t555"), "{read}");
+    // X2 through the input-image coil runs MOV K123 D5.
+    mbpoll(&["-r", "20002", "-t", "0", "127.0.0.1", "1"]);
+    std::thread::sleep(Duration::from_millis(60));
+    let read = mbpoll(&["-r", "5", "-t", "4", "127.0.0.1"]);
+    assert!(read.contains("[5]: \t123"), "{read}");
+    server.stop();
+}
+
+/// A client that sends garbage loses its connection; the scan goes on and
+/// other clients are served.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn malformed_frames_end_only_their_connection() {
+    use tokio::io::{AsyncReadExt, AsyncWriteExt};
+    let server = Server::start(&[]);
+    let mut raw = tokio::net::TcpStream::connect(server.address).await.unwrap();
+    raw.write_all(&[0xde, 0xad, 0xbe, 0xef, 0x00, 0x03, 0xff, 0xff, 0xff, 0xff])
+        .await
+        .unwrap();
+    let mut buffer = [0u8; 64];
+    let read = tokio::time::timeout(Duration::from_secs(5), raw.read(&mut buffer)).await;
+    assert!(
+        matches!(read, Ok(Ok(0)) | Ok(Err(_))),
+        "the connection is closed: {read:?}"
+    );
+    let mut ctx = tcp::connect(server.address).await.unwrap();
+    assert_eq!(ctx.read_coils(0, 1).await.unwrap().unwrap(), [false]);
+    let (code, stderr) = server.stop();
+    assert_eq!(code, Some(0), "{stderr}");
+}
