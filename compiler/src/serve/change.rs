@@ -16,6 +16,8 @@ pub struct Loaded {
     pub program: CheckedProgram,
     /// Each edge slot and the identity of its instruction.
     pub slots: Vec<(u32, String)>,
+    /// The program already compiled to native code, off the scan thread.
+    pub native: Option<crate::codegen::JitProgram>,
 }
 
 impl Loaded {
@@ -36,7 +38,21 @@ impl Loaded {
             *nth += 1;
             slots.push((slot, format!("{text}#{nth}")));
         }
-        Loaded { program, slots }
+        Loaded {
+            program,
+            slots,
+            native: None,
+        }
+    }
+
+    /// Compiles the native code now (in the caller's thread), so that the
+    /// swap between two scans costs no compile time.
+    /// Does nothing for the interpreter (`native` false).
+    pub fn precompile(mut self, native: bool) -> Result<Loaded, String> {
+        if native {
+            self.native = Some(crate::pipeline::jit(&self.program).map_err(|e| e.to_string())?);
+        }
+        Ok(self)
     }
 }
 

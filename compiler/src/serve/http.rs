@@ -29,9 +29,11 @@ const PUSH_PERIOD: Duration = Duration::from_millis(100);
 struct App {
     shared: Arc<Shared>,
     read_only: bool,
+    /// Programs run as native code: online change compiles them here.
+    native: bool,
 }
 
-pub fn router(shared: Arc<Shared>, read_only: bool) -> Router {
+pub fn router(shared: Arc<Shared>, read_only: bool, native: bool) -> Router {
     Router::new()
         .route("/", get(page))
         .route("/api/devices", get(devices))
@@ -45,7 +47,11 @@ pub fn router(shared: Arc<Shared>, read_only: bool) -> Router {
             "/api/program",
             post(program).layer(DefaultBodyLimit::max(PROGRAM_LIMIT)),
         )
-        .with_state(App { shared, read_only })
+        .with_state(App {
+            shared,
+            read_only,
+            native,
+        })
 }
 
 /// A JSON error with its HTTP status.
@@ -213,11 +219,12 @@ async fn program(State(app): State<App>, text: String) -> Response {
     if app.read_only {
         return error(StatusCode::FORBIDDEN, "the server is read-only");
     }
+    let native = app.native;
     let compiled = tokio::task::spawn_blocking(move || {
         let source = crate::source::SourceFile::new("<upload>", text);
         let (program, diagnostics) = crate::check::compile_source(&source);
         match program {
-            Some(program) => Ok(super::change::Loaded::new(program, &source)),
+            Some(program) => super::change::Loaded::new(program, &source).precompile(native),
             None => Err(crate::diagnostics::render_all(
                 &source,
                 &diagnostics,

@@ -83,9 +83,11 @@ pub fn serve(
     announce(&format!("scanning every {} ms", options.period.as_millis()));
     if let Some(path) = options.watch_file.clone() {
         let shared = Arc::clone(&shared);
-        std::thread::spawn(move || watch_file(&path, &shared));
+        let native = options.engine == EngineKind::Jit;
+        std::thread::spawn(move || watch_file(&path, &shared, native));
     }
     let read_only = options.read_only;
+    let native = options.engine == EngineKind::Jit;
     let served = Arc::clone(&shared);
     runtime.block_on(async move {
         if let Some(listener) = listener {
@@ -107,7 +109,7 @@ pub fn serve(
             });
         }
         if let Some(web) = web {
-            let app = http::router(Arc::clone(&served), read_only);
+            let app = http::router(Arc::clone(&served), read_only, native);
             tokio::spawn(async move {
                 let _ = axum::serve(web, app).await;
             });
@@ -122,7 +124,7 @@ pub fn serve(
 /// `--watch-file`: when the program file changes, compiles it and offers it
 /// for online change; a version that does not compile is reported on
 /// stderr and the running program goes on.
-fn watch_file(path: &std::path::Path, shared: &Shared) {
+fn watch_file(path: &std::path::Path, shared: &Shared, native: bool) {
     // The length too: two writes within a coarse file-system clock tick.
     let modified = || std::fs::metadata(path).ok().map(|m| (m.modified().ok(), m.len()));
     let mut seen = modified();
@@ -139,10 +141,16 @@ fn watch_file(path: &std::path::Path, shared: &Shared) {
         let (program, diagnostics) = crate::check::compile_source(&source);
         let shown = crate::diagnostics::render_all(&source, &diagnostics, crate::diagnostics::Shown::default());
         match program {
-            Some(program) => {
-                announce(&format!("{}: changed, swapping it in", path.display()));
-                shared.offer(change::Loaded::new(program, &source));
-            }
+            Some(program) => match change::Loaded::new(program, &source).precompile(native) {
+                Ok(loaded) => {
+                    announce(&format!("{}: changed, swapping it in", path.display()));
+                    shared.offer(loaded);
+                }
+                Err(error) => {
+                    use std::io::Write as _;
+                    let _ = writeln!(std::io::stderr(), "{}: {error}", path.display());
+                }
+            },
             None => {
                 use std::io::Write as _;
                 let _ = writeln!(
@@ -220,7 +228,12 @@ fn scan_loop(
     let mut started = false;
     loop {
         let (next, last_image) = {
-            let mut engine = match instantiate(kind, &loaded.program) {
+            let native = loaded.native.take().filter(|_| kind == EngineKind::Jit);
+            let built = match native {
+                Some(native) => Ok(Box::new(crate::scenario::InProcess::new(native)) as Box<dyn Engine>),
+                None => instantiate(kind, &loaded.program),
+            };
+            let mut engine = match built {
                 Ok(engine) => engine,
                 Err(error) => {
                     if !started {
