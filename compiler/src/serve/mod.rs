@@ -46,31 +46,9 @@ pub fn serve(
         .enable_all()
         .build()
         .map_err(|e| format!("cannot start the server runtime: {e}"))?;
-    // The listener first: a port in use is an error before anything runs.
-    let listener = match options.modbus {
-        None => None,
-        Some(address) => Some(
-            runtime
-                .block_on(tokio::net::TcpListener::bind(address))
-                .map_err(|e| format!("cannot listen for Modbus on {address}: {e}"))?,
-        ),
-    };
-    if let Some(listener) = &listener {
-        let address = listener.local_addr().map_err(|e| e.to_string())?;
-        announce(&format!("modbus listening on {address}"));
-    }
-    let web = match options.http {
-        None => None,
-        Some(address) => Some(
-            runtime
-                .block_on(tokio::net::TcpListener::bind(address))
-                .map_err(|e| format!("cannot listen for HTTP on {address}: {e}"))?,
-        ),
-    };
-    if let Some(web) = &web {
-        let address = web.local_addr().map_err(|e| e.to_string())?;
-        announce(&format!("http listening on {address}"));
-    }
+    // The listeners first: a port in use is an error before anything runs.
+    let listener = listen(&runtime, options.modbus, "Modbus", "modbus")?;
+    let web = listen(&runtime, options.http, "HTTP", "http")?;
     let (ready, started) = std::sync::mpsc::channel();
     let scanner = {
         let shared = Arc::clone(&shared);
@@ -119,6 +97,25 @@ pub fn serve(
     shared.stop();
     scanner.join().map_err(|_| "the scan thread failed".to_string())?;
     Ok(shared.stats())
+}
+
+/// Binds `address` (when given) and says where it listens: `{what}
+/// listening on ADDRESS`, the line tests read the port from.
+fn listen(
+    runtime: &tokio::runtime::Runtime,
+    address: Option<SocketAddr>,
+    protocol: &str,
+    what: &str,
+) -> Result<Option<tokio::net::TcpListener>, String> {
+    let Some(address) = address else {
+        return Ok(None);
+    };
+    let listener = runtime
+        .block_on(tokio::net::TcpListener::bind(address))
+        .map_err(|e| format!("cannot listen for {protocol} on {address}: {e}"))?;
+    let bound = listener.local_addr().map_err(|e| e.to_string())?;
+    announce(&format!("{what} listening on {bound}"));
+    Ok(Some(listener))
 }
 
 /// `--watch-file`: when the program file changes, compiles it and offers it
