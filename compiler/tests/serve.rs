@@ -30,14 +30,13 @@ impl Server {
         let program = dir.path().join("plc.il");
         std::fs::write(&program, PROGRAM).unwrap();
         let mut child = Command::new(env!("CARGO_BIN_EXE_ladderc"))
-            .args([
-                "serve",
-                program.to_str().unwrap(),
-                "--modbus",
-                "127.0.0.1:0",
-                "--scan-ms",
-                "10",
-            ])
+            .args(["serve", program.to_str().unwrap(), "--modbus", "127.0.0.1:0"])
+            // 10 ms scans unless the test asks for another period.
+            .args(if extra.contains(&"--scan-ms") {
+                &[][..]
+            } else {
+                &["--scan-ms", "10"][..]
+            })
             .args(extra)
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
@@ -486,4 +485,18 @@ async fn malformed_frames_end_only_their_connection() {
     assert_eq!(ctx.read_coils(0, 1).await.unwrap().unwrap(), [false]);
     let (code, stderr) = server.stop();
     assert_eq!(code, Some(0), "{stderr}");
+}
+
+#[test]
+fn a_long_period_does_not_delay_stopping() {
+    let server = Server::start(&["--scan-ms", "10000"]);
+    std::thread::sleep(Duration::from_millis(100));
+    let started = std::time::Instant::now();
+    let (code, stderr) = server.stop();
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(
+        started.elapsed() < Duration::from_secs(2),
+        "stopped in {:?}",
+        started.elapsed()
+    );
 }

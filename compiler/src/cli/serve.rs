@@ -72,8 +72,8 @@ pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
             }
         }
     }
-    if args.scan_ms == 0 {
-        say_err!("error: --scan-ms is at least 1");
+    if !(1..=60_000).contains(&args.scan_ms) {
+        say_err!("error: --scan-ms is 1 to 60000");
         return status::UNUSABLE;
     }
     let source = match super::read_program(&args.program) {

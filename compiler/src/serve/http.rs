@@ -77,21 +77,27 @@ fn watched(watch: &Watch) -> Result<Vec<(String, HostDevice)>, String> {
 }
 
 /// The watched devices, the scan count and the operation error, as JSON.
-fn snapshot(image: &Memory, watched: &[(String, HostDevice)]) -> Value {
+/// The values are copied out under the image's lock and the JSON built
+/// after it is released, so a reader holds up the scan thread's publishing
+/// as little as possible.
+fn snapshot(shared: &Shared, watched: &[(String, HostDevice)]) -> Value {
+    let (values, scan, error) = {
+        let image: &Memory = &shared.image();
+        let values: Vec<i32> = watched
+            .iter()
+            .map(|(_, device)| image.read_device(device.device, device.width).unwrap_or(0))
+            .collect();
+        let error = (image.m[M_OPERATION_ERROR as usize] != 0)
+            .then(|| (image.d[D_ERROR_CODE as usize] as u16, image.d[D_ERROR_LINE as usize]));
+        (values, image.scan_count, error)
+    };
     let devices: serde_json::Map<String, Value> = watched
         .iter()
-        .map(|(name, device)| {
-            let value = image.read_device(device.device, device.width).unwrap_or(0);
-            (name.clone(), Value::from(value))
-        })
+        .zip(values)
+        .map(|((name, _), value)| (name.clone(), Value::from(value)))
         .collect();
-    let error = (image.m[M_OPERATION_ERROR as usize] != 0).then(|| {
-        json!({
-            "code": format!("{:04X}H", image.d[D_ERROR_CODE as usize] as u16),
-            "line": image.d[D_ERROR_LINE as usize],
-        })
-    });
-    json!({ "scan": image.scan_count, "devices": devices, "error": error })
+    let error = error.map(|(code, line)| json!({ "code": format!("{code:04X}H"), "line": line }));
+    json!({ "scan": scan, "devices": devices, "error": error })
 }
 
 async fn page() -> Html<&'static str> {
@@ -100,7 +106,7 @@ async fn page() -> Html<&'static str> {
 
 async fn devices(State(app): State<App>, Query(watch): Query<Watch>) -> Response {
     match watched(&watch) {
-        Ok(watched) => Json(snapshot(&app.shared.image(), &watched)).into_response(),
+        Ok(watched) => Json(snapshot(&app.shared, &watched)).into_response(),
         Err(message) => error(StatusCode::BAD_REQUEST, message),
     }
 }
@@ -112,7 +118,7 @@ async fn events(State(app): State<App>, Query(watch): Query<Watch>) -> Response 
     };
     let ticks = tokio_stream::wrappers::IntervalStream::new(tokio::time::interval(PUSH_PERIOD));
     let stream = futures_util::StreamExt::map(ticks, move |_| {
-        let value = snapshot(&app.shared.image(), &watched);
+        let value = snapshot(&app.shared, &watched);
         Ok::<_, std::convert::Infallible>(Event::default().data(value.to_string()))
     });
     Sse::new(stream).keep_alive(KeepAlive::default()).into_response()
@@ -245,16 +251,28 @@ async fn program(State(app): State<App>, text: String) -> Response {
         Err(_) => return error(StatusCode::INTERNAL_SERVER_ERROR, "compiling failed"),
     };
     let before = app.shared.swaps();
-    app.shared.offer(loaded);
-    for _ in 0..200 {
-        if app.shared.swaps() > before {
-            let scan = app.shared.image().scan_count;
-            return Json(json!({ "swapped": true, "scan": scan })).into_response();
-        }
-        tokio::time::sleep(Duration::from_millis(10)).await;
+    if !app.shared.offer(loaded) {
+        return error(StatusCode::CONFLICT, "another program is being swapped in; try again");
     }
-    error(
-        StatusCode::SERVICE_UNAVAILABLE,
-        "the scan thread did not take the program",
-    )
+    // The answer comes once the new program has run a scan.
+    let mut swapped_at = None;
+    for _ in 0..1000 {
+        let scan = app.shared.image().scan_count;
+        match swapped_at {
+            None if app.shared.swaps() > before => swapped_at = Some(scan),
+            Some(at) if scan > at => return Json(json!({ "swapped": true, "scan": scan })).into_response(),
+            None | Some(_) => {}
+        }
+        if app.shared.stopping() {
+            break;
+        }
+        tokio::time::sleep(Duration::from_millis(5)).await;
+    }
+    if swapped_at.is_none() && app.shared.take_program().is_some() {
+        return error(
+            StatusCode::SERVICE_UNAVAILABLE,
+            "the program was not swapped in (withdrawn)",
+        );
+    }
+    Json(json!({ "swapped": true, "scan": app.shared.image().scan_count })).into_response()
 }

@@ -140,8 +140,9 @@ fn watch_file(path: &std::path::Path, shared: &Shared, native: bool) {
         match program {
             Some(program) => match change::Loaded::new(program, &source).precompile(native) {
                 Ok(loaded) => {
-                    announce(&format!("{}: changed, swapping it in", path.display()));
-                    shared.offer(loaded);
+                    if shared.offer(loaded) {
+                        announce(&format!("{}: changed, swapping it in", path.display()));
+                    }
                 }
                 Err(error) => {
                     use std::io::Write as _;
@@ -262,12 +263,20 @@ fn scan_loop(
 /// Scans until stopped (None) or offered a new program (between two scans).
 fn run(engine: &mut dyn Engine, clock: &mut Clock, shared: &Shared) -> Option<change::Loaded> {
     while !shared.stopping() {
-        if let Some(next) = shared.take_program() {
-            return Some(next);
-        }
-        let now = Instant::now();
-        if now < clock.due {
-            std::thread::sleep(clock.due - now);
+        // Waits in short steps: a stop or a new program is taken within
+        // a few milliseconds whatever the period.
+        loop {
+            if shared.stopping() {
+                return None;
+            }
+            if let Some(next) = shared.take_program() {
+                return Some(next);
+            }
+            let now = Instant::now();
+            if now >= clock.due {
+                break;
+            }
+            std::thread::sleep((clock.due - now).min(Duration::from_millis(5)));
         }
         let began = Instant::now();
         let late = began.saturating_duration_since(clock.due);

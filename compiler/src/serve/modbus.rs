@@ -38,9 +38,27 @@ pub struct Service {
     pub read_only: bool,
 }
 
+/// The quantities one Modbus request may carry (the protocol's limits):
+/// more, or none, is exception 03 (illegal data value).
+fn quantity_ok(request: &Request<'_>) -> bool {
+    let within = |count: usize, most: usize| (1..=most).contains(&count);
+    match request {
+        Request::ReadCoils(_, count) | Request::ReadDiscreteInputs(_, count) => within(usize::from(*count), 2000),
+        Request::ReadHoldingRegisters(_, count) | Request::ReadInputRegisters(_, count) => {
+            within(usize::from(*count), 125)
+        }
+        Request::WriteMultipleCoils(_, values) => within(values.len(), 1968),
+        Request::WriteMultipleRegisters(_, values) => within(values.len(), 123),
+        _ => true,
+    }
+}
+
 impl Service {
     fn respond(&self, request: Request<'_>) -> Result<Response, ExceptionCode> {
         use ExceptionCode::{IllegalDataAddress, IllegalFunction};
+        if !quantity_ok(&request) {
+            return Err(ExceptionCode::IllegalDataValue);
+        }
         let image = || self.shared.image();
         let bits = |values: &[u8], offset: usize, count: u16| -> Vec<bool> {
             values[offset..offset + usize::from(count)]

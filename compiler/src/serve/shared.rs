@@ -100,10 +100,15 @@ impl Shared {
         update(&mut lock(&self.stats));
     }
 
-    /// Hands a compiled program to the scan thread (replacing one that is
-    /// still waiting).
-    pub fn offer(&self, program: super::change::Loaded) {
-        *lock(&self.pending) = Some(program);
+    /// Hands a compiled program to the scan thread; false (and nothing
+    /// changes) while another one is still waiting to be swapped in.
+    pub fn offer(&self, program: super::change::Loaded) -> bool {
+        let mut pending = lock(&self.pending);
+        if pending.is_some() {
+            return false;
+        }
+        *pending = Some(program);
+        true
     }
 
     pub fn take_program(&self) -> Option<super::change::Loaded> {
