@@ -52,10 +52,6 @@ impl Recorder {
         }
     }
 
-    pub fn signals(&self) -> &[(String, HostDevice)] {
-        &self.signals
-    }
-
     /// Reads every signal at `time_ms`; kept only when something changed,
     /// so a long run with few changes stays small. Scans that report 0 ms
     /// share a time: the last one's values stand for it.

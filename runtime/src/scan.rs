@@ -16,8 +16,8 @@ impl Memory {
     /// Steps 1 and 2: everything that happens before the program runs.
     pub fn begin_scan(&mut self, elapsed_ms: u32) {
         self.elapsed_ms = elapsed_ms;
-        let cycle = u64::from(CLOCK_CYCLE_MS);
-        self.clock_ms = ((u64::from(self.clock_ms) % cycle + u64::from(elapsed_ms) % cycle) % cycle) as u32;
+        // In 64 bits the sum cannot overflow; the modulus keeps t below a minute.
+        self.clock_ms = ((u64::from(self.clock_ms) + u64::from(elapsed_ms)) % u64::from(CLOCK_CYCLE_MS)) as u32;
         self.loop_repetitions = 0;
         self.x = self.input_image;
         if self.forced_count > 0 {

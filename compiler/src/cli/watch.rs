@@ -34,10 +34,11 @@ pub fn parse_watch(entry: &str) -> Result<Vec<(String, HostDevice)>, String> {
         return Ok(vec![(name, device)]);
     };
     let (first, last) = (parse_device(first.trim(), double)?, parse_device(last.trim(), double)?);
+    // (the device with number 0, the number): both ends must agree on the first.
     let numbers = |device: HostDevice| match device.device {
-        Device::Bit(area, n) => Some((format!("{area:?}"), n)),
-        Device::Word(area, n) => Some((format!("{area:?}"), n)),
-        Device::WideCounter(n) => Some(("C".to_string(), n)),
+        Device::Bit(area, n) => Some((Device::Bit(area, 0), n)),
+        Device::Word(area, n) => Some((Device::Word(area, 0), n)),
+        Device::WideCounter(n) => Some((Device::WideCounter(0), n)),
         Device::WordBit(..) | Device::Digits(..) => None,
     };
     let (Some((kind, from)), Some((last_kind, to))) = (numbers(first), numbers(last)) else {

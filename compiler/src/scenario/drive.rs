@@ -21,17 +21,6 @@ pub trait Observer {
     fn printed(&mut self, line: u32, scan: u64, values: Vec<(String, HostDevice, i32)>);
 }
 
-/// An observer that does nothing.
-pub struct Quiet;
-
-impl Observer for Quiet {
-    fn scanned(&mut self, _: &mut dyn Engine, _: u64, _: u64) -> Result<(), String> {
-        Ok(())
-    }
-
-    fn printed(&mut self, _: u32, _: u64, _: Vec<(String, HostDevice, i32)>) {}
-}
-
 /// M8067, D8067 and D8069: the operation error flag, its code and line.
 pub const ERROR_FLAG: HostDevice = HostDevice {
     device: Device::Bit(BitArea::M, M_OPERATION_ERROR),

@@ -9,7 +9,6 @@ mod http;
 mod modbus;
 mod shared;
 
-pub use modbus::{COUNTERS, DATA, INPUTS, INPUT_IMAGE, OUTPUTS, RELAYS, TIMERS};
 use shared::{HostWrite, Shared, Stats};
 
 use crate::host_device::HostDevice;
