@@ -122,10 +122,13 @@ pub fn write_composite(
     match (device, width) {
         (Device::Bit(area, n), Width::Single) => access.write_basic(Basic::Bit(area, n), (value != 0) as i32),
         (Device::WordBit(area, n, bit), Width::Single) if bit < 16 => {
-            let word = access.read_basic(Basic::Word(area, n))?;
-            let mask = 1 << bit;
+            // In 16 bits: the word reads sign-extended, and clearing bit 15
+            // of a negative word must give a word again (-1 → 32767), not
+            // the 32-bit -32769 a word cannot hold.
+            let word = access.read_basic(Basic::Word(area, n))? as i16;
+            let mask = 1i16 << bit;
             let updated = if value != 0 { word | mask } else { word & !mask };
-            access.write_basic(Basic::Word(area, n), updated)
+            access.write_basic(Basic::Word(area, n), i32::from(updated))
         }
         (Device::Word(area, n), Width::Single) => access.write_basic(Basic::Word(area, n), i32::from(value as i16)),
         (Device::Word(area, n), Width::Double) => {
@@ -245,6 +248,37 @@ mod tests {
             Some(-1)
         );
         assert!(!mem.write_device(Device::Digits(BitArea::X, 250, 2), Width::Single, 1));
+    }
+
+    /// A host that, like the C API, refuses a word value outside 16 bits.
+    struct StrictWords<'m>(&'m mut Memory);
+
+    impl BasicAccess for StrictWords<'_> {
+        fn read_basic(&mut self, device: Basic) -> Result<i32, AccessError> {
+            self.0.read_basic(device)
+        }
+
+        fn write_basic(&mut self, device: Basic, value: i32) -> Result<(), AccessError> {
+            if matches!(device, Basic::Word(..)) && i16::try_from(value).is_err() {
+                return Err(AccessError::OutOfRange);
+            }
+            self.0.write_basic(device, value)
+        }
+    }
+
+    #[test]
+    fn word_bits_of_negative_words_stay_words() {
+        let mut mem = Memory::new_boxed();
+        mem.d[0] = -1;
+        let bit15 = Device::WordBit(WordArea::D, 0, 15);
+        assert_eq!(write_composite(&mut StrictWords(&mut mem), bit15, Width::Single, 0), Ok(()));
+        assert_eq!(mem.d[0], 32767);
+        assert_eq!(write_composite(&mut StrictWords(&mut mem), bit15, Width::Single, 1), Ok(()));
+        assert_eq!(mem.d[0], -1);
+        mem.d[1] = i16::MIN;
+        let bit0 = Device::WordBit(WordArea::D, 1, 0);
+        assert_eq!(write_composite(&mut StrictWords(&mut mem), bit0, Width::Single, 1), Ok(()));
+        assert_eq!(mem.d[1], -32767);
     }
 
     #[test]

@@ -75,11 +75,18 @@ impl AotEngine {
 
     /// A command answered by a LadderStatus.
     fn status(&mut self, command: &str) -> Result<(), String> {
-        match self.ask(command)?.as_str() {
+        let answer = self.ask(command)?;
+        match answer.as_str() {
             "0" => Ok(()),
             "1" => Err("out of range".into()),
             "2" => Err("not forceable".into()),
-            other => Err(format!("host answered `{other}`")),
+            "3" => Err(format!(
+                "the C API refused the arguments of `{command}` (LADDER_STATUS_BAD_ARGUMENT)"
+            )),
+            "4" => Err(format!(
+                "the C API refused the value of `{command}` as not fitting the device (LADDER_STATUS_BAD_VALUE)"
+            )),
+            other => Err(format!("the host gave an unknown answer `{other}` to `{command}`")),
         }
     }
 }

@@ -109,6 +109,11 @@ impl BlockTracker {
         self.open_block.as_ref().map(|b| b.id)
     }
 
+    /// Where the open STL block starts.
+    pub fn open_block_span(&self) -> Option<Span> {
+        self.open_block.as_ref().map(|b| b.span)
+    }
+
     /// Instructions from here on belong to subroutine `id` (None: to no
     /// part, between SRET and the next label).
     pub fn set_subroutine(&mut self, id: Option<usize>) {

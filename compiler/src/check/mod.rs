@@ -63,7 +63,13 @@ pub fn compile_source(file: &SourceFile) -> (Option<CheckedProgram>, Vec<Diagnos
 /// Checks a parsed program. The program is complete only when the
 /// diagnostics hold no errors.
 pub fn check(parsed: &ParsedProgram, name: &str, source_len: usize) -> (CheckedProgram, Diagnostics) {
-    let mut checker = Checker::default();
+    let mut checker = Checker {
+        // Seed 001: a program with STLE pairs every STL with its own STLE.
+        stle_pairing: parsed.statements.iter().any(|statement| {
+            matches!(&statement.kind, StatementKind::Instruction(i) if i.mnemonic == "STLE")
+        }),
+        ..Checker::default()
+    };
     for (position, statement) in parsed.statements.iter().enumerate() {
         checker.statement(position, statement);
     }
@@ -105,6 +111,10 @@ struct Checker {
     /// END was seen: later statements are checked but not executed.
     ended: bool,
     warned_after_end: bool,
+    /// The program contains STLE: every STL is closed by its own STLE, and
+    /// an STL while a block is open is an error (seed 001), instead of
+    /// closing the block FX style.
+    stle_pairing: bool,
 }
 
 /// What the current statement is, for emission.

@@ -236,6 +236,13 @@ impl Checker {
 
     /// `STL Sn`: closes an open block, opens the next.
     pub(super) fn stl(&mut self, operands: Option<&[syntax::Operand]>, site: &Site) {
+        if let Some(open) = self.blocks.open_block_span().filter(|_| self.stle_pairing) {
+            self.report(
+                Diagnostic::new(Code::NestedStl, site.span, "STL inside an STL block")
+                    .with_label("this program closes blocks with STLE: close the open block first")
+                    .with_related(open, "the open block starts here"),
+            );
+        }
         if self.blocks.open_block().is_some() {
             self.close_block("STL", site);
         }

@@ -126,15 +126,24 @@ start the rung with a contact (use LD SM0 or LD M8000 for 'always').";
 "The rung's contacts are never used: the rung ends (POP, NETWORK, a new
 rung, STLE, END) before any output or application instruction.";
 
-    NestedStl = "E0020", Error, "STL inside an STL block (retired)",
-"No longer reported. State blocks do not nest, but an STL while a block is
-open closes that block and opens the next one, as FX programs are written:
+    NestedStl = "E0020", Error, "STL inside an STL block",
+"A program that contains STLE pairs every STL with its own STLE (\"STL and
+STLE must be paired one by one ... cannot be nested\"), so an STL while a
+block is open is an error:
+
+    STL S20
+    OUT Y0
+    STL S21     // error: the block of S20 is still open
+    STLE
+
+Close each block with STLE before the next STL. A program without STLE is
+read FX style: the next STL (or RET) closes the open block.
 
     STL S20
     OUT Y0
     STL S21     // closes the block of S20
     OUT Y1
-    RET         // closes the block of S21 (STLE does the same)";
+    RET         // closes the block of S21";
 
     DuplicateState = "E0021", Error, "state used by two STL blocks",
 "One state number has one block. Use another state, or put the rungs in

@@ -74,13 +74,19 @@ pub fn octal_move(step: &mut Step, s: &DigitGroup, d: &DigitGroup) {
     let source = step.bits(&BitRef::Device(s.area, s.address), Units::Checked(s_extent), true);
     let destination = step.bits(&BitRef::Device(d.area, d.address), Units::Checked(d_extent), false);
     step.commit();
-    for k in 0..d_bits {
-        let value = if k < s_bits {
-            let unit = step.l.nth(&source, octal_position(s, k), Width::Single);
-            step.read_at(&unit, Width::Single)
-        } else {
-            step.b().constant(Type::I64, 0)
-        };
+    // Every source bit is read before any destination bit is written (as
+    // BMOV, SFTR and BTOW do), so overlapping groups move as a whole.
+    let values: Vec<Value> = (0..d_bits)
+        .map(|k| {
+            if k < s_bits {
+                let unit = step.l.nth(&source, octal_position(s, k), Width::Single);
+                step.read_at(&unit, Width::Single)
+            } else {
+                step.b().constant(Type::I64, 0)
+            }
+        })
+        .collect();
+    for (k, value) in (0..d_bits).zip(values) {
         let unit = step.l.nth(&destination, octal_position(d, k), Width::Single);
         step.l.write(&unit, Width::Single, value);
     }
