@@ -192,6 +192,21 @@ enum LadderStatus ladder_write(struct LadderMemory *mem,
                                int32_t value);
 
 /**
+ * Writes bit `bit` (0-15) of a word device (`D0.F`) as a programming tool
+ * would: the rest of the word keeps its value. `on` is 0 or 1, else
+ * `LADDER_STATUS_BAD_VALUE`; a kind that is not a 16-bit word (D, SD, R,
+ * Tn, Cn C0-C199, V, Z) or a bit above 15 is `BAD_ARGUMENT`.
+ *
+ * # Safety
+ * `mem` is null or an image from `ladder_init` that no other call uses now.
+ */
+enum LadderStatus ladder_write_word_bit(struct LadderMemory *mem,
+                                        uint32_t kind,
+                                        uint32_t number,
+                                        uint32_t bit,
+                                        int32_t on);
+
+/**
  * Forces X, Y, M, T (contact) or C (contact) ON or OFF until unforced:
  * `LADDER_STATUS_NOT_FORCEABLE` for other devices, `BAD_ARGUMENT` for a
  * kind that does not exist.

@@ -14,7 +14,7 @@
 
 use crate::device::{index_register_word, BitArea, WordArea, FIRST_WIDE_COUNTER, INDEX_REGISTER_COUNT};
 use crate::force::ForceError;
-use crate::host::{Basic, BasicAccess};
+use crate::host::{Basic, BasicAccess, Device, Width};
 use crate::layout::{MEMORY_ALIGN, MEMORY_SIZE};
 use crate::memory::Memory;
 use crate::special::{D_ERROR_CODE, D_ERROR_LINE, M_OPERATION_ERROR};
@@ -272,6 +272,37 @@ pub unsafe extern "C" fn ladder_write(mem: *mut LadderMemory, kind: u32, number:
         return LadderStatus::BadValue;
     }
     match mem.write_basic(device, value) {
+        Ok(()) => LadderStatus::Ok,
+        Err(_) => LadderStatus::OutOfRange,
+    }
+}
+
+/// Writes bit `bit` (0-15) of a word device (`D0.F`) as a programming tool
+/// would: the rest of the word keeps its value. `on` is 0 or 1, else
+/// `LADDER_STATUS_BAD_VALUE`; a kind that is not a 16-bit word (D, SD, R,
+/// Tn, Cn C0-C199, V, Z) or a bit above 15 is `BAD_ARGUMENT`.
+///
+/// # Safety
+/// `mem` is null or an image from `ladder_init` that no other call uses now.
+#[no_mangle]
+pub unsafe extern "C" fn ladder_write_word_bit(
+    mem: *mut LadderMemory,
+    kind: u32,
+    number: u32,
+    bit: u32,
+    on: i32,
+) -> LadderStatus {
+    // SAFETY: the caller's contract.
+    let (Some(mem), Some(device)) = (unsafe { image_mut(mem) }, basic_device(kind, number)) else {
+        return LadderStatus::BadArgument;
+    };
+    let (Basic::Word(area, number), Ok(bit @ 0..=15)) = (device, u8::try_from(bit)) else {
+        return LadderStatus::BadArgument;
+    };
+    if on != 0 && on != 1 {
+        return LadderStatus::BadValue;
+    }
+    match crate::host::write_composite(mem, Device::WordBit(area, number, bit), Width::Single, on) {
         Ok(()) => LadderStatus::Ok,
         Err(_) => LadderStatus::OutOfRange,
     }

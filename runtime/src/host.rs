@@ -271,13 +271,22 @@ mod tests {
         let mut mem = Memory::new_boxed();
         mem.d[0] = -1;
         let bit15 = Device::WordBit(WordArea::D, 0, 15);
-        assert_eq!(write_composite(&mut StrictWords(&mut mem), bit15, Width::Single, 0), Ok(()));
+        assert_eq!(
+            write_composite(&mut StrictWords(&mut mem), bit15, Width::Single, 0),
+            Ok(())
+        );
         assert_eq!(mem.d[0], 32767);
-        assert_eq!(write_composite(&mut StrictWords(&mut mem), bit15, Width::Single, 1), Ok(()));
+        assert_eq!(
+            write_composite(&mut StrictWords(&mut mem), bit15, Width::Single, 1),
+            Ok(())
+        );
         assert_eq!(mem.d[0], -1);
         mem.d[1] = i16::MIN;
         let bit0 = Device::WordBit(WordArea::D, 1, 0);
-        assert_eq!(write_composite(&mut StrictWords(&mut mem), bit0, Width::Single, 1), Ok(()));
+        assert_eq!(
+            write_composite(&mut StrictWords(&mut mem), bit0, Width::Single, 1),
+            Ok(())
+        );
         assert_eq!(mem.d[1], -32767);
     }
 

@@ -6,6 +6,7 @@
  *   P i          start program i on a freshly initialised image
  *   I x on       ladder_set_input(x, on)
  *   W k n v      ladder_write(kind k, number n, value v)
+ *   B k n b v    ladder_write_word_bit(kind k, number n, bit b, value v)
  *   F k n on     ladder_force(kind k, number n, on)
  *   U k n        ladder_unforce(kind k, number n)
  *   S ms         one scan reporting ms; prints a hash of the whole image
@@ -55,6 +56,12 @@ int main(void) {
             if (sscanf(line + 1, "%lu %lu %ld", &a, &b, &v) != 3) return 2;
             ladder_write(mem, (uint32_t)a, (uint32_t)b, (int32_t)v);
             break;
+        case 'B': {
+            unsigned long bit = 0;
+            if (sscanf(line + 1, "%lu %lu %lu %ld", &a, &b, &bit, &v) != 4) return 2;
+            ladder_write_word_bit(mem, (uint32_t)a, (uint32_t)b, (uint32_t)bit, (int32_t)v);
+            break;
+        }
         case 'F':
             if (sscanf(line + 1, "%lu %lu %ld", &a, &b, &v) != 3) return 2;
             ladder_force(mem, (uint32_t)a, (uint32_t)b, v != 0);

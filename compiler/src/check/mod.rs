@@ -65,9 +65,10 @@ pub fn compile_source(file: &SourceFile) -> (Option<CheckedProgram>, Vec<Diagnos
 pub fn check(parsed: &ParsedProgram, name: &str, source_len: usize) -> (CheckedProgram, Diagnostics) {
     let mut checker = Checker {
         // Seed 001: a program with STLE pairs every STL with its own STLE.
-        stle_pairing: parsed.statements.iter().any(|statement| {
-            matches!(&statement.kind, StatementKind::Instruction(i) if i.mnemonic == "STLE")
-        }),
+        stle_pairing: parsed
+            .statements
+            .iter()
+            .any(|statement| matches!(&statement.kind, StatementKind::Instruction(i) if i.mnemonic == "STLE")),
         ..Checker::default()
     };
     for (position, statement) in parsed.statements.iter().enumerate() {

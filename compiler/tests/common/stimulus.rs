@@ -15,6 +15,9 @@ pub enum HostAction {
     Input(u32, bool),
     /// `ladder_write(kind, number, value)`.
     Write(LadderDevice, u32, i32),
+    /// `ladder_write_word_bit(D, number, bit, on)`: one bit of a word,
+    /// often of a negative one.
+    WriteWordBit(u32, u32, bool),
     /// `ladder_force(kind, number, on)`.
     Force(LadderDevice, u32, bool),
     /// `ladder_unforce(kind, number)`.
@@ -63,6 +66,8 @@ fn action() -> impl Strategy<Value = HostAction> {
     prop_oneof![
         6 => (0u32..8, any::<bool>()).prop_map(|(x, on)| HostAction::Input(x, on)),
         3 => written_device().prop_map(|(kind, n, v)| HostAction::Write(kind, n, v)),
+        1 => (0u32..4, prop_oneof![Just(15u32), Just(0), 1u32..15], any::<bool>())
+            .prop_map(|(n, bit, on)| HostAction::WriteWordBit(n, bit, on)),
         1 => (forced_device(), any::<bool>()).prop_map(|((kind, n), on)| HostAction::Force(kind, n, on)),
         1 => forced_device().prop_map(|(kind, n)| HostAction::Unforce(kind, n)),
     ]
@@ -95,6 +100,9 @@ pub fn apply(mem: &mut Memory, step: &Step) {
             match *action {
                 HostAction::Input(x, on) => capi::ladder_set_input(image, x, on),
                 HostAction::Write(kind, n, v) => capi::ladder_write(image, kind as u32, n, v),
+                HostAction::WriteWordBit(n, bit, on) => {
+                    capi::ladder_write_word_bit(image, LadderDevice::D as u32, n, bit, i32::from(on))
+                }
                 HostAction::Force(kind, n, on) => capi::ladder_force(image, kind as u32, n, on),
                 HostAction::Unforce(kind, n) => capi::ladder_unforce(image, kind as u32, n),
             };
@@ -109,6 +117,9 @@ pub fn driver_commands(step: &Step, out: &mut String) {
         let _ = match *action {
             HostAction::Input(x, on) => writeln!(out, "I {x} {}", u8::from(on)),
             HostAction::Write(kind, n, v) => writeln!(out, "W {} {n} {v}", kind as u32),
+            HostAction::WriteWordBit(n, bit, on) => {
+                writeln!(out, "B {} {n} {bit} {}", LadderDevice::D as u32, u8::from(on))
+            }
             HostAction::Force(kind, n, on) => writeln!(out, "F {} {n} {}", kind as u32, u8::from(on)),
             HostAction::Unforce(kind, n) => writeln!(out, "U {} {n}", kind as u32),
         };
@@ -145,6 +156,7 @@ pub fn scenario_directives(step: &Step, scan_ms: &mut u32, out: &mut String) {
         let _ = match *action {
             HostAction::Input(x, on) => writeln!(out, "set X{x:o} {}", u8::from(on)),
             HostAction::Write(kind, n, v) => writeln!(out, "set {} {v}", scenario_device(kind, n)),
+            HostAction::WriteWordBit(n, bit, on) => writeln!(out, "set D{n}.{bit:X} {}", u8::from(on)),
             HostAction::Force(kind, n, on) => writeln!(out, "force {} {}", scenario_device(kind, n), u8::from(on)),
             HostAction::Unforce(kind, n) => writeln!(out, "unforce {}", scenario_device(kind, n)),
         };

@@ -42,9 +42,16 @@ fn class_operand(class: DeviceClass, kind: OperandKind, width: Width) -> BoxedSt
         DeviceClass::Sm => "SM1[0-9]".boxed(),
         DeviceClass::WordBit => "D0\\.[0-9A-F]".boxed(),
         DeviceClass::KnX => regex(format!("K{digits}X0")),
-        DeviceClass::KnY => regex(format!("K{digits}Y0")),
-        DeviceClass::KnM => prop_oneof![regex(format!("K{digits}M0")), regex(format!("K{digits}M40\\[D2\\]"))].boxed(),
-        DeviceClass::KnS => regex(format!("K{digits}S0")),
+        // Groups start at a few nearby devices, so that a source and a
+        // destination of one instruction overlap in every way (K1M0 into
+        // K1M1 as well as the same group).
+        DeviceClass::KnY => regex(format!("K{digits}Y[0-3]")),
+        DeviceClass::KnM => prop_oneof![
+            regex(format!("K{digits}M[0-6]")),
+            regex(format!("K{digits}M40\\[D2\\]"))
+        ]
+        .boxed(),
+        DeviceClass::KnS => regex(format!("K{digits}S[0-3]")),
         DeviceClass::T => "T[0-3]".boxed(),
         DeviceClass::C if wide => "C20[0-3]".boxed(),
         DeviceClass::C => "C[0-2]".boxed(),
