@@ -78,6 +78,7 @@ pub fn parse_device(text: &str, double: bool) -> Result<HostDevice, String> {
         Prefix::D => word(WordArea::D)?,
         Prefix::Sd => word(WordArea::Sd)?,
         Prefix::R => word(WordArea::R)?,
+        Prefix::U => word(WordArea::Buffer)?,
         Prefix::Tn if !double => word(WordArea::TimerValue)?,
         Prefix::Cn if (FIRST_WIDE_COUNTER..COUNTER_COUNT).contains(&n) => Device::WideCounter(n),
         Prefix::Cn if !double && n < FIRST_WIDE_COUNTER => word(WordArea::CounterValue)?,

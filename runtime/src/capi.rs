@@ -27,7 +27,7 @@ pub struct LadderMemory {
 }
 
 /// Bytes of storage a device image needs.
-pub const LADDER_MEMORY_SIZE: usize = 138024;
+pub const LADDER_MEMORY_SIZE: usize = 666504;
 /// Alignment the storage needs.
 pub const LADDER_MEMORY_ALIGN: usize = 4;
 

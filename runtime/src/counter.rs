@@ -3,6 +3,8 @@
 //! C0–C199 are 16-bit up counters: each rising edge of the coil adds 1 until
 //! the preset. C200–C255 are 32-bit up/down counters: they count down while
 //! M8200+(n-200) is ON and wrap around. The contact is ON at or above the preset.
+//! C235-C255 are high-speed counters: their coil enables counting of their
+//! inputs at the input refresh (`hsc.rs`) instead of counting its own edges.
 
 use crate::device::{is_wide_counter, COUNTER_COUNT, FIRST_WIDE_COUNTER};
 use crate::memory::{Memory, FORCE_NONE};
@@ -22,7 +24,8 @@ impl Memory {
         }
         let value = if is_wide_counter(counter) {
             let slot = n - FIRST_WIDE_COUNTER as usize;
-            if rising {
+            // A high-speed counter's coil only enables counting (hsc.rs).
+            if rising && counter < crate::hsc::FIRST_HSC {
                 let direction = M_COUNTER_DIRECTION_BASE as usize + slot;
                 let step = if self.m[direction] != 0 { -1 } else { 1 };
                 self.wide_counter_value[slot] = self.wide_counter_value[slot].wrapping_add(step);

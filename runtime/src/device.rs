@@ -39,6 +39,20 @@ pub enum WordArea {
     /// Index registers, interleaved so that a 32-bit access at Zn is the
     /// pair (Vn, Zn) as on an FX: word 2n is Zn, word 2n+1 is Vn.
     Index,
+    /// Buffer memories of special-function units 0-7 (`Un\Gm`): unit after
+    /// unit, `BUFFER_WORDS_PER_UNIT` words each, so word `u * 32767 + m` is
+    /// `Uu\Gm`.
+    Buffer,
+}
+
+/// Special-function units whose buffer memory the image keeps (U0-U7).
+pub const BUFFER_UNITS: u32 = 8;
+/// Words of one unit's buffer memory (G0-G32766).
+pub const BUFFER_WORDS_PER_UNIT: u32 = 32767;
+
+/// The word of the buffer-memory area that holds `Uunit\Gword`.
+pub const fn buffer_word(unit: u32, word: u32) -> u32 {
+    unit * BUFFER_WORDS_PER_UNIT + word
 }
 
 /// Number of Z (and of V) index registers: Z0–Z7, V0–V7.
@@ -62,6 +76,13 @@ pub const STATE_COUNT: u32 = 4096;
 /// SORT, SORT2 and DSORT2 instructions one program may hold (each keeps its
 /// progress in the image).
 pub const SORT_INSTANCES: u32 = 64;
+/// Instructions that keep state between scans (pulse outputs, high-speed
+/// compares, HOUR, ...) one program may hold.
+pub const STATE_INSTANCES: u32 = 256;
+/// Inputs X0-X7 that feed the high-speed counters.
+pub const HSC_INPUTS: u32 = 8;
+/// Pulse outputs Y0-Y3.
+pub const PULSE_OUTPUTS: u32 = 4;
 /// Largest unit count of BMOV/FMOV (more is operation error 4084H).
 pub const MAX_BLOCK_UNITS: u32 = 512;
 /// Most bits SFTR/SFTL shift (n1 above is operation error 4084H).
@@ -122,13 +143,14 @@ impl BitArea {
 }
 
 impl WordArea {
-    pub const ALL: [WordArea; 6] = [
+    pub const ALL: [WordArea; 7] = [
         WordArea::D,
         WordArea::Sd,
         WordArea::R,
         WordArea::TimerValue,
         WordArea::CounterValue,
         WordArea::Index,
+        WordArea::Buffer,
     ];
 
     /// Number of words in the area.
@@ -140,6 +162,7 @@ impl WordArea {
             WordArea::TimerValue => TIMER_COUNT,
             WordArea::CounterValue => FIRST_WIDE_COUNTER,
             WordArea::Index => 2 * INDEX_REGISTER_COUNT,
+            WordArea::Buffer => BUFFER_UNITS * BUFFER_WORDS_PER_UNIT,
         }
     }
 
@@ -152,6 +175,7 @@ impl WordArea {
             WordArea::TimerValue => "T",
             WordArea::CounterValue => "C",
             WordArea::Index => "Z",
+            WordArea::Buffer => "U",
         }
     }
 
@@ -161,6 +185,11 @@ impl WordArea {
         match self {
             WordArea::Index if index % 2 == 1 => format!("V{}", index / 2),
             WordArea::Index => format!("Z{}", index / 2),
+            WordArea::Buffer => format!(
+                "U{}\\G{}",
+                index / BUFFER_WORDS_PER_UNIT,
+                index % BUFFER_WORDS_PER_UNIT
+            ),
             WordArea::D | WordArea::Sd | WordArea::R | WordArea::TimerValue | WordArea::CounterValue => {
                 format!("{}{}", self.prefix(), index)
             }
@@ -211,6 +240,8 @@ mod tests {
         assert_eq!(BitArea::M.device_name(17), "M17");
         assert_eq!(WordArea::Index.device_name(index_register_word(3, false)), "Z3");
         assert_eq!(WordArea::Index.device_name(index_register_word(7, true)), "V7");
+        assert_eq!(WordArea::Buffer.device_name(buffer_word(3, 10)), "U3\\G10");
+        assert_eq!(WordArea::Buffer.device_name(buffer_word(7, 32766)), "U7\\G32766");
     }
 
     #[test]

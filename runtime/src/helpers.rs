@@ -392,7 +392,7 @@ pub fn width_arg(width: Width) -> u32 {
 ///
 /// # Safety
 /// `mem` is null or the program's device image.
-#[export_name = "ladder_rt_begin_scan_v3_138024"]
+#[export_name = "ladder_rt_begin_scan_v4_666504"]
 pub unsafe extern "C" fn ladder_rt_begin_scan(mem: *mut Memory, elapsed_ms: u32) {
     // SAFETY: the caller passes the image it was given.
     if let Some(mem) = unsafe { mem.as_mut() } {

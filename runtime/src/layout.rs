@@ -16,10 +16,10 @@ pub const MEMORY_ALIGN: usize = align_of::<Memory>();
 /// (`ladder_rt_begin_scan_<tag>`), so that an object linked against a runtime
 /// with another layout fails to link instead of corrupting memory. Change it
 /// whenever an offset changes; `layout_fingerprint_is_recorded` insists.
-pub const LAYOUT_TAG: &str = "v3_138024";
+pub const LAYOUT_TAG: &str = "v4_666504";
 
 /// The begin-scan entry compiled objects call; carries the layout tag.
-pub const TAGGED_BEGIN_SCAN: &str = "ladder_rt_begin_scan_v3_138024";
+pub const TAGGED_BEGIN_SCAN: &str = "ladder_rt_begin_scan_v4_666504";
 
 /// The end-scan entry compiled objects call (the C API's `ladder_end_scan`).
 pub const END_SCAN: &str = "ladder_end_scan";
@@ -46,11 +46,14 @@ pub const fn word_area_offset(area: WordArea) -> usize {
         WordArea::TimerValue => offset_of!(Memory, timer_value),
         WordArea::CounterValue => offset_of!(Memory, counter_value),
         WordArea::Index => offset_of!(Memory, index),
+        WordArea::Buffer => offset_of!(Memory, buffer),
     }
 }
 
 /// Offset of the 32-bit counter values (C200 first, four bytes each).
 pub const WIDE_COUNTER_OFFSET: usize = offset_of!(Memory, wide_counter_value);
+/// Offset of the instance states (`InstanceState`, 16 bytes each).
+pub const INSTANCE_OFFSET: usize = offset_of!(Memory, instance);
 /// Offset of the edge-instruction slots (one byte each).
 pub const EDGE_SLOT_OFFSET: usize = offset_of!(Memory, edge_slot);
 /// Offset of the per-state "block last ran active" flags (one byte each).
@@ -98,6 +101,16 @@ mod tests {
             offset_of!(Memory, scan_count),
             offset_of!(Memory, clock_ms),
             offset_of!(Memory, loop_repetitions),
+            offset_of!(Memory, pulses_pending),
+            offset_of!(Memory, input_edges),
+            offset_of!(Memory, instance),
+            offset_of!(Memory, pulse_owner),
+            offset_of!(Memory, pulse_remainder),
+            offset_of!(Memory, calendar_seconds),
+            offset_of!(Memory, calendar_ms),
+            offset_of!(Memory, calendar_flags),
+            offset_of!(Memory, reserved),
+            offset_of!(Memory, buffer),
             MEMORY_SIZE,
         ];
         offsets.map(|o| o.to_string()).join(",")
@@ -107,7 +120,7 @@ mod tests {
     fn layout_fingerprint_is_recorded() {
         assert_eq!(
             fingerprint(),
-            "0,256,512,9024,13120,14144,14656,14912,31936,33984,99520,100544,100944,101168,101200,102224,102736,102992,107088,111184,127568,127632,127696,127952,128208,128464,128720,137232,137744,138000,138004,138008,138012,138016,138020,138024",
+            "0,256,512,9024,13120,14144,14656,14912,31936,33984,99520,100544,100944,101168,101200,102224,102736,102992,107088,111184,127568,127632,127696,127952,128208,128464,128720,137232,137744,138000,138004,138008,138012,138016,138020,138024,138056,138088,142184,142200,142216,142220,142224,142228,142232,666504",
             "the memory layout changed: bump LAYOUT_TAG (and the tagged symbol) and record the new fingerprint"
         );
         assert_eq!(TAGGED_BEGIN_SCAN, format!("ladder_rt_begin_scan_{LAYOUT_TAG}"));

@@ -10,6 +10,7 @@
 
 #![cfg_attr(not(any(feature = "std", test)), no_std)]
 
+pub mod calendar;
 pub mod capi;
 pub mod compiled;
 pub mod counter;
@@ -17,9 +18,11 @@ pub mod device;
 pub mod force;
 pub mod helpers;
 pub mod host;
+pub mod hsc;
 pub mod layout;
 pub mod memory;
 pub mod place;
+pub mod pulse;
 pub mod scan;
 pub mod special;
 pub mod timer;

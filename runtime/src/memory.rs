@@ -6,7 +6,8 @@
 //! initialised image: that is the state a firmware host gets from `memset`.
 
 use crate::device::{
-    BitArea, WordArea, COUNTER_COUNT, EDGE_SLOT_COUNT, SORT_INSTANCES, STATE_COUNT, TIMER_COUNT, WIDE_COUNTER_COUNT,
+    BitArea, WordArea, COUNTER_COUNT, EDGE_SLOT_COUNT, HSC_INPUTS, PULSE_OUTPUTS, SORT_INSTANCES, STATE_COUNT,
+    STATE_INSTANCES, TIMER_COUNT, WIDE_COUNTER_COUNT,
 };
 use crate::special::{OperationError, D_ERROR_CODE, D_ERROR_LINE, M_OPERATION_ERROR};
 use bytemuck::{Pod, Zeroable};
@@ -81,6 +82,48 @@ pub struct Memory {
     pub clock_ms: u32,
     /// FOR/NEXT repetitions in the current scan (the loop watchdog).
     pub loop_repetitions: u32,
+
+    // ---- the machine around the program (machine.rs) ----
+    /// Rising edges a host reported for X0-X7 since the previous input
+    /// refresh, for the high-speed counters (`ladder_add_pulses`).
+    pub pulses_pending: [u32; HSC_INPUTS as usize],
+    /// Rising edges of X0-X7 the latest input refresh saw: level changes
+    /// plus reported pulses.
+    pub input_edges: [u32; HSC_INPUTS as usize],
+    /// The state of each instruction that keeps one between scans (pulse
+    /// and positioning outputs, high-speed compares, HOUR, SEGL, ...), by
+    /// the instance number the compiler gave it.
+    pub instance: [InstanceState; STATE_INSTANCES as usize],
+    /// The instance that drives each pulse output Y0-Y3 (its number + 1;
+    /// 0 when the output is free).
+    pub pulse_owner: [u32; PULSE_OUTPUTS as usize],
+    /// Pulses × 1000 not yet output (frequency × milliseconds carried to
+    /// the next scan), per pulse output.
+    pub pulse_remainder: [u32; PULSE_OUTPUTS as usize],
+    /// The calendar clock (D8013-D8019): seconds since 1980-01-01 00:00:00
+    /// and milliseconds below the second.
+    pub calendar_seconds: u32,
+    pub calendar_ms: u32,
+    /// `CALENDAR_FOUR_DIGIT_YEAR`: D8018 shows four digits.
+    pub calendar_flags: u32,
+    /// Keeps the buffer memory 8-byte aligned.
+    pub reserved: u32,
+
+    // ---- special-function units (last: the largest area) ----
+    /// Buffer memories of units 0-7 (`Un\Gm`).
+    pub buffer: [i16; WordArea::Buffer.count() as usize],
+}
+
+/// What an instruction that keeps state between scans remembers: a phase
+/// and three numbers, whose meaning each instruction documents
+/// (`machine.rs`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Zeroable, Pod)]
+#[repr(C)]
+pub struct InstanceState {
+    pub phase: u32,
+    pub a: i32,
+    pub b: i32,
+    pub c: i32,
 }
 
 /// Sort job: not started (its input was OFF, or it could not start).
@@ -138,6 +181,7 @@ impl Memory {
             WordArea::TimerValue => &self.timer_value,
             WordArea::CounterValue => &self.counter_value,
             WordArea::Index => &self.index,
+            WordArea::Buffer => &self.buffer,
         }
     }
 
@@ -149,6 +193,7 @@ impl Memory {
             WordArea::TimerValue => &mut self.timer_value,
             WordArea::CounterValue => &mut self.counter_value,
             WordArea::Index => &mut self.index,
+            WordArea::Buffer => &mut self.buffer,
         }
     }
 

@@ -1,10 +1,13 @@
 //! The scan sequence around the program (DIALECT.md, "The scan"):
 //!
-//! 1. input refresh (input image to X, forced X over it);
+//! 1. input refresh (input image to X, forced X over it; the high-speed
+//!    counters count the edges it saw; the clock and the scan-time
+//!    registers advance);
 //! 2. states left pending by a SET transfer turn OFF; special relays update;
 //! 3. the program runs (compiled code or the interpreter);
 //! 4. forced Y and M are written over the results; Y goes to the output image.
 
+use crate::device::HSC_INPUTS;
 use crate::memory::Memory;
 use crate::special::{
     OperationError, CLOCK_CYCLE_MS, CLOCK_RELAYS, FIRST_ALARM_STATE, LAST_ALARM_STATE, LOOP_REPETITION_LIMIT,
@@ -19,10 +22,14 @@ impl Memory {
         // In 64 bits the sum cannot overflow; the modulus keeps t below a minute.
         self.clock_ms = ((u64::from(self.clock_ms) + u64::from(elapsed_ms)) % u64::from(CLOCK_CYCLE_MS)) as u32;
         self.loop_repetitions = 0;
+        let mut previous = [0u8; HSC_INPUTS as usize];
+        previous.copy_from_slice(&self.x[..HSC_INPUTS as usize]);
         self.x = self.input_image;
         if self.forced_count > 0 {
             self.apply_forced_inputs();
         }
+        self.refresh_high_speed_inputs(previous);
+        self.advance_calendar(elapsed_ms);
         if self.stl_pending_any != 0 {
             self.turn_off_pending_states();
         }

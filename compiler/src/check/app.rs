@@ -20,6 +20,7 @@ pub fn word_class(word: &WordRef) -> DeviceClass {
             WordArea::R => DeviceClass::R,
             WordArea::TimerValue => DeviceClass::T,
             WordArea::CounterValue => DeviceClass::C,
+            WordArea::Buffer => DeviceClass::Buffer,
         },
         WordRef::WideCounter(_) => DeviceClass::WideCounter,
         WordRef::Digits(area, ..) => match area {
@@ -72,10 +73,11 @@ fn resolve_kind(operand: &Operand, kind: OperandKind, width: Width) -> Resolved<
         OperandKind::BlockSource
         | OperandKind::BlockDestination
         | OperandKind::TableEnd
-        | OperandKind::ByteSource
-        | OperandKind::ElementSource
-        | OperandKind::ElementDestination => true,
-        OperandKind::Source
+        | OperandKind::ByteSource => true,
+        // A word element (ENCO S, DECO D) is one word of 16 bits.
+        OperandKind::ElementSource
+        | OperandKind::ElementDestination
+        | OperandKind::Source
         | OperandKind::Count
         | OperandKind::Destination
         | OperandKind::Modified
@@ -89,11 +91,7 @@ fn resolve_kind(operand: &Operand, kind: OperandKind, width: Width) -> Resolved<
         | OperandKind::DigitDestination
         | OperandKind::Timer => false,
     };
-    let index_register = matches!(
-        resolved,
-        AppOperand::Word(WordRef::Word(WordArea::Index, _))
-            | AppOperand::Element(Element::Word(WordRef::Word(WordArea::Index, _)))
-    );
+    let index_register = matches!(resolved, AppOperand::Word(WordRef::Word(WordArea::Index, _)));
     if runs_on && index_register {
         return Err(Diagnostic::new(
             Code::OperandKind,

@@ -734,7 +734,7 @@ impl Checker {
                     self.emit(Op::Output(Output::Reset { target, count }), site);
                     return;
                 }
-                Prefix::D | Prefix::Sd | Prefix::R | Prefix::V | Prefix::Z => {
+                Prefix::D | Prefix::Sd | Prefix::R | Prefix::V | Prefix::Z | Prefix::U => {
                     let Some(WordRef::Word(area, address)) =
                         self.ok(operands::word_destination(first, Width::Single, 1))
                     else {
@@ -769,7 +769,9 @@ impl Checker {
                 | Prefix::P
                 | Prefix::N => self.ok(operands::bit_target(first)),
             },
-            OperandSyntax::Device(_) | OperandSyntax::Constant(_) => self.ok(operands::bit_target(first)),
+            OperandSyntax::Device(_) | OperandSyntax::Constant(_) | OperandSyntax::Real(_) => {
+                self.ok(operands::bit_target(first))
+            }
         };
         let Some(target) = target else { return };
         let Some(count) = self.counted_bits(target, operands) else {

@@ -34,11 +34,14 @@ fn range_error(operand: &Operand, message: impl Into<String>, label: impl Into<S
 fn device(operand: &Operand) -> Option<&DeviceSyntax> {
     match &operand.syntax {
         OperandSyntax::Device(d) => Some(d),
-        OperandSyntax::Constant(_) => None,
+        OperandSyntax::Constant(_) | OperandSyntax::Real(_) => None,
     }
 }
 
 pub(super) fn text_of(d: &DeviceSyntax) -> String {
+    if d.prefix == Prefix::U {
+        return WordArea::Buffer.device_name(d.number);
+    }
     let number = if d.prefix.is_octal() {
         format!("{:o}", d.number)
     } else {
@@ -64,7 +67,8 @@ fn bit_area(prefix: Prefix) -> Option<BitArea> {
         | Prefix::P
         | Prefix::N
         | Prefix::V
-        | Prefix::Z => return None,
+        | Prefix::Z
+        | Prefix::U => return None,
     })
 }
 
@@ -160,6 +164,11 @@ pub fn bit_source(operand: &Operand) -> Resolved<BitRef> {
                 "`{}` is an index register (a word); this operand is one bit",
                 text_of(d)
             ),
+            "word, not bit",
+        )),
+        Prefix::U => Err(kind_error(
+            operand,
+            format!("`{}` is a buffer-memory word; this operand is one bit", text_of(d)),
             "word, not bit",
         )),
         Prefix::D | Prefix::Sd | Prefix::R => Err(kind_error(
@@ -272,7 +281,7 @@ pub fn preset(operand: &Operand, width: Width) -> Resolved<WordRef> {
             )?;
             Ok(WordRef::Word(WordArea::D, Address::fixed(d.number)))
         }
-        OperandSyntax::Device(_) => Err(kind_error(
+        OperandSyntax::Real(_) | OperandSyntax::Device(_) => Err(kind_error(
             operand,
             "a preset is a K constant or a D register (without offset)",
             "not K or D",
@@ -371,9 +380,20 @@ pub fn label(operand: &Operand) -> Resolved<u32> {
 }
 
 /// A value the instruction reads at `width`: a constant or a word device.
+/// An E constant where an integer is read.
+fn real_here(operand: &Operand) -> Diagnostic {
+    kind_error(
+        operand,
+        "a real (E) constant is read only by the floating-point instructions (DEMOV, DEADD, DECMP, ...)",
+        "real constant",
+    )
+    .with_note("for an integer write K or H; to make a real number of an integer, use FLT")
+}
+
 pub fn word_source(operand: &Operand, width: Width) -> Resolved<WordRef> {
     match &operand.syntax {
         OperandSyntax::Constant(c) => Ok(WordRef::Constant(constant(operand, c, width)?)),
+        OperandSyntax::Real(_) => Err(real_here(operand)),
         OperandSyntax::Device(d) => word_device(operand, d, width, 1),
     }
 }
@@ -381,7 +401,7 @@ pub fn word_source(operand: &Operand, width: Width) -> Resolved<WordRef> {
 /// A word device the instruction reads (no constant): the start of a block.
 pub fn word_device_source(operand: &Operand, width: Width) -> Resolved<WordRef> {
     match &operand.syntax {
-        OperandSyntax::Constant(_) => Err(kind_error(
+        OperandSyntax::Constant(_) | OperandSyntax::Real(_) => Err(kind_error(
             operand,
             "this operand is a device, not a constant",
             "constant here",
@@ -490,6 +510,7 @@ fn word_device(operand: &Operand, d: &DeviceSyntax, width: Width, multiple: u32)
     }
     let area = match d.prefix {
         Prefix::D => WordArea::D,
+        Prefix::U => WordArea::Buffer,
         Prefix::Sd => WordArea::Sd,
         Prefix::R => WordArea::R,
         Prefix::T | Prefix::Tn if wide => {
@@ -612,7 +633,7 @@ pub fn bit_triple(operand: &Operand) -> Resolved<BitRef> {
 /// source a constant is one word.
 pub fn element(operand: &Operand, written: bool) -> Resolved<Element> {
     let d = match &operand.syntax {
-        OperandSyntax::Constant(_) if written => {
+        OperandSyntax::Constant(_) | OperandSyntax::Real(_) if written => {
             return Err(kind_error(
                 operand,
                 "a constant cannot be a destination",
@@ -620,6 +641,7 @@ pub fn element(operand: &Operand, written: bool) -> Resolved<Element> {
             ))
         }
         OperandSyntax::Constant(_) => return Ok(Element::Word(word_source(operand, Width::Single)?)),
+        OperandSyntax::Real(_) => return Err(real_here(operand)),
         OperandSyntax::Device(d) => d,
     };
     let is_bit = d.digits.is_none()
@@ -666,7 +688,7 @@ pub fn range_end(operand: &Operand) -> Resolved<RangeEnd> {
         Prefix::C | Prefix::Cs | Prefix::Cn if d.bit.is_none() => {
             Ok(RangeEnd::Counter(numbered(BitArea::CounterContact)?))
         }
-        Prefix::D | Prefix::Sd | Prefix::R if d.bit.is_none() => match word_destination(operand, Width::Single, 1)? {
+        Prefix::D | Prefix::Sd | Prefix::R | Prefix::U if d.bit.is_none() => match word_destination(operand, Width::Single, 1)? {
             WordRef::Word(area, address) => Ok(RangeEnd::Word(area, address)),
             WordRef::Constant(_) | WordRef::WideCounter(_) | WordRef::Digits(..) => Err(kind_error(
                 operand,
@@ -691,7 +713,8 @@ pub fn range_end(operand: &Operand) -> Resolved<RangeEnd> {
         | Prefix::P
         | Prefix::N
         | Prefix::V
-        | Prefix::Z => Ok(RangeEnd::Bit(bit_target(operand)?)),
+        | Prefix::Z
+        | Prefix::U => Ok(RangeEnd::Bit(bit_target(operand)?)),
     }
 }
 

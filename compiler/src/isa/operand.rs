@@ -135,12 +135,15 @@ pub enum DeviceClass {
     Sd,
     /// 32-bit counter current values C200-C255 (the seed's LC and HSC).
     WideCounter,
-    /// K and H constants.
+    /// K and H constants (and E constants where floats are read).
     Constant,
+    /// Buffer memory of a special-function unit, `Un\Gm` (FX3U takes it
+    /// wherever it takes D).
+    Buffer,
 }
 
 impl DeviceClass {
-    pub const ALL: [DeviceClass; 17] = [
+    pub const ALL: [DeviceClass; 18] = [
         DeviceClass::X,
         DeviceClass::Y,
         DeviceClass::M,
@@ -158,6 +161,7 @@ impl DeviceClass {
         DeviceClass::Sd,
         DeviceClass::WideCounter,
         DeviceClass::Constant,
+        DeviceClass::Buffer,
     ];
 
     /// How the seed's tables spell the class.
@@ -180,6 +184,7 @@ impl DeviceClass {
             DeviceClass::Sd => "SD",
             DeviceClass::WideCounter => "C200-C255",
             DeviceClass::Constant => "K/H",
+            DeviceClass::Buffer => "U\\G",
         }
     }
 }
@@ -232,8 +237,8 @@ pub mod tables {
 
     /// K and H.
     pub const CONSTANT: Devices = of(C::Constant);
-    /// D, R, SD.
-    pub const REGISTERS: Devices = of(C::D).with(of(C::R)).with(of(C::Sd));
+    /// D, R, SD, and the buffer memory of units (`U0\G10`).
+    pub const REGISTERS: Devices = of(C::D).with(of(C::R)).with(of(C::Sd)).with(of(C::Buffer));
     /// T, C, D, R, SD (and the 32-bit counters in 32-bit instructions).
     pub const WORDS: Devices = REGISTERS.with(of(C::T)).with(of(C::C)).with(of(C::WideCounter));
     /// Digit groups that can be written: KnY, KnM, KnS.
@@ -270,7 +275,7 @@ mod tests {
         assert!(ANY_VALUE.contains(DeviceClass::KnX) && ANY_VALUE.contains(DeviceClass::Constant));
         assert!(!WRITABLE_WORD.contains(DeviceClass::KnX));
         assert!(!WRITABLE_WORD.contains(DeviceClass::Constant));
-        assert_eq!(REGISTERS.to_string(), "D R SD");
+        assert_eq!(REGISTERS.to_string(), "D R SD U\\G");
         assert!(!Devices::NONE.contains(DeviceClass::X));
     }
 }

@@ -2,6 +2,7 @@
 //! to its parts, with spans. Ranges and kinds are the checker's business.
 
 use crate::diagnostics::{Code, Diagnostic};
+use ladder_runtime::device::{buffer_word, BUFFER_UNITS, BUFFER_WORDS_PER_UNIT};
 use crate::source::Span;
 
 /// Device-name prefixes as written in source.
@@ -32,11 +33,14 @@ pub enum Prefix {
     V,
     /// `Z`: index register Z0-Z7.
     Z,
+    /// `Un\Gm`: word m of the buffer memory of special-function unit n
+    /// (the number is the word of the buffer area, `buffer_word(n, m)`).
+    U,
 }
 
 impl Prefix {
     /// Longest spellings first so `SM0` is not read as `S` + `M0`.
-    const SPELLINGS: [(&'static str, Prefix); 18] = [
+    const SPELLINGS: [(&'static str, Prefix); 19] = [
         ("SM", Prefix::Sm),
         ("SD", Prefix::Sd),
         ("TS", Prefix::Ts),
@@ -55,6 +59,7 @@ impl Prefix {
         ("N", Prefix::N),
         ("V", Prefix::V),
         ("Z", Prefix::Z),
+        ("U", Prefix::U),
     ];
 
     pub fn as_str(self) -> &'static str {
@@ -111,9 +116,20 @@ pub struct DeviceSyntax {
     pub offset: Option<OffsetSyntax>,
 }
 
+/// An E constant: a real number (IEEE-754 binary32), `E1.5`, `E-0.25`,
+/// `E1.234+3` (mantissa and decimal exponent: 1234.0).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RealConstant {
+    pub value: f32,
+}
+
+// The value is finite (the parser refuses others), so equality is total.
+impl Eq for RealConstant {}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum OperandSyntax {
     Constant(Constant),
+    Real(RealConstant),
     Device(DeviceSyntax),
 }
 
@@ -243,8 +259,76 @@ impl Cursor<'_> {
                 let value = i64::from_str_radix(if trimmed.is_empty() { "0" } else { trimmed }, 16).unwrap_or(0);
                 Ok(OperandSyntax::Constant(Constant { value, hex: true }))
             }
+            Some('E') => self.real().map(OperandSyntax::Real),
             _ => self.device(None).map(OperandSyntax::Device),
         }
+    }
+
+    /// `E` followed by a decimal number and an optional exponent, written
+    /// as GX Developer does (`E1.234+3`) or as in C (`E1.234E+3`, `E1e-3`).
+    fn real(&mut self) -> Result<RealConstant, Diagnostic> {
+        self.pos += 1;
+        let number_start = self.pos;
+        if !self.eat('-') {
+            self.eat('+');
+        }
+        let (_, whole) = self.decimal_digits();
+        let fraction = if self.eat('.') { self.decimal_digits().1 } else { 0 };
+        if whole + fraction == 0 {
+            return Err(self.error(
+                0,
+                format!("`{}` is not a real constant", self.text),
+                "expected E followed by a number, as in E1.5 or E1.234+3",
+            ));
+        }
+        let mantissa = &self.text[number_start..self.pos];
+        let exponent_start = self.pos;
+        let written_e = self.eat('E');
+        let exponent = match self.peek() {
+            Some(sign @ ('+' | '-')) => {
+                self.pos += 1;
+                let (value, count) = self.decimal_digits();
+                if count == 0 {
+                    return Err(self.error(exponent_start, format!("`{}`: the exponent has no digits", self.text), "expected digits"));
+                }
+                let value = i64::try_from(value).unwrap_or(i64::MAX);
+                if sign == '-' {
+                    -value
+                } else {
+                    value
+                }
+            }
+            Some(c) if written_e && c.is_ascii_digit() => {
+                let (value, _) = self.decimal_digits();
+                i64::try_from(value).unwrap_or(i64::MAX)
+            }
+            _ if written_e => {
+                return Err(self.error(exponent_start, format!("`{}`: the exponent has no digits", self.text), "expected digits"));
+            }
+            _ => 0,
+        };
+        self.refuse_modified_constant()?;
+        if self.pos < self.text.len() {
+            return Err(self.error_here(
+                format!("unexpected `{}` in real constant `{}`", self.rest(), self.text),
+                "not part of the number",
+            ));
+        }
+        let out_of_range = || {
+            Diagnostic::new(
+                Code::ConstantRange,
+                Span::new(self.base, self.base + self.text.len()),
+                format!("real constant `{}` is out of range", self.text),
+            )
+            .with_label("real numbers are 0 or ±1.175494E-38 to ±3.402823E+38")
+        };
+        let text = format!("{mantissa}e{}", exponent.clamp(-1000, 1000));
+        let value: f64 = text.parse().map_err(|_| out_of_range())?;
+        let single = value as f32;
+        if !single.is_finite() || (value != 0.0 && (single.abs() < f32::MIN_POSITIVE)) {
+            return Err(out_of_range());
+        }
+        Ok(RealConstant { value: single })
     }
 
     /// `K5Z0`: FX programs may modify constants, ladderc does not.
@@ -308,7 +392,11 @@ impl Cursor<'_> {
             ));
         };
         self.pos += prefix_len;
-        let number = self.device_number(prefix)?;
+        let number = if prefix == Prefix::U {
+            self.buffer_number(start)?
+        } else {
+            self.device_number(prefix)?
+        };
         let bit = if self.eat('.') {
             let bit_start = self.pos - 1;
             let digit = self.peek().and_then(|c| c.to_digit(16));
@@ -358,17 +446,47 @@ impl Cursor<'_> {
         })
     }
 
+    /// `n\Gm` after `U`: the word of the buffer area.
+    fn buffer_number(&mut self, start: usize) -> Result<u32, Diagnostic> {
+        let (unit, _) = self.decimal_digits();
+        if !(self.eat('\\') && self.eat('G') && self.peek().is_some_and(|c| c.is_ascii_digit())) {
+            return Err(self.error(
+                start,
+                format!("`{}` is not a buffer-memory device", self.text),
+                "expected Un\\Gm, as in U0\\G10",
+            ));
+        }
+        let word_start = self.pos;
+        let (word, _) = self.decimal_digits();
+        let range = |label: &str, from: usize, to: usize| {
+            Diagnostic::new(
+                Code::DeviceRange,
+                Span::new(self.base + from, self.base + to),
+                format!("`{}` is out of range", self.text),
+            )
+            .with_label(label.to_string())
+        };
+        if unit >= u64::from(BUFFER_UNITS) {
+            return Err(range("units are U0..U7", start, word_start));
+        }
+        if word >= u64::from(BUFFER_WORDS_PER_UNIT) {
+            return Err(range("buffer memory words are G0..G32766", word_start, self.pos));
+        }
+        Ok(buffer_word(unit as u32, word as u32))
+    }
+
     fn device_number(&mut self, prefix: Prefix) -> Result<u32, Diagnostic> {
         let start = self.pos;
         let (value, count) = self.decimal_digits();
         debug_assert!(count > 0, "prefix match requires a digit");
         let digits = &self.text[start..self.pos];
         if prefix.is_octal() {
-            if digits.contains(['8', '9']) {
+            let hex_letter = self.peek().is_some_and(|c| c.is_ascii_hexdigit() && !c.is_ascii_digit());
+            if digits.contains(['8', '9']) || hex_letter {
                 return Err(self.error(
                     start,
                     format!("`{}`: {} numbers are octal (0-7)", self.text, prefix.as_str()),
-                    "8 and 9 are not octal digits",
+                    "octal digits are 0-7 (X10 follows X7)",
                 ));
             }
             return Ok(u32::from_str_radix(digits.trim_start_matches('0'), 8).unwrap_or(
@@ -521,6 +639,50 @@ mod tests {
         assert_eq!(error_code("H1FV2"), Code::OperandKind);
         assert_eq!(error_code("D0Z1Z2"), Code::MalformedOperand);
         assert_eq!(error_code("D0Z"), Code::MalformedOperand);
+    }
+
+    fn real(text: &str) -> f32 {
+        match parse_operand(text, 0).unwrap().syntax {
+            OperandSyntax::Real(r) => r.value,
+            other => panic!("{text}: {other:?}"),
+        }
+    }
+
+    #[test]
+    fn real_constants() {
+        assert_eq!(real("E1.5"), 1.5);
+        assert_eq!(real("e-0.25"), -0.25);
+        assert_eq!(real("E1.234+3"), 1234.0);
+        assert_eq!(real("E1.234E+3"), 1234.0);
+        assert_eq!(real("E5e-1"), 0.5);
+        assert_eq!(real("E3"), 3.0);
+        assert_eq!(real("E0"), 0.0);
+        assert_eq!(error_code("E1.2.3"), Code::MalformedOperand);
+        assert_eq!(error_code("E"), Code::MalformedOperand);
+        assert_eq!(error_code("E1.0+39"), Code::ConstantRange);
+        assert_eq!(error_code("E1.0-40"), Code::ConstantRange);
+        assert_eq!(error_code("E1.5Z0"), Code::OperandKind);
+        assert_eq!(error_code("E1+"), Code::MalformedOperand);
+    }
+
+    #[test]
+    fn buffer_memory_devices() {
+        let d = device("U3\\G10");
+        assert_eq!((d.prefix, d.number), (Prefix::U, buffer_word(3, 10)));
+        let d = device("u0\\g32766Z1");
+        assert_eq!(d.number, 32766);
+        assert!(d.offset.is_some());
+        assert_eq!(error_code("U8\\G0"), Code::DeviceRange);
+        assert_eq!(error_code("U0\\G32767"), Code::DeviceRange);
+        assert_eq!(error_code("U0G1"), Code::MalformedOperand);
+        assert_eq!(error_code("U0\\"), Code::MalformedOperand);
+    }
+
+    #[test]
+    fn octal_numbers_refuse_hex_letters() {
+        let message = parse_operand("X5A", 0).unwrap_err().message;
+        assert!(message.contains("octal"), "{message}");
+        assert!(parse_operand("X59", 0).unwrap_err().message.contains("octal"));
     }
 
     #[test]

@@ -1,0 +1,278 @@
+//! The calendar clock (DIALECT.md, "Machine programs"): D8013-D8019 hold
+//! the seconds, minutes, hours, day, month, year and day of the week of a
+//! clock that a host sets (`ladder_set_clock`; scenarios: `clock`) and that
+//! advances by the elapsed time reported to each scan, so a test repeats.
+//! A fresh image's clock reads 1980-01-01 00:00:00, a Tuesday.
+//!
+//! D8018 shows the year's last two digits (FX3U's default); a program that
+//! writes 2000 to D8018 switches it to four digits, as on an FX3U.
+//!
+//! Also here: the scan-time registers D8010-D8012, whose "scan time" is
+//! the elapsed time reported to the next scan.
+
+use crate::memory::Memory;
+
+/// D8010: the latest scan's time, in 0.1 ms.
+pub const D_SCAN_TIME: u32 = 8010;
+/// D8011: the shortest scan time, in 0.1 ms.
+pub const D_SCAN_TIME_MIN: u32 = 8011;
+/// D8012: the longest scan time, in 0.1 ms.
+pub const D_SCAN_TIME_MAX: u32 = 8012;
+/// D8013: the first of the clock registers (seconds); D8019 the day of the week.
+pub const D_CLOCK_FIRST: u32 = 8013;
+
+/// The first year the clock shows.
+pub const FIRST_YEAR: u32 = 1980;
+/// The last year the clock accepts (its two-digit years cover 1980-2079).
+pub const LAST_YEAR: u32 = 2079;
+/// `calendar_flags`: D8018 shows four digits.
+pub const CALENDAR_FOUR_DIGIT_YEAR: u32 = 1;
+
+/// A calendar time: year (four digits), month 1-12, day 1-31, hour,
+/// minute, second, and the day of the week (0 Sunday to 6 Saturday) when
+/// read from the clock.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CalendarTime {
+    pub year: u32,
+    pub month: u32,
+    pub day: u32,
+    pub hour: u32,
+    pub minute: u32,
+    pub second: u32,
+    pub weekday: u32,
+}
+
+const fn is_leap(year: u32) -> bool {
+    (year % 4 == 0 && year % 100 != 0) || year % 400 == 0
+}
+
+const fn days_in_month(year: u32, month: u32) -> u32 {
+    match month {
+        1 | 3 | 5 | 7 | 8 | 10 | 12 => 31,
+        4 | 6 | 9 | 11 => 30,
+        2 if is_leap(year) => 29,
+        2 => 28,
+        _ => 0,
+    }
+}
+
+const fn days_in_year(year: u32) -> u32 {
+    if is_leap(year) {
+        366
+    } else {
+        365
+    }
+}
+
+impl CalendarTime {
+    /// Seconds since 1980-01-01 00:00:00; `None` for a time that does not
+    /// exist or is outside 1980-2079 (the weekday is not looked at).
+    pub fn to_seconds(self) -> Option<u32> {
+        let valid = (FIRST_YEAR..=LAST_YEAR).contains(&self.year)
+            && (1..=12).contains(&self.month)
+            && (1..=days_in_month(self.year, self.month)).contains(&self.day)
+            && self.hour < 24
+            && self.minute < 60
+            && self.second < 60;
+        if !valid {
+            return None;
+        }
+        let mut days = 0u32;
+        for year in FIRST_YEAR..self.year {
+            days += days_in_year(year);
+        }
+        for month in 1..self.month {
+            days += days_in_month(self.year, month);
+        }
+        days += self.day - 1;
+        Some(days * 86_400 + self.hour * 3_600 + self.minute * 60 + self.second)
+    }
+
+    /// The calendar time `seconds` after 1980-01-01 00:00:00.
+    pub fn from_seconds(seconds: u32) -> CalendarTime {
+        let mut days = seconds / 86_400;
+        let in_day = seconds % 86_400;
+        // 1980-01-01 was a Tuesday.
+        let weekday = (days + 2) % 7;
+        let mut year = FIRST_YEAR;
+        while days >= days_in_year(year) {
+            days -= days_in_year(year);
+            year += 1;
+        }
+        let mut month = 1;
+        while days >= days_in_month(year, month) {
+            days -= days_in_month(year, month);
+            month += 1;
+        }
+        CalendarTime {
+            year,
+            month,
+            day: days + 1,
+            hour: in_day / 3_600,
+            minute: in_day % 3_600 / 60,
+            second: in_day % 60,
+            weekday,
+        }
+    }
+}
+
+/// The two-digit year 80-99 is 1980-1999, 0-79 is 2000-2079; four-digit
+/// years stand for themselves.
+pub fn full_year(year: i32) -> Option<u32> {
+    match year {
+        0..=79 => Some(2000 + year as u32),
+        80..=99 => Some(1900 + year as u32),
+        _ => u32::try_from(year).ok().filter(|y| (FIRST_YEAR..=LAST_YEAR).contains(y)),
+    }
+}
+
+impl Memory {
+    /// Sets the clock (milliseconds below the second start at 0); false,
+    /// and nothing changed, for a time that does not exist or is outside
+    /// 1980-2079.
+    pub fn set_calendar(&mut self, time: CalendarTime) -> bool {
+        match time.to_seconds() {
+            Some(seconds) => {
+                self.calendar_seconds = seconds;
+                self.calendar_ms = 0;
+                self.write_clock_registers();
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// The clock's time now.
+    pub fn calendar(&self) -> CalendarTime {
+        CalendarTime::from_seconds(self.calendar_seconds)
+    }
+
+    /// At the start of a scan: the clock advances by the elapsed time and
+    /// D8013-D8019 show it; D8010-D8012 take the previous scan's time.
+    pub(crate) fn advance_calendar(&mut self, elapsed_ms: u32) {
+        let ms = u64::from(self.calendar_ms) + u64::from(elapsed_ms);
+        let seconds = u64::from(self.calendar_seconds) + ms / 1000;
+        // The clock stops at the end of 2079 rather than wrapping.
+        let last = CalendarTime {
+            year: LAST_YEAR,
+            month: 12,
+            day: 31,
+            hour: 23,
+            minute: 59,
+            second: 59,
+            weekday: 0,
+        }
+        .to_seconds()
+        .unwrap_or(u32::MAX);
+        self.calendar_seconds = seconds.min(u64::from(last)) as u32;
+        self.calendar_ms = (ms % 1000) as u32;
+        if self.d[(D_CLOCK_FIRST + 5) as usize] == 2000 {
+            self.calendar_flags |= CALENDAR_FOUR_DIGIT_YEAR;
+        }
+        self.write_clock_registers();
+        if self.scan_count > 0 {
+            self.record_scan_time(elapsed_ms);
+        }
+    }
+
+    fn write_clock_registers(&mut self) {
+        let time = self.calendar();
+        let year = if self.calendar_flags & CALENDAR_FOUR_DIGIT_YEAR != 0 {
+            time.year
+        } else {
+            time.year % 100
+        };
+        let fields = [
+            time.second,
+            time.minute,
+            time.hour,
+            time.day,
+            time.month,
+            year,
+            time.weekday,
+        ];
+        for (offset, value) in (0..).zip(fields) {
+            self.d[(D_CLOCK_FIRST + offset) as usize] = value as i16;
+        }
+    }
+
+    /// D8010 = the scan's time; D8011/D8012 the shortest and longest so
+    /// far (0.1 ms units, at most 32767).
+    fn record_scan_time(&mut self, elapsed_ms: u32) {
+        let tenths = elapsed_ms.saturating_mul(10).min(i16::MAX as u32) as i16;
+        let first = self.scan_count == 1;
+        let (min, max) = (D_SCAN_TIME_MIN as usize, D_SCAN_TIME_MAX as usize);
+        self.d[D_SCAN_TIME as usize] = tenths;
+        if first || tenths < self.d[min] {
+            self.d[min] = tenths;
+        }
+        if first || tenths > self.d[max] {
+            self.d[max] = tenths;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn time(year: u32, month: u32, day: u32, hour: u32, minute: u32, second: u32) -> CalendarTime {
+        CalendarTime {
+            year,
+            month,
+            day,
+            hour,
+            minute,
+            second,
+            weekday: 0,
+        }
+    }
+
+    #[test]
+    fn seconds_round_trip_with_weekdays() {
+        let t = time(2026, 1, 2, 3, 4, 5);
+        let back = CalendarTime::from_seconds(t.to_seconds().unwrap());
+        assert_eq!(back, CalendarTime { weekday: 5, ..t }, "2026-01-02 is a Friday");
+        assert_eq!(CalendarTime::from_seconds(0), CalendarTime { weekday: 2, ..time(1980, 1, 1, 0, 0, 0) });
+        let leap = time(2024, 2, 29, 23, 59, 59);
+        assert_eq!(CalendarTime::from_seconds(leap.to_seconds().unwrap()).day, 29);
+        assert_eq!(time(2023, 2, 29, 0, 0, 0).to_seconds(), None);
+        assert_eq!(time(2080, 1, 1, 0, 0, 0).to_seconds(), None);
+        assert_eq!(time(2000, 13, 1, 0, 0, 0).to_seconds(), None);
+    }
+
+    #[test]
+    fn the_clock_advances_by_reported_time() {
+        let mut mem = Memory::new_boxed();
+        assert!(mem.set_calendar(time(2026, 12, 31, 23, 59, 59)));
+        mem.scan_with(600, |_| {});
+        assert_eq!(mem.d[8013], 59);
+        mem.scan_with(600, |_| {});
+        assert_eq!((mem.d[8013], mem.d[8014], mem.d[8015]), (0, 0, 0));
+        assert_eq!((mem.d[8016], mem.d[8017], mem.d[8018], mem.d[8019]), (1, 1, 27, 5));
+        mem.d[8018] = 2000;
+        mem.scan_with(0, |_| {});
+        assert_eq!(mem.d[8018], 2027, "four-digit mode");
+    }
+
+    #[test]
+    fn scan_time_registers() {
+        let mut mem = Memory::new_boxed();
+        mem.scan_with(7, |_| {});
+        assert_eq!((mem.d[8010], mem.d[8011], mem.d[8012]), (0, 0, 0), "no scan before the first");
+        for ms in [12, 5, 9] {
+            mem.scan_with(ms, |_| {});
+        }
+        assert_eq!((mem.d[8010], mem.d[8011], mem.d[8012]), (90, 50, 120));
+        mem.scan_with(u32::MAX, |_| {});
+        assert_eq!(mem.d[8012], 32767);
+    }
+
+    #[test]
+    fn two_digit_years() {
+        assert_eq!(full_year(26), Some(2026));
+        assert_eq!(full_year(85), Some(1985));
+        assert_eq!(full_year(2026), Some(2026));
+        assert_eq!(full_year(150), None);
+    }
+}
