@@ -132,6 +132,19 @@ pub enum AppOperand {
     Digits(DigitGroup),
     /// A timer by number (ANS S).
     Timer(Address),
+    /// A counter by number (DHSCS S2, INCD S2).
+    Counter(CounterRef),
+}
+
+/// A counter named as a device (not its value): the high-speed counter a
+/// DHSCS compares, the counters INCD drives.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct CounterRef(pub Address);
+
+impl From<CounterRef> for AppOperand {
+    fn from(counter: CounterRef) -> Self {
+        AppOperand::Counter(counter)
+    }
 }
 
 impl From<Address> for AppOperand {
@@ -300,6 +313,7 @@ impl Output {
                     AppOperand::Digits(group) => Some(BitRef::Device(group.area, group.address)),
                     AppOperand::Word(_)
                     | AppOperand::Timer(_)
+                    | AppOperand::Counter(_)
                     | AppOperand::Element(Element::Word(_))
                     | AppOperand::RangeEnd(RangeEnd::Word(..) | RangeEnd::Timer(_) | RangeEnd::Counter(_)) => None,
                 })

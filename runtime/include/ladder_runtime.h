@@ -33,7 +33,7 @@
 /**
  * Bytes of storage a device image needs.
  */
-#define LADDER_MEMORY_SIZE 138024
+#define LADDER_MEMORY_SIZE 666504
 
 /**
  * Alignment the storage needs.
@@ -124,6 +124,11 @@ typedef enum LadderDevice {
    * Index registers Z0–Z7 (16-bit; the 32-bit pair at Zn is (Vn, Zn)).
    */
   LADDER_DEVICE_Z = 13,
+  /**
+   * Buffer memory of special-function units: `Uu\Gm` is number
+   * u × 32767 + m (u 0–7, m 0–32766).
+   */
+  LADDER_DEVICE_U = 14,
 } LadderDevice;
 
 /**
@@ -205,6 +210,59 @@ enum LadderStatus ladder_write_word_bit(struct LadderMemory *mem,
                                         uint32_t number,
                                         uint32_t bit,
                                         int32_t on);
+
+/**
+ * Reads the real number (IEEE-754 binary32) in the word pair (n+1, n) of
+ * D, R, SD or U.
+ *
+ * # Safety
+ * `mem` is null or an image from `ladder_init` that no other call uses now;
+ * `value` is null or valid for a write.
+ */
+enum LadderStatus ladder_read_real(const struct LadderMemory *mem,
+                                   uint32_t kind,
+                                   uint32_t number,
+                                   float *value);
+
+/**
+ * Writes a real number to the word pair (n+1, n) of D, R, SD or U (a NaN
+ * or infinity is `LADDER_STATUS_BAD_VALUE`).
+ *
+ * # Safety
+ * `mem` is null or an image from `ladder_init` that no other call uses now.
+ */
+enum LadderStatus ladder_write_real(struct LadderMemory *mem,
+                                    uint32_t kind,
+                                    uint32_t number,
+                                    float value);
+
+/**
+ * Adds `count` rising edges of input X`x` (0–7) for the high-speed
+ * counters, as if they had happened since the previous scan (for hosts
+ * that count pulses themselves); `LADDER_STATUS_OUT_OF_RANGE` for X10 and
+ * above. The input's level is not changed.
+ *
+ * # Safety
+ * `mem` is null or an image from `ladder_init` that no other call uses now.
+ */
+enum LadderStatus ladder_add_pulses(struct LadderMemory *mem, uint32_t x, uint32_t count);
+
+/**
+ * Sets the calendar clock (D8013–D8019), e.g. from the host's real-time
+ * clock: year 1980–2079, month 1–12, day, hour 0–23, minute, second; from
+ * there it advances by the elapsed time reported to each scan. A time
+ * that does not exist is `LADDER_STATUS_BAD_VALUE` and changes nothing.
+ *
+ * # Safety
+ * `mem` is null or an image from `ladder_init` that no other call uses now.
+ */
+enum LadderStatus ladder_set_clock(struct LadderMemory *mem,
+                                   uint32_t year,
+                                   uint32_t month,
+                                   uint32_t day,
+                                   uint32_t hour,
+                                   uint32_t minute,
+                                   uint32_t second);
 
 /**
  * Forces X, Y, M, T (contact) or C (contact) ON or OFF until unforced:

@@ -122,7 +122,9 @@ pub fn full_year(year: i32) -> Option<u32> {
     match year {
         0..=79 => Some(2000 + year as u32),
         80..=99 => Some(1900 + year as u32),
-        _ => u32::try_from(year).ok().filter(|y| (FIRST_YEAR..=LAST_YEAR).contains(y)),
+        _ => u32::try_from(year)
+            .ok()
+            .filter(|y| (FIRST_YEAR..=LAST_YEAR).contains(y)),
     }
 }
 
@@ -233,7 +235,13 @@ mod tests {
         let t = time(2026, 1, 2, 3, 4, 5);
         let back = CalendarTime::from_seconds(t.to_seconds().unwrap());
         assert_eq!(back, CalendarTime { weekday: 5, ..t }, "2026-01-02 is a Friday");
-        assert_eq!(CalendarTime::from_seconds(0), CalendarTime { weekday: 2, ..time(1980, 1, 1, 0, 0, 0) });
+        assert_eq!(
+            CalendarTime::from_seconds(0),
+            CalendarTime {
+                weekday: 2,
+                ..time(1980, 1, 1, 0, 0, 0)
+            }
+        );
         let leap = time(2024, 2, 29, 23, 59, 59);
         assert_eq!(CalendarTime::from_seconds(leap.to_seconds().unwrap()).day, 29);
         assert_eq!(time(2023, 2, 29, 0, 0, 0).to_seconds(), None);
@@ -259,7 +267,11 @@ mod tests {
     fn scan_time_registers() {
         let mut mem = Memory::new_boxed();
         mem.scan_with(7, |_| {});
-        assert_eq!((mem.d[8010], mem.d[8011], mem.d[8012]), (0, 0, 0), "no scan before the first");
+        assert_eq!(
+            (mem.d[8010], mem.d[8011], mem.d[8012]),
+            (0, 0, 0),
+            "no scan before the first"
+        );
         for ms in [12, 5, 9] {
             mem.scan_with(ms, |_| {});
         }

@@ -65,6 +65,9 @@ pub enum LadderDevice {
     V = 12,
     /// Index registers Z0–Z7 (16-bit; the 32-bit pair at Zn is (Vn, Zn)).
     Z = 13,
+    /// Buffer memory of special-function units: `Uu\Gm` is number
+    /// u × 32767 + m (u 0–7, m 0–32766).
+    U = 14,
 }
 
 /// Results of the C API.
@@ -109,12 +112,13 @@ const BIT_KINDS: [(BitArea, LadderDevice); 7] = [
 ];
 
 /// Kind of each word area.
-const WORD_KINDS: [(WordArea, LadderDevice); 5] = [
+const WORD_KINDS: [(WordArea, LadderDevice); 6] = [
     (WordArea::D, LadderDevice::D),
     (WordArea::Sd, LadderDevice::Sd),
     (WordArea::R, LadderDevice::R),
     (WordArea::TimerValue, LadderDevice::Tn),
     (WordArea::CounterValue, LadderDevice::Cn),
+    (WordArea::Buffer, LadderDevice::U),
 ];
 
 /// The basic device a C API (kind, number) names.
@@ -305,6 +309,121 @@ pub unsafe extern "C" fn ladder_write_word_bit(
     match crate::host::write_composite(mem, Device::WordBit(area, number, bit), Width::Single, on) {
         Ok(()) => LadderStatus::Ok,
         Err(_) => LadderStatus::OutOfRange,
+    }
+}
+
+/// Reads the real number (IEEE-754 binary32) in the word pair (n+1, n) of
+/// D, R, SD or U.
+///
+/// # Safety
+/// `mem` is null or an image from `ladder_init` that no other call uses now;
+/// `value` is null or valid for a write.
+#[no_mangle]
+pub unsafe extern "C" fn ladder_read_real(
+    mem: *const LadderMemory,
+    kind: u32,
+    number: u32,
+    value: *mut f32,
+) -> LadderStatus {
+    // SAFETY: the caller's contract.
+    let (Some(mem), Some(area)) = (unsafe { image(mem) }, real_area(kind)) else {
+        return LadderStatus::BadArgument;
+    };
+    // SAFETY: the caller passes null or a writable f32.
+    let Some(out) = (unsafe { value.as_mut() }) else {
+        return LadderStatus::BadArgument;
+    };
+    match mem.word_pair(area, number) {
+        Some(bits) => {
+            *out = f32::from_bits(bits as u32);
+            LadderStatus::Ok
+        }
+        None => LadderStatus::OutOfRange,
+    }
+}
+
+/// Writes a real number to the word pair (n+1, n) of D, R, SD or U (a NaN
+/// or infinity is `LADDER_STATUS_BAD_VALUE`).
+///
+/// # Safety
+/// `mem` is null or an image from `ladder_init` that no other call uses now.
+#[no_mangle]
+pub unsafe extern "C" fn ladder_write_real(mem: *mut LadderMemory, kind: u32, number: u32, value: f32) -> LadderStatus {
+    // SAFETY: the caller's contract.
+    let (Some(mem), Some(area)) = (unsafe { image_mut(mem) }, real_area(kind)) else {
+        return LadderStatus::BadArgument;
+    };
+    if !value.is_finite() {
+        return LadderStatus::BadValue;
+    }
+    if mem.set_word_pair(area, number, value.to_bits() as i32) {
+        LadderStatus::Ok
+    } else {
+        LadderStatus::OutOfRange
+    }
+}
+
+/// The word areas that hold real numbers.
+fn real_area(kind: u32) -> Option<WordArea> {
+    [WordArea::D, WordArea::R, WordArea::Sd, WordArea::Buffer]
+        .into_iter()
+        .find(|area| WORD_KINDS.iter().any(|&(a, k)| a == *area && k as u32 == kind))
+}
+
+/// Adds `count` rising edges of input X`x` (0–7) for the high-speed
+/// counters, as if they had happened since the previous scan (for hosts
+/// that count pulses themselves); `LADDER_STATUS_OUT_OF_RANGE` for X10 and
+/// above. The input's level is not changed.
+///
+/// # Safety
+/// `mem` is null or an image from `ladder_init` that no other call uses now.
+#[no_mangle]
+pub unsafe extern "C" fn ladder_add_pulses(mem: *mut LadderMemory, x: u32, count: u32) -> LadderStatus {
+    // SAFETY: the caller's contract.
+    let Some(mem) = (unsafe { image_mut(mem) }) else {
+        return LadderStatus::BadArgument;
+    };
+    if mem.add_pulses(x, count) {
+        LadderStatus::Ok
+    } else {
+        LadderStatus::OutOfRange
+    }
+}
+
+/// Sets the calendar clock (D8013–D8019), e.g. from the host's real-time
+/// clock: year 1980–2079, month 1–12, day, hour 0–23, minute, second; from
+/// there it advances by the elapsed time reported to each scan. A time
+/// that does not exist is `LADDER_STATUS_BAD_VALUE` and changes nothing.
+///
+/// # Safety
+/// `mem` is null or an image from `ladder_init` that no other call uses now.
+#[no_mangle]
+pub unsafe extern "C" fn ladder_set_clock(
+    mem: *mut LadderMemory,
+    year: u32,
+    month: u32,
+    day: u32,
+    hour: u32,
+    minute: u32,
+    second: u32,
+) -> LadderStatus {
+    // SAFETY: the caller's contract.
+    let Some(mem) = (unsafe { image_mut(mem) }) else {
+        return LadderStatus::BadArgument;
+    };
+    let time = crate::calendar::CalendarTime {
+        year,
+        month,
+        day,
+        hour,
+        minute,
+        second,
+        weekday: 0,
+    };
+    if mem.set_calendar(time) {
+        LadderStatus::Ok
+    } else {
+        LadderStatus::BadValue
     }
 }
 

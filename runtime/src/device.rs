@@ -185,11 +185,7 @@ impl WordArea {
         match self {
             WordArea::Index if index % 2 == 1 => format!("V{}", index / 2),
             WordArea::Index => format!("Z{}", index / 2),
-            WordArea::Buffer => format!(
-                "U{}\\G{}",
-                index / BUFFER_WORDS_PER_UNIT,
-                index % BUFFER_WORDS_PER_UNIT
-            ),
+            WordArea::Buffer => format!("U{}\\G{}", index / BUFFER_WORDS_PER_UNIT, index % BUFFER_WORDS_PER_UNIT),
             WordArea::D | WordArea::Sd | WordArea::R | WordArea::TimerValue | WordArea::CounterValue => {
                 format!("{}{}", self.prefix(), index)
             }

@@ -358,6 +358,26 @@ helpers! {
         compiled::alarm_reset(mem)
     }
 
+    /// DSIN, DEXP, ...: function `function` (`RealFunction`) of the real number with bits `x`; the result's bits,
+    /// or a NaN's when the argument or the result is out of range.
+    RealFunction = fn ladder_rt_real_function(mem, function: u32, x: u32) -> i32 writes [] {
+        let _ = mem;
+        compiled::real_function(function, x)
+    }
+
+    /// DEBCD: the real number with bits `x` in scientific notation, the mantissa in the low word and the exponent
+    /// in the high word.
+    RealToDecimal = fn ladder_rt_real_to_decimal(mem, x: u32) -> i32 writes [] {
+        let _ = mem;
+        compiled::real_to_decimal(x)
+    }
+
+    /// DEBIN: the mantissa (low word) and exponent (high word) as a real number's bits, or a NaN's when out of range.
+    DecimalToReal = fn ladder_rt_decimal_to_real(mem, decimal: u32) -> i32 writes [] {
+        let _ = mem;
+        compiled::decimal_to_real(decimal)
+    }
+
     /// Records an operation error: M8067 ON, D8067 = `code`, D8069 = `line`.
     RecordError = fn ladder_rt_record_error(mem, code: u32, line: u32) -> none writes [OperationError] {
         if let Some(error) = OperationError::from_code(code) {

@@ -23,6 +23,7 @@ pub mod layout;
 pub mod memory;
 pub mod place;
 pub mod pulse;
+pub mod real;
 pub mod scan;
 pub mod special;
 pub mod timer;

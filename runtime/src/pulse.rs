@@ -208,7 +208,13 @@ impl Memory {
         (total / 1000) as i64
     }
 
-    fn advance(&mut self, output: usize, mut state: InstanceState, request: &PulseRequest, elapsed: u32) -> InstanceState {
+    fn advance(
+        &mut self,
+        output: usize,
+        mut state: InstanceState,
+        request: &PulseRequest,
+        elapsed: u32,
+    ) -> InstanceState {
         let here = i64::from(self.current_address(output as u32));
         let since = state.b as u32;
         state.b = since.saturating_add(elapsed).min(i32::MAX as u32) as i32;

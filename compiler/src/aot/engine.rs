@@ -5,6 +5,7 @@ use crate::codegen::ObjectOptions;
 use crate::host_device::HostDevice;
 use crate::program::CheckedProgram;
 use crate::scenario::{Engine, EngineError};
+use ladder_runtime::calendar::CalendarTime;
 use ladder_runtime::host::{read_composite, write_composite, AccessError, Basic, BasicAccess};
 use ladder_runtime::BitArea;
 use std::io::{BufRead, BufReader, Write};
@@ -150,6 +151,23 @@ impl Engine for AotEngine {
 
     fn scan(&mut self, elapsed_ms: u32) -> Result<(), String> {
         self.status(&format!("s 1 {elapsed_ms}"))
+    }
+
+    fn pulse(&mut self, input: u32, count: u32) -> Result<(), String> {
+        self.status(&format!("p {input} {count}"))
+    }
+
+    fn set_clock(&mut self, time: CalendarTime) -> Result<(), String> {
+        let CalendarTime {
+            year,
+            month,
+            day,
+            hour,
+            minute,
+            second,
+            ..
+        } = time;
+        self.status(&format!("c {year} {month} {day} {hour} {minute} {second}"))
     }
 }
 

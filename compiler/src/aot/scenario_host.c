@@ -9,6 +9,8 @@
  *   f KIND N ON     force                -> status
  *   u KIND N        unforce              -> status
  *   s COUNT MS      run COUNT scans      -> 0
+ *   p X COUNT       add pulses to X      -> status
+ *   c Y M D H MI S  set the clock        -> status
  *   q               quit
  *
  * KIND is a LadderDevice, status a LadderStatus.
@@ -56,6 +58,16 @@ int main(void) {
             for (unsigned i = 0; i < count; i++) ladder_program_scan(mem, ms);
             printf("0\n");
             break;
+        case 'p':
+            if (sscanf(line + 1, "%u %u", &number, &count) != 2) return 3;
+            printf("%d\n", (int)ladder_add_pulses(mem, number, count));
+            break;
+        case 'c': {
+            unsigned y = 0, mo = 0, d = 0, h = 0, mi = 0, sec = 0;
+            if (sscanf(line + 1, "%u %u %u %u %u %u", &y, &mo, &d, &h, &mi, &sec) != 6) return 3;
+            printf("%d\n", (int)ladder_set_clock(mem, y, mo, d, h, mi, sec));
+            break;
+        }
         case 'q':
             return 0;
         default:

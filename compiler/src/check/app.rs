@@ -61,6 +61,7 @@ fn class_of(operand: &AppOperand) -> DeviceClass {
         AppOperand::RangeEnd(RangeEnd::Counter(_)) => DeviceClass::C,
         AppOperand::Digits(group) => word_class(&WordRef::Digits(group.area, group.address, group.digits)),
         AppOperand::Timer(_) => DeviceClass::T,
+        AppOperand::Counter(_) => DeviceClass::C,
     }
 }
 
@@ -70,10 +71,9 @@ fn class_of(operand: &AppOperand) -> DeviceClass {
 fn resolve_kind(operand: &Operand, kind: OperandKind, width: Width) -> Resolved<AppOperand> {
     let resolved = resolve_any(operand, kind, width)?;
     let runs_on = match kind {
-        OperandKind::BlockSource
-        | OperandKind::BlockDestination
-        | OperandKind::TableEnd
-        | OperandKind::ByteSource => true,
+        OperandKind::BlockSource | OperandKind::BlockDestination | OperandKind::TableEnd | OperandKind::ByteSource => {
+            true
+        }
         // A word element (ENCO S, DECO D) is one word of 16 bits.
         OperandKind::ElementSource
         | OperandKind::ElementDestination
@@ -89,7 +89,12 @@ fn resolve_kind(operand: &Operand, kind: OperandKind, width: Width) -> Resolved<
         | OperandKind::RangeEnd
         | OperandKind::DigitSource
         | OperandKind::DigitDestination
-        | OperandKind::Timer => false,
+        | OperandKind::Timer
+        | OperandKind::RealSource
+        | OperandKind::RealDestination
+        | OperandKind::RealModified
+        | OperandKind::HighSpeedCounter
+        | OperandKind::CounterPair => false,
     };
     let index_register = matches!(resolved, AppOperand::Word(WordRef::Word(WordArea::Index, _)));
     if runs_on && index_register {
@@ -130,6 +135,12 @@ fn resolve_any(operand: &Operand, kind: OperandKind, width: Width) -> Resolved<A
         OperandKind::TableEnd => AppOperand::Word(operands::table_end(operand, width)?),
         OperandKind::ByteSource => AppOperand::Word(operands::byte_source(operand)?),
         OperandKind::Timer => AppOperand::Timer(operands::timer(operand)?),
+        OperandKind::RealSource => AppOperand::Word(operands::real_source(operand)?),
+        OperandKind::RealDestination | OperandKind::RealModified => {
+            AppOperand::Word(operands::word_destination(operand, Width::Double, 1)?)
+        }
+        OperandKind::HighSpeedCounter => AppOperand::Counter(operands::high_speed_counter(operand)?),
+        OperandKind::CounterPair => AppOperand::Counter(operands::counter_pair(operand)?),
     })
 }
 
@@ -156,7 +167,11 @@ impl ResolveOperand for AppResolver<'_> {
             crate::isa::app::fits(kind, resolved),
             "{kind:?} resolved to {resolved:?}, which is not its type"
         );
-        let class = class_of(&resolved);
+        // An E constant is resolved to its bits like a K; its class is its own.
+        let class = match operand.syntax {
+            crate::syntax::OperandSyntax::Real(_) => DeviceClass::Real,
+            crate::syntax::OperandSyntax::Constant(_) | crate::syntax::OperandSyntax::Device(_) => class_of(&resolved),
+        };
         if !devices.contains(class) {
             self.diagnostics.push(
                 Diagnostic::new(
@@ -206,6 +221,11 @@ mod tests {
             (OperandKind::TableEnd, &["D0", "R5"]),
             (OperandKind::ByteSource, &["D100", "K4M0"]),
             (OperandKind::Timer, &["T3", "T0[D1]"]),
+            (OperandKind::RealSource, &["E1.5", "K3", "H10", "D0", "R2"]),
+            (OperandKind::RealDestination, &["D0", "R4"]),
+            (OperandKind::RealModified, &["D10"]),
+            (OperandKind::HighSpeedCounter, &["C235", "C255"]),
+            (OperandKind::CounterPair, &["C0", "C198"]),
         ];
         for &kind in OperandKind::ALL {
             let (_, texts) = samples

@@ -3,7 +3,7 @@
 
 use super::index_registers::{index_register, index_register_value};
 use crate::diagnostics::{Code, Diagnostic};
-use crate::program::{Address, BitRef, DigitGroup, Element, RangeEnd, WordRef};
+use crate::program::{Address, BitRef, CounterRef, DigitGroup, Element, RangeEnd, WordRef};
 use crate::syntax::{Constant, DeviceSyntax, Operand, OperandSyntax, Prefix};
 use ladder_runtime::device::{FIRST_WIDE_COUNTER, TIMER_COUNT};
 use ladder_runtime::{BitArea, Width, WordArea};
@@ -429,6 +429,69 @@ pub fn table_end(operand: &Operand, width: Width) -> Resolved<WordRef> {
     }
 }
 
+/// A real number read: an E constant's bits, a K or H constant converted
+/// to the nearest real number, or a word pair.
+pub fn real_source(operand: &Operand) -> Resolved<WordRef> {
+    match &operand.syntax {
+        OperandSyntax::Real(r) => Ok(WordRef::Constant(r.value.to_bits() as i32)),
+        OperandSyntax::Constant(c) => {
+            let value = constant(operand, c, Width::Double)?;
+            // H constants are bit patterns read as unsigned numbers.
+            let number = if c.hex {
+                f64::from(value as u32)
+            } else {
+                f64::from(value)
+            };
+            Ok(WordRef::Constant((number as f32).to_bits() as i32))
+        }
+        OperandSyntax::Device(d) => word_device(operand, d, Width::Double, 1),
+    }
+}
+
+/// A counter by number: `C` or `CS` (`CN` too), with an index register if any.
+fn counter_number(operand: &Operand, what: &str) -> Resolved<(u32, Address)> {
+    match device(operand) {
+        Some(d) if matches!(d.prefix, Prefix::C | Prefix::Cs | Prefix::Cn) && d.digits.is_none() && d.bit.is_none() => {
+            Ok((
+                d.number,
+                Address {
+                    index: d.number,
+                    index_register: index_register(d)?,
+                },
+            ))
+        }
+        Some(_) | None => Err(kind_error(operand, format!("expected {what}"), "not a counter")),
+    }
+}
+
+/// A high-speed counter C235-C255 (DHSCS S2).
+pub fn high_speed_counter(operand: &Operand) -> Resolved<CounterRef> {
+    let (number, address) = counter_number(operand, "a high-speed counter C235..C255")?;
+    if !(ladder_runtime::hsc::FIRST_HSC..=ladder_runtime::hsc::LAST_HSC).contains(&number) {
+        return Err(kind_error(
+            operand,
+            "high-speed counters are C235..C255",
+            "not a high-speed counter",
+        ));
+    }
+    Ok(CounterRef(address))
+}
+
+/// A 16-bit counter that the instruction drives together with the next one
+/// (INCD S2): C0..C198.
+pub fn counter_pair(operand: &Operand) -> Resolved<CounterRef> {
+    let (number, address) = counter_number(operand, "a counter such as C0")?;
+    check_extent(
+        operand,
+        &format!("C{number}"),
+        number,
+        2,
+        FIRST_WIDE_COUNTER,
+        "16-bit counters are C0..C199",
+    )?;
+    Ok(CounterRef(address))
+}
+
 /// A word the instruction writes; `multiple` = 2 for MUL/DIV results.
 pub fn word_destination(operand: &Operand, width: Width, multiple: u32) -> Resolved<WordRef> {
     let OperandSyntax::Device(d) = &operand.syntax else {
@@ -688,14 +751,16 @@ pub fn range_end(operand: &Operand) -> Resolved<RangeEnd> {
         Prefix::C | Prefix::Cs | Prefix::Cn if d.bit.is_none() => {
             Ok(RangeEnd::Counter(numbered(BitArea::CounterContact)?))
         }
-        Prefix::D | Prefix::Sd | Prefix::R | Prefix::U if d.bit.is_none() => match word_destination(operand, Width::Single, 1)? {
-            WordRef::Word(area, address) => Ok(RangeEnd::Word(area, address)),
-            WordRef::Constant(_) | WordRef::WideCounter(_) | WordRef::Digits(..) => Err(kind_error(
-                operand,
-                "a range end is a device such as D0",
-                "not a register",
-            )),
-        },
+        Prefix::D | Prefix::Sd | Prefix::R | Prefix::U if d.bit.is_none() => {
+            match word_destination(operand, Width::Single, 1)? {
+                WordRef::Word(area, address) => Ok(RangeEnd::Word(area, address)),
+                WordRef::Constant(_) | WordRef::WideCounter(_) | WordRef::Digits(..) => Err(kind_error(
+                    operand,
+                    "a range end is a device such as D0",
+                    "not a register",
+                )),
+            }
+        }
         Prefix::X
         | Prefix::Y
         | Prefix::M

@@ -314,6 +314,12 @@ impl Engine for Timed<'_> {
     fn unforce(&mut self, area: BitArea, index: u32) -> Result<(), String> {
         self.engine.unforce(area, index)
     }
+    fn pulse(&mut self, input: u32, count: u32) -> Result<(), String> {
+        self.engine.pulse(input, count)
+    }
+    fn set_clock(&mut self, time: ladder_runtime::calendar::CalendarTime) -> Result<(), String> {
+        self.engine.set_clock(time)
+    }
     fn scan(&mut self, elapsed_ms: u32) -> Result<(), String> {
         let start = Instant::now();
         let result = self.engine.scan(elapsed_ms);

@@ -4,9 +4,9 @@
 //! pointer. A run-time index is clamped into its area here once more, so no
 //! generated access can leave the device image whatever the lowering did.
 
-use crate::ir::{self, BinOp, Index, Inst, Terminator, Type, UnaryOp};
+use crate::ir::{self, BinOp, Conversion, FloatOp, FloatUnaryOp, Index, Inst, Terminator, Type, UnaryOp};
 use crate::isa::CompareOp;
-use cranelift_codegen::ir::condcodes::IntCC;
+use cranelift_codegen::ir::condcodes::{FloatCC, IntCC};
 use cranelift_codegen::ir::{types, FuncRef, InstBuilder, MemFlagsData, Value};
 use cranelift_frontend::{FunctionBuilder, Variable};
 use ladder_runtime::device::{FIRST_WIDE_COUNTER, WIDE_COUNTER_COUNT};
@@ -22,6 +22,19 @@ fn cl_type(ty: Type) -> types::Type {
         Type::I16 => types::I16,
         Type::I32 => types::I32,
         Type::I64 => types::I64,
+        Type::F32 => types::F32,
+        Type::F64 => types::F64,
+    }
+}
+
+fn float_condition(op: CompareOp) -> FloatCC {
+    match op {
+        CompareOp::Eq => FloatCC::Equal,
+        CompareOp::Ne => FloatCC::NotEqual,
+        CompareOp::Lt => FloatCC::LessThan,
+        CompareOp::Le => FloatCC::LessThanOrEqual,
+        CompareOp::Gt => FloatCC::GreaterThan,
+        CompareOp::Ge => FloatCC::GreaterThanOrEqual,
     }
 }
 
@@ -346,6 +359,8 @@ impl Translator<'_, '_> {
     fn inst(&mut self, inst: &Inst, values: &[Option<Value>]) -> Option<Value> {
         let get = |v: &ir::Value| values[v.0 as usize].expect("defined before use");
         let ins_value = match inst {
+            Inst::Const { ty: Type::F32, value } => self.builder.ins().f32const(f32::from_bits(*value as u32)),
+            Inst::Const { ty: Type::F64, value } => self.builder.ins().f64const(f64::from_bits(*value as u64)),
             Inst::Const { ty, value } => self.iconst(cl_type(*ty), *value),
             Inst::LoadBit { area, index } => {
                 let at = self.bit_address(*area, *index, values);
@@ -469,6 +484,41 @@ impl Translator<'_, '_> {
                 if_true,
                 if_false,
             } => self.builder.ins().select(get(condition), get(if_true), get(if_false)),
+            Inst::Float { op, a, b } => {
+                let (a, b) = (get(a), get(b));
+                let ins = self.builder.ins();
+                match op {
+                    FloatOp::Add => ins.fadd(a, b),
+                    FloatOp::Sub => ins.fsub(a, b),
+                    FloatOp::Mul => ins.fmul(a, b),
+                    FloatOp::Div => ins.fdiv(a, b),
+                }
+            }
+            Inst::FloatUnary { op, value } => {
+                let value = get(value);
+                let ins = self.builder.ins();
+                match op {
+                    FloatUnaryOp::SquareRoot => ins.sqrt(value),
+                    FloatUnaryOp::Neg => ins.fneg(value),
+                    FloatUnaryOp::Abs => ins.fabs(value),
+                }
+            }
+            Inst::FloatCompare { op, a, b } => self.builder.ins().fcmp(float_condition(*op), get(a), get(b)),
+            Inst::Bitcast { value, to } => self
+                .builder
+                .ins()
+                .bitcast(cl_type(*to), MemFlagsData::new(), get(value)),
+            Inst::Convert { value, to, conversion } => {
+                let (value, to) = (get(value), cl_type(*to));
+                let ins = self.builder.ins();
+                match conversion {
+                    Conversion::IntToFloat => ins.fcvt_from_sint(to, value),
+                    // Saturating: never a trap, whatever the value.
+                    Conversion::FloatToInt => ins.fcvt_to_sint_sat(to, value),
+                    Conversion::FloatToFloat if to == types::F64 => ins.fpromote(to, value),
+                    Conversion::FloatToFloat => ins.fdemote(to, value),
+                }
+            }
             Inst::RecordError { error, line } => {
                 let code = self.iconst(types::I32, i64::from(error.code()));
                 let line = self.iconst(types::I32, i64::from(*line as i32));

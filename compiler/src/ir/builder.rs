@@ -181,6 +181,37 @@ impl Builder {
         })
     }
 
+    /// An F32 constant.
+    pub fn real(&mut self, value: f32) -> Value {
+        self.constant(Type::F32, i64::from(value.to_bits()))
+    }
+
+    /// An F64 constant.
+    pub fn real64(&mut self, value: f64) -> Value {
+        self.constant(Type::F64, value.to_bits() as i64)
+    }
+
+    pub fn float(&mut self, op: crate::ir::FloatOp, a: Value, b: Value) -> Value {
+        debug_assert_eq!(self.value_type(a), self.value_type(b), "{op:?} of two types");
+        self.push(Inst::Float { op, a, b })
+    }
+
+    pub fn float_unary(&mut self, op: crate::ir::FloatUnaryOp, value: Value) -> Value {
+        self.push(Inst::FloatUnary { op, value })
+    }
+
+    pub fn float_compare(&mut self, op: CompareOp, a: Value, b: Value) -> Value {
+        self.push(Inst::FloatCompare { op, a, b })
+    }
+
+    pub fn bitcast(&mut self, value: Value, to: Type) -> Value {
+        self.push(Inst::Bitcast { value, to })
+    }
+
+    pub fn convert(&mut self, value: Value, to: Type, conversion: crate::ir::Conversion) -> Value {
+        self.push(Inst::Convert { value, to, conversion })
+    }
+
     pub fn load_bit(&mut self, area: ladder_runtime::BitArea, index: Index) -> Value {
         self.push(Inst::LoadBit { area, index })
     }

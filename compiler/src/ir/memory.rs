@@ -325,7 +325,12 @@ fn access(inst: &Inst) -> Access {
         | Inst::Compare { .. }
         | Inst::Extend { .. }
         | Inst::Truncate { .. }
-        | Inst::Select { .. } => Access::None,
+        | Inst::Select { .. }
+        | Inst::Float { .. }
+        | Inst::FloatUnary { .. }
+        | Inst::FloatCompare { .. }
+        | Inst::Bitcast { .. }
+        | Inst::Convert { .. } => Access::None,
     }
 }
 

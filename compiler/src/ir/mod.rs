@@ -45,6 +45,12 @@ pub enum Type {
     I16,
     I32,
     I64,
+    /// IEEE-754 binary32 (the floats of the image's word pairs); a
+    /// constant's value holds its bits.
+    F32,
+    /// IEEE-754 binary64, for exact intermediate results of float
+    /// instructions; a constant's value holds its bits.
+    F64,
 }
 
 /// A device number: fixed, or computed at run time and already brought into
@@ -74,6 +80,38 @@ pub enum BinOp {
     Shr,
     /// Logical shift right.
     UShr,
+}
+
+/// Float operations of two operands (both F32 or both F64), IEEE-754
+/// round to nearest.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum FloatOp {
+    Add,
+    Sub,
+    Mul,
+    /// The divisor is never zero.
+    Div,
+}
+
+/// Float operations of one operand.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum FloatUnaryOp {
+    /// Of a value that is not negative.
+    SquareRoot,
+    Neg,
+    Abs,
+}
+
+/// Numeric conversions (not bit casts).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Conversion {
+    /// A signed integer to the nearest float.
+    IntToFloat,
+    /// A float to a signed integer, toward zero, saturating (NaN is 0):
+    /// callers check the range first.
+    FloatToInt,
+    /// F32 to F64 (exact) or F64 to F32 (to nearest).
+    FloatToFloat,
 }
 
 /// Integer operations of one operand.
@@ -210,6 +248,31 @@ pub enum Inst {
         if_true: Value,
         if_false: Value,
     },
+    Float {
+        op: FloatOp,
+        a: Value,
+        b: Value,
+    },
+    FloatUnary {
+        op: FloatUnaryOp,
+        value: Value,
+    },
+    /// Ordered float comparison giving a Bit (-0 equals +0).
+    FloatCompare {
+        op: CompareOp,
+        a: Value,
+        b: Value,
+    },
+    /// The same bits as another type of the same size (I32 <-> F32).
+    Bitcast {
+        value: Value,
+        to: Type,
+    },
+    Convert {
+        value: Value,
+        to: Type,
+        conversion: Conversion,
+    },
     /// M8067 ON, D8067 = code, D8069 = line (a call of the runtime's
     /// `RecordError` helper in machine code).
     RecordError {
@@ -238,13 +301,17 @@ impl Inst {
             | Inst::Not { .. }
             | Inst::And { .. }
             | Inst::Or { .. }
-            | Inst::Compare { .. } => Type::Bit,
+            | Inst::Compare { .. }
+            | Inst::FloatCompare { .. } => Type::Bit,
             Inst::LoadWord { .. } => Type::I16,
             Inst::LoadWideCounter { .. } | Inst::LoadLoopCount { .. } => Type::I32,
             Inst::Binary { a, .. } => value_type(*a),
             Inst::Unary { value, .. } => value_type(*value),
             Inst::Extend { to, .. } | Inst::Truncate { to, .. } => *to,
             Inst::Select { if_true, .. } => value_type(*if_true),
+            Inst::Float { a, .. } => value_type(*a),
+            Inst::FloatUnary { value, .. } => value_type(*value),
+            Inst::Bitcast { to, .. } | Inst::Convert { to, .. } => *to,
             Inst::Call { helper, .. } => return helper.decl().returns.map(|_| Type::I32),
             Inst::StoreBit { .. }
             | Inst::FillBits { .. }
@@ -306,8 +373,16 @@ impl Inst {
             | Inst::Not { value }
             | Inst::Unary { value, .. }
             | Inst::Extend { value, .. }
-            | Inst::Truncate { value, .. } => visit(value),
-            Inst::And { a, b } | Inst::Or { a, b } | Inst::Binary { a, b, .. } | Inst::Compare { a, b, .. } => {
+            | Inst::Truncate { value, .. }
+            | Inst::FloatUnary { value, .. }
+            | Inst::Bitcast { value, .. }
+            | Inst::Convert { value, .. } => visit(value),
+            Inst::And { a, b }
+            | Inst::Or { a, b }
+            | Inst::Binary { a, b, .. }
+            | Inst::Compare { a, b, .. }
+            | Inst::Float { a, b, .. }
+            | Inst::FloatCompare { a, b, .. } => {
                 visit(a);
                 visit(b);
             }

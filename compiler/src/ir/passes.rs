@@ -203,6 +203,11 @@ fn written_bits(inst: &Inst, constants: &HashMap<Value, i64>) -> Vec<(BitArea, O
         | Inst::Extend { .. }
         | Inst::Truncate { .. }
         | Inst::Select { .. }
+        | Inst::Float { .. }
+        | Inst::FloatUnary { .. }
+        | Inst::FloatCompare { .. }
+        | Inst::Bitcast { .. }
+        | Inst::Convert { .. }
         // The subroutine's own writes are counted with its function.
         | Inst::CallSubroutine { .. }
         | Inst::RecordError { .. } => Vec::new(),
@@ -216,6 +221,9 @@ fn wrap(ty: Type, value: i64) -> i64 {
         Type::I16 => i64::from(value as i16),
         Type::I32 => i64::from(value as i32),
         Type::I64 => value,
+        // Float constants hold their bits.
+        Type::F32 => i64::from(value as u32),
+        Type::F64 => value,
     }
 }
 
@@ -242,8 +250,8 @@ fn unsigned(ty: Type, value: i64) -> u64 {
     match ty {
         Type::Bit => value as u64 & 1,
         Type::I16 => u64::from(value as u16),
-        Type::I32 => u64::from(value as u32),
-        Type::I64 => value as u64,
+        Type::I32 | Type::F32 => u64::from(value as u32),
+        Type::I64 | Type::F64 => value as u64,
     }
 }
 
@@ -251,8 +259,8 @@ fn bits_of(ty: Type) -> u32 {
     match ty {
         Type::Bit => 1,
         Type::I16 => 16,
-        Type::I32 => 32,
-        Type::I64 => 64,
+        Type::I32 | Type::F32 => 32,
+        Type::I64 | Type::F64 => 64,
     }
 }
 
@@ -349,6 +357,12 @@ fn fold(
             None if if_true == if_false => Folded::Same(*if_true),
             None => Folded::Nothing,
         },
+        // Float arithmetic is left to the machine (folding it would need
+        // the same rounding here as there), and bit casts keep their bits.
+        Inst::Bitcast { value, .. } => constant(known(value)),
+        Inst::Float { .. } | Inst::FloatUnary { .. } | Inst::FloatCompare { .. } | Inst::Convert { .. } => {
+            Folded::Nothing
+        }
         // Loads of the image and of bookkeeping, and effects: nothing known.
         Inst::LoadLoopCount { .. }
         | Inst::StoreLoopCount { .. }

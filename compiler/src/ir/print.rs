@@ -10,6 +10,8 @@ impl Display for Type {
             Type::I16 => "i16",
             Type::I32 => "i32",
             Type::I64 => "i64",
+            Type::F32 => "f32",
+            Type::F64 => "f64",
         })
     }
 }
@@ -46,6 +48,23 @@ fn binop(op: BinOp) -> &'static str {
         BinOp::Shl => "shl",
         BinOp::Shr => "sshr",
         BinOp::UShr => "ushr",
+    }
+}
+
+fn float_op(op: super::FloatOp) -> &'static str {
+    match op {
+        super::FloatOp::Add => "fadd",
+        super::FloatOp::Sub => "fsub",
+        super::FloatOp::Mul => "fmul",
+        super::FloatOp::Div => "fdiv",
+    }
+}
+
+fn float_unary(op: super::FloatUnaryOp) -> &'static str {
+    match op {
+        super::FloatUnaryOp::SquareRoot => "fsqrt",
+        super::FloatUnaryOp::Neg => "fneg",
+        super::FloatUnaryOp::Abs => "fabs",
     }
 }
 
@@ -118,6 +137,18 @@ fn inst(func: &Function, constants: &Constants, inst: &Inst) -> String {
             if_true,
             if_false,
         } => format!("select {condition}, {if_true}, {if_false}"),
+        Float { op, a, b } => format!("{}.{} {a}, {b}", float_op(*op), func.value_type(*a)),
+        FloatUnary { op, value } => format!("{}.{} {value}", float_unary(*op), func.value_type(*value)),
+        FloatCompare { op, a, b } => format!("fcmp{} {a}, {b}", op.symbol()),
+        Bitcast { value, to } => format!("bitcast.{to} {value}"),
+        Convert { value, to, conversion } => format!(
+            "{}.{to} {value}",
+            match conversion {
+                super::Conversion::IntToFloat => "itof",
+                super::Conversion::FloatToInt => "ftoi",
+                super::Conversion::FloatToFloat => "ftof",
+            }
+        ),
         RecordError { error, line } => format!("record.error {:04X}H, line {line}", error.code()),
         Call { helper, args } => {
             let decl = helper.decl();

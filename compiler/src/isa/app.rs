@@ -19,7 +19,7 @@
 
 pub use super::operand::fits;
 use super::operand::{operand_type, tables::*, DeviceClass, Devices, OperandKind};
-use crate::program::{Address, AppOperand, BitRef, DigitGroup, Element, RangeEnd, WordRef};
+use crate::program::{Address, AppOperand, BitRef, CounterRef, DigitGroup, Element, RangeEnd, WordRef};
 use ladder_runtime::special::{self, SpecialBit};
 
 /// Groups instructions in the language reference and the engines' kernel
@@ -46,10 +46,12 @@ pub enum Family {
     Alarm,
     /// ROR, ROL, SFTR, SFTL.
     Shift,
+    /// DEADD, DECMP, FLT, INT, DSIN, ... (real numbers).
+    Float,
 }
 
 impl Family {
-    pub const ALL: [Family; 10] = [
+    pub const ALL: [Family; 11] = [
         Family::Move,
         Family::Arithmetic,
         Family::Logic,
@@ -60,6 +62,7 @@ impl Family {
         Family::Zone,
         Family::Check,
         Family::Alarm,
+        Family::Float,
     ];
 
     pub fn title(self) -> &'static str {
@@ -74,6 +77,7 @@ impl Family {
             Family::Check => "Check codes",
             Family::Alarm => "Alarms",
             Family::Shift => "Rotation and shift",
+            Family::Float => "Floating point",
         }
     }
 }
@@ -168,7 +172,8 @@ impl FromOperand for WordRef {
             | AppOperand::Element(_)
             | AppOperand::RangeEnd(_)
             | AppOperand::Digits(_)
-            | AppOperand::Timer(_) => None,
+            | AppOperand::Timer(_)
+            | AppOperand::Counter(_) => None,
         }
     }
 }
@@ -181,7 +186,8 @@ impl FromOperand for DigitGroup {
             | AppOperand::Bit(_)
             | AppOperand::Element(_)
             | AppOperand::RangeEnd(_)
-            | AppOperand::Timer(_) => None,
+            | AppOperand::Timer(_)
+            | AppOperand::Counter(_) => None,
         }
     }
 }
@@ -194,7 +200,8 @@ impl FromOperand for BitRef {
             | AppOperand::Element(_)
             | AppOperand::RangeEnd(_)
             | AppOperand::Digits(_)
-            | AppOperand::Timer(_) => None,
+            | AppOperand::Timer(_)
+            | AppOperand::Counter(_) => None,
         }
     }
 }
@@ -207,7 +214,8 @@ impl FromOperand for Element {
             | AppOperand::Bit(_)
             | AppOperand::RangeEnd(_)
             | AppOperand::Digits(_)
-            | AppOperand::Timer(_) => None,
+            | AppOperand::Timer(_)
+            | AppOperand::Counter(_) => None,
         }
     }
 }
@@ -216,7 +224,8 @@ impl FromOperand for Address {
     fn from_operand(operand: AppOperand) -> Option<Self> {
         match operand {
             AppOperand::Timer(timer) => Some(timer),
-            AppOperand::Word(_)
+            AppOperand::Counter(_)
+            | AppOperand::Word(_)
             | AppOperand::Bit(_)
             | AppOperand::Element(_)
             | AppOperand::RangeEnd(_)
@@ -232,6 +241,21 @@ impl FromOperand for RangeEnd {
             AppOperand::Word(_)
             | AppOperand::Bit(_)
             | AppOperand::Element(_)
+            | AppOperand::Digits(_)
+            | AppOperand::Timer(_)
+            | AppOperand::Counter(_) => None,
+        }
+    }
+}
+
+impl FromOperand for CounterRef {
+    fn from_operand(operand: AppOperand) -> Option<Self> {
+        match operand {
+            AppOperand::Counter(counter) => Some(counter),
+            AppOperand::Word(_)
+            | AppOperand::Bit(_)
+            | AppOperand::Element(_)
+            | AppOperand::RangeEnd(_)
             | AppOperand::Digits(_)
             | AppOperand::Timer(_) => None,
         }
@@ -611,6 +635,126 @@ app_instructions! {
         ()
         reads [] writes []
         "turns OFF the lowest alarm state S900-S999 that is ON";
+    /// DECMP S1 S2 D: real comparison.
+    RealCmp: "DECMP" _ pulse Float on
+        (s1: RealSource(ANY_REAL), s2: RealSource(ANY_REAL), d: BitTriple(RESULT_BITS))
+        reads [] writes []
+        "D, D+1, D+2 = S1 > S2, S1 = S2, S1 < S2 (real numbers)";
+    /// DEZCP S1 S2 S D: real zone comparison.
+    RealZoneCmp: "DEZCP" _ pulse Float on
+        (s1: RealSource(ANY_REAL), s2: RealSource(ANY_REAL), s: RealSource(ANY_REAL), d: BitTriple(RESULT_BITS))
+        reads [] writes []
+        "D, D+1, D+2 = S < S1, S1 ≤ S ≤ S2, S > S2 (real numbers)";
+    /// DEMOV S D: a real number moved.
+    RealMov: "DEMOV" _ pulse Float on
+        (s: RealSource(REAL_VALUE), d: RealDestination(REGISTERS))
+        reads [] writes []
+        "copies the real number S to D";
+    /// DEADD S1 S2 D: real addition.
+    RealAdd: "DEADD" _ pulse Float on
+        (s1: RealSource(ANY_REAL), s2: RealSource(ANY_REAL), d: RealDestination(REGISTERS))
+        reads [] writes [ZERO_FLAG, BORROW_FLAG, CARRY_FLAG]
+        "D = S1 + S2 (real numbers)";
+    /// DESUB S1 S2 D: real subtraction.
+    RealSub: "DESUB" _ pulse Float on
+        (s1: RealSource(ANY_REAL), s2: RealSource(ANY_REAL), d: RealDestination(REGISTERS))
+        reads [] writes [ZERO_FLAG, BORROW_FLAG, CARRY_FLAG]
+        "D = S1 − S2 (real numbers)";
+    /// DEMUL S1 S2 D: real multiplication.
+    RealMul: "DEMUL" _ pulse Float on
+        (s1: RealSource(ANY_REAL), s2: RealSource(ANY_REAL), d: RealDestination(REGISTERS))
+        reads [] writes [ZERO_FLAG, BORROW_FLAG, CARRY_FLAG]
+        "D = S1 × S2 (real numbers)";
+    /// DEDIV S1 S2 D: real division.
+    RealDiv: "DEDIV" _ pulse Float on
+        (s1: RealSource(ANY_REAL), s2: RealSource(ANY_REAL), d: RealDestination(REGISTERS))
+        reads [] writes [ZERO_FLAG, BORROW_FLAG, CARRY_FLAG]
+        "D = S1 / S2 (real numbers; S2 = 0 is 4084H)";
+    /// DESQR S D: real square root.
+    RealSqr: "DESQR" _ pulse Float on
+        (s: RealSource(ANY_REAL), d: RealDestination(REGISTERS))
+        reads [] writes [ZERO_FLAG]
+        "D = √S (real numbers; S < 0 is 4084H)";
+    /// DENEG D: the sign of a real number changes.
+    RealNeg: "DENEG" _ pulse Float on
+        (d: RealModified(REGISTERS))
+        reads [] writes []
+        "D = −D (real numbers)";
+    /// FLT S D: integer to real.
+    Flt: "FLT" "DFLT" pulse Float on
+        (s: Source(REGISTERS), d: RealDestination(REGISTERS))
+        reads [] writes []
+        "D = the integer S as a real number";
+    /// INT S D: real to integer.
+    Int: "INT" "DINT" pulse Float on
+        (s: RealSource(REGISTERS), d: Destination(REGISTERS))
+        reads [] writes [ZERO_FLAG, BORROW_FLAG, CARRY_FLAG]
+        "D = the real number S without its fraction (4084H if it does not fit)";
+    /// DEBCD S D: real to scientific notation.
+    RealToDecimal: "DEBCD" _ pulse Float on
+        (s: RealSource(REGISTERS), d: RealDestination(REGISTERS))
+        reads [] writes []
+        "D = the 4-digit mantissa and D+1 the decimal exponent of the real number S";
+    /// DEBIN S D: scientific notation to real.
+    DecimalToReal: "DEBIN" _ pulse Float on
+        (s: RealSource(REGISTERS), d: RealDestination(REGISTERS))
+        reads [] writes []
+        "D = the real number of mantissa S and decimal exponent S+1";
+    /// DSIN S D.
+    Sin: "DSIN" _ pulse Float on
+        (s: RealSource(REAL_VALUE), d: RealDestination(REGISTERS))
+        reads [] writes []
+        "D = sin S (radians)";
+    /// DCOS S D.
+    Cos: "DCOS" _ pulse Float on
+        (s: RealSource(REAL_VALUE), d: RealDestination(REGISTERS))
+        reads [] writes []
+        "D = cos S (radians)";
+    /// DTAN S D.
+    Tan: "DTAN" _ pulse Float on
+        (s: RealSource(REAL_VALUE), d: RealDestination(REGISTERS))
+        reads [] writes []
+        "D = tan S (radians)";
+    /// DASIN S D.
+    Asin: "DASIN" _ pulse Float on
+        (s: RealSource(REAL_VALUE), d: RealDestination(REGISTERS))
+        reads [] writes []
+        "D = arcsin S in radians (S outside −1..1 is 4084H)";
+    /// DACOS S D.
+    Acos: "DACOS" _ pulse Float on
+        (s: RealSource(REAL_VALUE), d: RealDestination(REGISTERS))
+        reads [] writes []
+        "D = arccos S in radians (S outside −1..1 is 4084H)";
+    /// DATAN S D.
+    Atan: "DATAN" _ pulse Float on
+        (s: RealSource(REAL_VALUE), d: RealDestination(REGISTERS))
+        reads [] writes []
+        "D = arctan S in radians";
+    /// DRAD S D.
+    Rad: "DRAD" _ pulse Float on
+        (s: RealSource(REAL_VALUE), d: RealDestination(REGISTERS))
+        reads [] writes []
+        "D = S degrees in radians";
+    /// DDEG S D.
+    Deg: "DDEG" _ pulse Float on
+        (s: RealSource(REAL_VALUE), d: RealDestination(REGISTERS))
+        reads [] writes []
+        "D = S radians in degrees";
+    /// DEXP S D.
+    Exp: "DEXP" _ pulse Float on
+        (s: RealSource(REAL_VALUE), d: RealDestination(REGISTERS))
+        reads [] writes []
+        "D = e^S (a result out of range is 4084H)";
+    /// DLOGE S D.
+    Loge: "DLOGE" _ pulse Float on
+        (s: RealSource(REAL_VALUE), d: RealDestination(REGISTERS))
+        reads [] writes []
+        "D = the natural logarithm of S (S ≤ 0 is 4084H)";
+    /// DLOG10 S D.
+    Log10: "DLOG10" _ pulse Float on
+        (s: RealSource(REAL_VALUE), d: RealDestination(REGISTERS))
+        reads [] writes []
+        "D = the common logarithm of S (S ≤ 0 is 4084H)";
 }
 
 #[cfg(test)]

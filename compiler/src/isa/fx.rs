@@ -9,18 +9,17 @@ use std::sync::OnceLock;
 /// their forms) that ladderc does not implement.
 const UNSUPPORTED_FX: &[&str] = &[
     // Program flow and interrupts.
-    "IRET", "EI", "DI", "WDT", // Moves and conversions.
-    "SMOV", "CML", "XCH", "BCD", "BIN", // Rotation and shift.
-    "ROR", "ROL", "RCR", "RCL", "SFTR", "SFTL", "WSFR", "WSFL", "SFWR", "SFRD",
+    "IRET", "EI", "DI", "WDT",  // Moves and conversions.
+    "SMOV", // Rotation and shift.
+    "RCR", "RCL", "WSFR", "WSFL", "SFWR", "SFRD",
     // Floating point conversion.
-    "FLT", "INT", // High-speed processing.
+    // High-speed processing.
     "REF", "REFF", "MTR", "HSCS", "HSCR", "HSZ", "SPD", "PLSY", "PWM", "PLSR", "HSCT",
     // Handy instructions.
-    "IST", "SER", "ABSD", "INCD", "TTMR", "STMR", "ALT", "RAMP", "ROTC", // External I/O.
+    "IST", "SER", "ABSD", "INCD", "TTMR", "STMR", "RAMP", "ROTC", // External I/O.
     "TKY", "HKY", "DSW", "SEGD", "SEGL", "ARWS", "ASC", "PR", "FROM", "TO", // Serial devices.
     "RS", "RS2", "ASCI", "HEX", "CCD", "VRRD", "VRSC", "PID", // Floating point.
-    "ECMP", "EZCP", "EMOV", "ESTR", "EVAL", "EBCD", "EBIN", "EADD", "ESUB", "EMUL", "EDIV", "EXP", "LOGE", "LOG10",
-    "ESQR", "ENEG", "SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN", "RAD", "DEG", // Index register stack.
+    "ESTR", "EVAL", // Index register stack.
     "ZPUSH", "ZPOP", // Positioning.
     "DSZR", "DVIT", "TBL", "ABS", "ZRN", "PLSV", "DRVI", "DRVA", // Real-time clock.
     "TCMP", "TZCP", "TADD", "TSUB", "HTOS", "STOH", "TRD", "TWR", "HOUR",
@@ -62,6 +61,11 @@ pub fn suggestion(mnemonic: &str) -> Option<&'static str> {
     if length > LONGEST + 2 {
         return None;
     }
+    // `EADD` for `DEADD`: an instruction with only a 32-bit form.
+    let wide = format!("D{upper}");
+    if let Some(&known) = SORTED.get_or_init(mnemonics).iter().find(|m| **m == wide) {
+        return Some(known);
+    }
     // Two edits for long words, one for short ones: `LDD` -> `LD`, but no
     // wild guess for `Q`.
     let most = if length > 4 { 2 } else { 1 };
@@ -87,10 +91,10 @@ mod tests {
 
     #[test]
     fn fx_instructions_are_known_as_unsupported() {
-        for mnemonic in ["REF", "refp", "DECMP", "PID", "DPLSY", "RS", "ZPUSH"] {
+        for mnemonic in ["REF", "refp", "PID", "DPLSY", "RS", "ZPUSH"] {
             assert!(unsupported_fx(mnemonic), "{mnemonic}");
         }
-        for mnemonic in ["MOV", "DMOVP", "LD", "QQQ", "SORT"] {
+        for mnemonic in ["MOV", "DMOVP", "LD", "QQQ", "SORT", "DECMP", "EADD"] {
             assert!(!unsupported_fx(mnemonic), "{mnemonic}");
         }
     }
@@ -101,6 +105,7 @@ mod tests {
         assert_eq!(suggestion("OTU"), Some("OUT"));
         assert_eq!(suggestion("MOOV"), Some("MOV"));
         assert_eq!(suggestion("XYZZY"), None);
+        assert_eq!(suggestion("EADD"), Some("DEADD"));
         assert_eq!(suggestion(&"A".repeat(100_000)), None);
         assert!(
             mnemonics().iter().all(|m| m.chars().count() <= 8),

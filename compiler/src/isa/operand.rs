@@ -6,7 +6,7 @@
 //! editor refuses it.
 
 use super::app::FromOperand;
-use crate::program::{Address, AppOperand, BitRef, DigitGroup, Element, RangeEnd, WordRef};
+use crate::program::{Address, AppOperand, BitRef, CounterRef, DigitGroup, Element, RangeEnd, WordRef};
 use std::fmt;
 
 /// Declares the operand kinds: each with the Rust type its checked operand
@@ -109,6 +109,19 @@ operand_kinds! {
     ByteSource => WordRef, read: true, writes_bits: false;
     /// A timer the instruction drives (ANS S).
     Timer => Address, read: true, writes_bits: false;
+    /// A real number read (IEEE-754 binary32 in a word pair, whatever the
+    /// instruction's width): K and H constants are converted, E constants
+    /// taken as they are.
+    RealSource => WordRef, read: true, writes_bits: false;
+    /// A real number written (a word pair).
+    RealDestination => WordRef, read: false, writes_bits: false;
+    /// A real number read and then written (DENEG D).
+    RealModified => WordRef, read: true, writes_bits: false;
+    /// A high-speed counter C235-C255 by number (DHSCS S2).
+    HighSpeedCounter => CounterRef, read: true, writes_bits: false;
+    /// A 16-bit counter by number that the instruction drives with the next
+    /// one (INCD S2: C and C+1).
+    CounterPair => CounterRef, read: true, writes_bits: false;
 }
 
 /// The classes of device a device table names, as the seed's tables do.
@@ -135,15 +148,17 @@ pub enum DeviceClass {
     Sd,
     /// 32-bit counter current values C200-C255 (the seed's LC and HSC).
     WideCounter,
-    /// K and H constants (and E constants where floats are read).
+    /// K and H constants.
     Constant,
+    /// E constants (real numbers).
+    Real,
     /// Buffer memory of a special-function unit, `Un\Gm` (FX3U takes it
     /// wherever it takes D).
     Buffer,
 }
 
 impl DeviceClass {
-    pub const ALL: [DeviceClass; 18] = [
+    pub const ALL: [DeviceClass; 19] = [
         DeviceClass::X,
         DeviceClass::Y,
         DeviceClass::M,
@@ -161,6 +176,7 @@ impl DeviceClass {
         DeviceClass::Sd,
         DeviceClass::WideCounter,
         DeviceClass::Constant,
+        DeviceClass::Real,
         DeviceClass::Buffer,
     ];
 
@@ -184,6 +200,7 @@ impl DeviceClass {
             DeviceClass::Sd => "SD",
             DeviceClass::WideCounter => "C200-C255",
             DeviceClass::Constant => "K/H",
+            DeviceClass::Real => "E",
             DeviceClass::Buffer => "U\\G",
         }
     }
@@ -263,6 +280,12 @@ pub mod tables {
     pub const RESULT_BITS: Devices = of(C::Y).with(of(C::M)).with(of(C::S));
     /// Constants, registers: counts and modes.
     pub const COUNT: Devices = CONSTANT.with(REGISTERS);
+    /// E constants.
+    pub const REAL: Devices = of(C::Real);
+    /// Where real numbers are read from: registers and E constants.
+    pub const REAL_VALUE: Devices = REGISTERS.with(REAL);
+    /// Real numbers from registers or any constant (K and H converted).
+    pub const ANY_REAL: Devices = REAL_VALUE.with(CONSTANT);
 }
 
 #[cfg(test)]

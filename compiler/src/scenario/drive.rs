@@ -91,6 +91,28 @@ pub fn drive(steps: &[Step], engine: &mut dyn Engine, observer: &mut dyn Observe
                         ));
                     }
                 }
+                Directive::ExpectReal {
+                    device,
+                    name,
+                    value,
+                    tolerance,
+                } => {
+                    let actual = f32::from_bits(engine.read(*device)? as u32);
+                    let close = actual == *value || (actual - value).abs() <= *tolerance;
+                    if !close {
+                        let within = if *tolerance > 0.0 {
+                            format!(" (within {tolerance:e})")
+                        } else {
+                            String::new()
+                        };
+                        failures.push((
+                            step.line,
+                            format!("expected {name} = {value:e}{within}, got {actual:e}"),
+                        ));
+                    }
+                }
+                Directive::Pulse { input, count } => engine.pulse(*input, *count)?,
+                Directive::Clock(time) => engine.set_clock(*time)?,
                 Directive::ExpectReject { .. } => {}
             }
             Ok(())

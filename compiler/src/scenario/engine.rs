@@ -4,6 +4,7 @@
 use crate::host_device::HostDevice;
 use crate::interp::Interpreter;
 use crate::program::CheckedProgram;
+use ladder_runtime::calendar::CalendarTime;
 use ladder_runtime::{BitArea, Memory};
 
 /// The engines `ladderc test` and `ladderc run` know.
@@ -44,6 +45,10 @@ pub trait Engine {
     fn unforce(&mut self, area: BitArea, index: u32) -> Result<(), String>;
     /// One whole scan reporting `elapsed_ms`.
     fn scan(&mut self, elapsed_ms: u32) -> Result<(), String>;
+    /// `count` rising edges of input X`input` (0-7) before the next scan.
+    fn pulse(&mut self, input: u32, count: u32) -> Result<(), String>;
+    /// Sets the calendar clock.
+    fn set_clock(&mut self, time: CalendarTime) -> Result<(), String>;
     /// The device image, for engines that hold it in this process.
     fn image(&self) -> Option<&Memory> {
         None
@@ -107,6 +112,20 @@ impl<R: ProgramRunner> Engine for InProcess<R> {
         let runner = &self.runner;
         self.memory.scan_with(elapsed_ms, |mem| runner.run_program(mem));
         Ok(())
+    }
+
+    fn pulse(&mut self, input: u32, count: u32) -> Result<(), String> {
+        self.memory
+            .add_pulses(input, count)
+            .then_some(())
+            .ok_or_else(|| format!("X{input:o} does not feed a high-speed counter"))
+    }
+
+    fn set_clock(&mut self, time: CalendarTime) -> Result<(), String> {
+        self.memory
+            .set_calendar(time)
+            .then_some(())
+            .ok_or_else(|| format!("{time:?} is not a time the clock can show"))
     }
 
     fn image(&self) -> Option<&Memory> {

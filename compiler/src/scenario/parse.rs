@@ -3,6 +3,7 @@
 
 use crate::diagnostics::Code;
 use crate::host_device::{parse_device, parse_number, parse_value, HostDevice};
+use ladder_runtime::calendar::CalendarTime;
 use ladder_runtime::BitArea;
 use std::path::{Path, PathBuf};
 
@@ -15,7 +16,7 @@ pub enum ProgramSource {
     Inline { text: String, first_line: u32 },
 }
 
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum Directive {
     ScanMs(u32),
     Set {
@@ -47,9 +48,24 @@ pub enum Directive {
     },
     /// `print DEV,...`: show the devices' values at this point.
     Print(Vec<(String, HostDevice)>),
+    /// `expectf DEV VALUE [TOL]`: the real number in the pair (DEV+1, DEV)
+    /// is VALUE, within TOL.
+    ExpectReal {
+        device: HostDevice,
+        name: String,
+        value: f32,
+        tolerance: f32,
+    },
+    /// `pulse X0 N`: N rising edges of an input X0-X7 before the next scan.
+    Pulse {
+        input: u32,
+        count: u32,
+    },
+    /// `clock YYYY-MM-DD HH:MM:SS`: the calendar clock before the next scan.
+    Clock(CalendarTime),
 }
 
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Step {
     pub directive: Directive,
     /// Line in the scenario file.
@@ -76,7 +92,10 @@ impl Scenario {
             | Directive::Scan(_)
             | Directive::Expect { .. }
             | Directive::ExpectError(_)
-            | Directive::Print(_) => None,
+            | Directive::Print(_)
+            | Directive::ExpectReal { .. }
+            | Directive::Pulse { .. }
+            | Directive::Clock(_) => None,
         })
     }
 }
@@ -162,6 +181,36 @@ fn parse_steps(path: &Path, text: &str) -> Result<(Option<ProgramSource>, Vec<St
                 let value = parse_value(value, device).map_err(error)?;
                 Directive::Set { device, value }
             }
+            ("setf", [device, value]) => {
+                let device = parse_device(device, true).map_err(error)?;
+                let value = real(value).map_err(error)?;
+                Directive::Set {
+                    device,
+                    value: value.to_bits() as i32,
+                }
+            }
+            ("expectf", [device, value, tolerance @ ..]) if tolerance.len() <= 1 => {
+                let parsed = parse_device(device, true).map_err(error)?;
+                let tolerance = match tolerance.first() {
+                    Some(text) => real(text).map_err(error)?.abs(),
+                    None => 0.0,
+                };
+                Directive::ExpectReal {
+                    device: parsed,
+                    name: device.to_string(),
+                    value: real(value).map_err(error)?,
+                    tolerance,
+                }
+            }
+            ("pulse", [device, count]) => {
+                let input = match parse_device(device, false).map_err(error)?.device {
+                    ladder_runtime::Device::Bit(BitArea::X, n) if n < ladder_runtime::device::HSC_INPUTS => n,
+                    _ => return Err(error(format!("`{device}`: pulses are counted on inputs X0..X7"))),
+                };
+                let count = number(count, 0, u32::MAX.into()).map_err(error)? as u32;
+                Directive::Pulse { input, count }
+            }
+            ("clock", [date, time]) => Directive::Clock(calendar(date, time).map_err(error)?),
             ("force", [device, value]) => {
                 let (area, index) = forceable(device).map_err(error)?;
                 let on = match value.to_ascii_lowercase().as_str() {
@@ -214,7 +263,8 @@ fn parse_steps(path: &Path, text: &str) -> Result<(Option<ProgramSource>, Vec<St
                 Directive::Print(printed)
             }
             (
-                known @ ("scan-ms" | "scan" | "set" | "set32" | "force" | "unforce" | "expect" | "expect32" | "print"),
+                known @ ("scan-ms" | "scan" | "set" | "set32" | "setf" | "force" | "unforce" | "expect" | "expect32"
+                | "expectf" | "print" | "pulse" | "clock"),
                 _,
             ) => {
                 return Err(error(format!("wrong arguments for `{known}`")));
@@ -223,7 +273,7 @@ fn parse_steps(path: &Path, text: &str) -> Result<(Option<ProgramSource>, Vec<St
         };
         let runs_program = matches!(
             directive,
-            Directive::Scan(_) | Directive::Expect { .. } | Directive::ExpectError(_)
+            Directive::Scan(_) | Directive::Expect { .. } | Directive::ExpectError(_) | Directive::ExpectReal { .. }
         );
         if rejecting && runs_program {
             return Err(error("nothing may run after `expect reject`".into()));
@@ -231,6 +281,49 @@ fn parse_steps(path: &Path, text: &str) -> Result<(Option<ProgramSource>, Vec<St
         steps.push(Step { directive, line });
     }
     Ok((program, steps))
+}
+
+/// A real number: decimal (`1.5`, `-2.5e3`) or in E notation
+/// (`E1.234+3`).
+fn real(text: &str) -> Result<f32, String> {
+    let bad = || format!("`{text}` is not a real number such as 1.5, -2.5e3 or E1.234+3");
+    if text.starts_with(['E', 'e']) {
+        return match crate::syntax::operand::parse_operand(text, 0) {
+            Ok(crate::syntax::Operand {
+                syntax: crate::syntax::OperandSyntax::Real(r),
+                ..
+            }) => Ok(r.value),
+            _ => Err(bad()),
+        };
+    }
+    let value: f32 = text.parse().map_err(|_| bad())?;
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(bad())
+    }
+}
+
+/// `YYYY-MM-DD HH:MM:SS`.
+fn calendar(date: &str, time: &str) -> Result<CalendarTime, String> {
+    let bad = || format!("`{date} {time}` is not a time such as 2026-01-02 03:04:05 (1980-2079)");
+    let fields = |text: &str, separator: char| -> Option<Vec<u32>> {
+        let parts: Vec<u32> = text.split(separator).map(|p| p.parse().ok()).collect::<Option<_>>()?;
+        (parts.len() == 3).then_some(parts)
+    };
+    let (Some(d), Some(t)) = (fields(date, '-'), fields(time, ':')) else {
+        return Err(bad());
+    };
+    let when = CalendarTime {
+        year: d[0],
+        month: d[1],
+        day: d[2],
+        hour: t[0],
+        minute: t[1],
+        second: t[2],
+        weekday: 0,
+    };
+    when.to_seconds().map(|_| when).ok_or_else(bad)
 }
 
 fn number(text: &str, min: i64, max: i64) -> Result<i64, String> {
@@ -320,6 +413,34 @@ mod tests {
         assert!(parse("program p.il\nexpect reject 3 E9999\n").is_err());
         assert!(parse("program p.il\nexpect reject 3 E0013 x\n").is_err());
         assert_eq!(parse("program p.il\nexpect reject 3\nscan\n").unwrap_err().line, 3);
+    }
+
+    #[test]
+    fn machine_directives() {
+        let scenario = parse(
+            "program p.il\nsetf D0 1.5\nexpectf D0 E1.5 0.01\npulse X1 5\nclock 2026-01-02 03:04:05\nset U1\\G3 7\n",
+        )
+        .unwrap();
+        let steps: Vec<_> = scenario.steps.iter().map(|s| s.directive.clone()).collect();
+        assert!(matches!(steps[0], Directive::Set { value, .. } if value == 1.5f32.to_bits() as i32));
+        assert!(
+            matches!(steps[1], Directive::ExpectReal { value, tolerance, .. } if value == 1.5 && tolerance == 0.01)
+        );
+        assert_eq!(steps[2], Directive::Pulse { input: 1, count: 5 });
+        assert!(matches!(
+            steps[3],
+            Directive::Clock(CalendarTime {
+                year: 2026,
+                second: 5,
+                ..
+            })
+        ));
+        assert!(
+            parse("program p.il\npulse X10 1\n").is_err(),
+            "X10 is not a counter input"
+        );
+        assert!(parse("program p.il\nclock 2026-02-30 00:00:00\n").is_err());
+        assert!(parse("program p.il\nsetf D0 nan\n").is_err());
     }
 
     #[test]

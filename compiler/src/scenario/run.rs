@@ -280,10 +280,17 @@ fn waveform_signals(scenario: &Scenario, program: &CheckedProgram) -> Vec<(Strin
     };
     for step in &scenario.steps {
         match &step.directive {
-            Directive::Set { device, .. } | Directive::Expect { device, .. } => add(*device),
+            Directive::Set { device, .. } | Directive::Expect { device, .. } | Directive::ExpectReal { device, .. } => {
+                add(*device)
+            }
+            Directive::Pulse { input, .. } => add(bit(ladder_runtime::BitArea::X, *input)),
             Directive::Force { area, index, .. } | Directive::Unforce { area, index } => add(bit(*area, *index)),
             Directive::Print(devices) => devices.iter().for_each(|(_, device)| add(*device)),
-            Directive::ScanMs(_) | Directive::Scan(_) | Directive::ExpectError(_) | Directive::ExpectReject { .. } => {}
+            Directive::ScanMs(_)
+            | Directive::Scan(_)
+            | Directive::ExpectError(_)
+            | Directive::ExpectReject { .. }
+            | Directive::Clock(_) => {}
         }
     }
     for instruction in &program.instructions {

@@ -2,8 +2,8 @@
 //! to its parts, with spans. Ranges and kinds are the checker's business.
 
 use crate::diagnostics::{Code, Diagnostic};
-use ladder_runtime::device::{buffer_word, BUFFER_UNITS, BUFFER_WORDS_PER_UNIT};
 use crate::source::Span;
+use ladder_runtime::device::{buffer_word, BUFFER_UNITS, BUFFER_WORDS_PER_UNIT};
 
 /// Device-name prefixes as written in source.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -289,7 +289,11 @@ impl Cursor<'_> {
                 self.pos += 1;
                 let (value, count) = self.decimal_digits();
                 if count == 0 {
-                    return Err(self.error(exponent_start, format!("`{}`: the exponent has no digits", self.text), "expected digits"));
+                    return Err(self.error(
+                        exponent_start,
+                        format!("`{}`: the exponent has no digits", self.text),
+                        "expected digits",
+                    ));
                 }
                 let value = i64::try_from(value).unwrap_or(i64::MAX);
                 if sign == '-' {
@@ -303,7 +307,11 @@ impl Cursor<'_> {
                 i64::try_from(value).unwrap_or(i64::MAX)
             }
             _ if written_e => {
-                return Err(self.error(exponent_start, format!("`{}`: the exponent has no digits", self.text), "expected digits"));
+                return Err(self.error(
+                    exponent_start,
+                    format!("`{}`: the exponent has no digits", self.text),
+                    "expected digits",
+                ));
             }
             _ => 0,
         };
@@ -481,7 +489,9 @@ impl Cursor<'_> {
         debug_assert!(count > 0, "prefix match requires a digit");
         let digits = &self.text[start..self.pos];
         if prefix.is_octal() {
-            let hex_letter = self.peek().is_some_and(|c| c.is_ascii_hexdigit() && !c.is_ascii_digit());
+            let hex_letter = self
+                .peek()
+                .is_some_and(|c| c.is_ascii_hexdigit() && !c.is_ascii_digit());
             if digits.contains(['8', '9']) || hex_letter {
                 return Err(self.error(
                     start,

@@ -17,6 +17,7 @@ mod arithmetic;
 mod check;
 mod compare;
 mod convert;
+mod float;
 mod logic;
 mod moves;
 mod shift;
@@ -27,6 +28,7 @@ use super::access::{bit_place, effective_index, resolve_word, write_place};
 use crate::isa::app::Runs;
 use crate::isa::AppArgs;
 use crate::program::{AppInstruction, BitRef, WordRef};
+use ladder_runtime::real::RealFunction;
 use ladder_runtime::{Memory, OperationError, Place, Width};
 
 /// Runs one application instruction with its rung's `power` (for a P form,
@@ -115,6 +117,30 @@ fn dispatch(step: &mut Step, args: &AppArgs, run: &Execution) -> Outcome {
         AppArgs::Rol { d, n } => shift::rotate(step, d, n, false),
         AppArgs::ShiftRight { s, d, n1, n2 } => shift::shift_bits(step, s, d, n1, n2, false),
         AppArgs::ShiftLeft { s, d, n1, n2 } => shift::shift_bits(step, s, d, n1, n2, true),
+        AppArgs::RealCmp { s1, s2, d } => float::compare(step, &[s1, s2], d),
+        AppArgs::RealZoneCmp { s1, s2, s, d } => float::compare(step, &[s1, s2, s], d),
+        AppArgs::RealMov { s, d } => float::map(step, [s], d, flags, float::mov),
+        AppArgs::RealAdd { s1, s2, d } => float::map(step, [s1, s2], d, flags, float::add),
+        AppArgs::RealSub { s1, s2, d } => float::map(step, [s1, s2], d, flags, float::sub),
+        AppArgs::RealMul { s1, s2, d } => float::map(step, [s1, s2], d, flags, float::mul),
+        AppArgs::RealDiv { s1, s2, d } => float::map(step, [s1, s2], d, flags, float::div),
+        AppArgs::RealSqr { s, d } => float::map(step, [s], d, flags, float::sqr),
+        AppArgs::RealNeg { d } => float::neg(step, d),
+        AppArgs::Flt { s, d } => float::flt(step, s, d),
+        AppArgs::Int { s, d } => float::int(step, s, d, flags),
+        AppArgs::RealToDecimal { s, d } => float::to_decimal(step, s, d),
+        AppArgs::DecimalToReal { s, d } => float::from_decimal(step, s, d),
+        AppArgs::Sin { s, d } => float::map(step, [s], d, flags, float::apply(RealFunction::Sin)),
+        AppArgs::Cos { s, d } => float::map(step, [s], d, flags, float::apply(RealFunction::Cos)),
+        AppArgs::Tan { s, d } => float::map(step, [s], d, flags, float::apply(RealFunction::Tan)),
+        AppArgs::Asin { s, d } => float::map(step, [s], d, flags, float::apply(RealFunction::Asin)),
+        AppArgs::Acos { s, d } => float::map(step, [s], d, flags, float::apply(RealFunction::Acos)),
+        AppArgs::Atan { s, d } => float::map(step, [s], d, flags, float::apply(RealFunction::Atan)),
+        AppArgs::Rad { s, d } => float::map(step, [s], d, flags, float::angle(true)),
+        AppArgs::Deg { s, d } => float::map(step, [s], d, flags, float::angle(false)),
+        AppArgs::Exp { s, d } => float::map(step, [s], d, flags, float::apply(RealFunction::Exp)),
+        AppArgs::Loge { s, d } => float::map(step, [s], d, flags, float::apply(RealFunction::Ln)),
+        AppArgs::Log10 { s, d } => float::map(step, [s], d, flags, float::apply(RealFunction::Log10)),
     }
 }
 
@@ -235,6 +261,18 @@ impl Step<'_> {
 
     pub fn read_at(&self, place: Place, width: Width) -> i64 {
         i64::from(place.read(self.mem, width))
+    }
+
+    /// Writes the low bits of `value` that the place holds at `width`.
+    pub fn write_at(&mut self, place: Place, width: Width, value: i64) {
+        place.write(self.mem, width, value);
+    }
+
+    /// Sets special relays `flags` to `on`, in order.
+    pub fn write_flags(&mut self, flags: &[ladder_runtime::special::SpecialBit], on: &[bool]) {
+        for (flag, &on) in flags.iter().zip(on) {
+            self.mem.set_bit(flag.area, flag.number, on);
+        }
     }
 
     /// Writes the low bits of `value` that the place holds.

@@ -13,6 +13,7 @@ mod arithmetic;
 mod check;
 mod compare;
 mod convert;
+mod float;
 mod logic;
 mod moves;
 mod shift;
@@ -24,6 +25,7 @@ use super::Lowering;
 use crate::ir::{BinOp, BlockId, Builder, Index, Inst, Terminator, Type, Value};
 use crate::isa::{AppArgs, CompareOp};
 use crate::program::{Address, AppInstruction, BitRef, WordRef};
+use ladder_runtime::real::RealFunction;
 use ladder_runtime::special::SpecialBit;
 use ladder_runtime::{OperationError, Width};
 
@@ -109,6 +111,30 @@ fn dispatch(step: &mut Step, args: &AppArgs, run: &Execution) {
         AppArgs::Rol { d, n } => shift::rotate(step, d, n, false),
         AppArgs::ShiftRight { s, d, n1, n2 } => shift::shift_bits(step, s, d, n1, n2, false),
         AppArgs::ShiftLeft { s, d, n1, n2 } => shift::shift_bits(step, s, d, n1, n2, true),
+        AppArgs::RealCmp { s1, s2, d } => float::compare(step, &[s1, s2], d),
+        AppArgs::RealZoneCmp { s1, s2, s, d } => float::compare(step, &[s1, s2, s], d),
+        AppArgs::RealMov { s, d } => float::map(step, [s], d, flags, float::mov),
+        AppArgs::RealAdd { s1, s2, d } => float::map(step, [s1, s2], d, flags, float::add),
+        AppArgs::RealSub { s1, s2, d } => float::map(step, [s1, s2], d, flags, float::sub),
+        AppArgs::RealMul { s1, s2, d } => float::map(step, [s1, s2], d, flags, float::mul),
+        AppArgs::RealDiv { s1, s2, d } => float::map(step, [s1, s2], d, flags, float::div),
+        AppArgs::RealSqr { s, d } => float::map(step, [s], d, flags, float::sqr),
+        AppArgs::RealNeg { d } => float::neg(step, d),
+        AppArgs::Flt { s, d } => float::flt(step, s, d),
+        AppArgs::Int { s, d } => float::int(step, s, d, flags),
+        AppArgs::RealToDecimal { s, d } => float::to_decimal(step, s, d),
+        AppArgs::DecimalToReal { s, d } => float::from_decimal(step, s, d),
+        AppArgs::Sin { s, d } => float::map(step, [s], d, flags, float::apply(RealFunction::Sin)),
+        AppArgs::Cos { s, d } => float::map(step, [s], d, flags, float::apply(RealFunction::Cos)),
+        AppArgs::Tan { s, d } => float::map(step, [s], d, flags, float::apply(RealFunction::Tan)),
+        AppArgs::Asin { s, d } => float::map(step, [s], d, flags, float::apply(RealFunction::Asin)),
+        AppArgs::Acos { s, d } => float::map(step, [s], d, flags, float::apply(RealFunction::Acos)),
+        AppArgs::Atan { s, d } => float::map(step, [s], d, flags, float::apply(RealFunction::Atan)),
+        AppArgs::Rad { s, d } => float::map(step, [s], d, flags, float::angle(true)),
+        AppArgs::Deg { s, d } => float::map(step, [s], d, flags, float::angle(false)),
+        AppArgs::Exp { s, d } => float::map(step, [s], d, flags, float::apply(RealFunction::Exp)),
+        AppArgs::Loge { s, d } => float::map(step, [s], d, flags, float::apply(RealFunction::Ln)),
+        AppArgs::Log10 { s, d } => float::map(step, [s], d, flags, float::apply(RealFunction::Log10)),
     }
 }
 

@@ -8,6 +8,10 @@
 //! (a test makes sure it does not call this module), so that the
 //! differential test compares two implementations.
 
+mod real;
+
+pub use real::{decimal_to_real, real_function, real_to_decimal};
+
 use crate::device::{BitArea, WordArea, MAX_BLOCK_UNITS, MAX_SHIFT_BITS};
 use crate::host::Width;
 use crate::memory::Memory;
