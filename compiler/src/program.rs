@@ -331,7 +331,8 @@ pub struct AppInstruction {
     pub args: AppArgs,
     /// The P form's previous-scan slot (the condition at its last execution).
     pub pulse_slot: Option<u32>,
-    /// The instruction's job in the image (SORT, SORT2, DSORT2).
+    /// The instruction's job (SORT, SORT2, DSORT2: `Memory::sort_state`) or instance
+    /// state (`Memory::instance`) in the image, as its declaration `keeps`.
     pub job: Option<u32>,
 }
 

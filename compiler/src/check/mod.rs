@@ -15,13 +15,13 @@ mod parts;
 mod rung;
 
 use crate::diagnostics::{Code, Diagnostic, Diagnostics};
-use crate::isa::app::Runs;
+use crate::isa::app::{Keeps, Runs};
 use crate::isa::{self, AppArgs, AppForm, BitClass, BitSpec, Mnemonic, Role, Sense};
 use crate::program::*;
 use crate::source::{SourceFile, Span};
 use crate::syntax::{self, InstructionSyntax, ParsedProgram, Statement, StatementKind};
 use blocks::{BlockTracker, PendingJump};
-use ladder_runtime::device::{EDGE_SLOT_COUNT, SORT_INSTANCES};
+use ladder_runtime::device::{EDGE_SLOT_COUNT, SORT_INSTANCES, STATE_INSTANCES};
 use ladder_runtime::{BitArea, Width, WordArea};
 use operands::{Coil, Resolved};
 use rung::RungTracker;
@@ -109,6 +109,7 @@ struct Checker {
     emitted_blocks: HashMap<usize, usize>,
     next_slot: u32,
     next_job: u32,
+    next_instance: u32,
     /// END was seen: later statements are checked but not executed.
     ended: bool,
     warned_after_end: bool,
@@ -244,7 +245,7 @@ impl Checker {
                     // Instructions that run every scan see the reset as a
                     // scan with their rung OFF (a sort stops, a timer clears).
                     match app.args.op().spec().runs {
-                        Runs::EveryScan | Runs::EveryScanWithJob => block.reset_outputs.push(index),
+                        Runs::EveryScan => block.reset_outputs.push(index),
                         Runs::WhenOn => {}
                     }
                     if let Some(slot) = app.pulse_slot {
@@ -278,6 +279,21 @@ impl Checker {
         }
         self.next_job = self.next_job.saturating_add(1);
         job.min(SORT_INSTANCES - 1)
+    }
+
+    /// A fresh instance state for an instruction that keeps one.
+    fn instance(&mut self, span: Span) -> u32 {
+        let instance = self.next_instance;
+        if instance == STATE_INSTANCES {
+            self.report(
+                Diagnostic::new(Code::TooManyJobs, span, "too many instructions that keep a state")
+                    .with_label(format!(
+                        "a program holds at most {STATE_INSTANCES} pulse, positioning, high-speed compare and timing instructions"
+                    )),
+            );
+        }
+        self.next_instance = self.next_instance.saturating_add(1);
+        instance.min(STATE_INSTANCES - 1)
     }
 
     /// A fresh previous-scan slot for an edge instruction.
@@ -525,9 +541,10 @@ impl Checker {
             return;
         };
         let pulse_slot = form.pulse.then(|| self.slot(site.span));
-        let job = match spec.runs {
-            Runs::EveryScanWithJob => Some(self.job(site.span)),
-            Runs::WhenOn | Runs::EveryScan => None,
+        let job = match spec.keeps {
+            Keeps::SortJob => Some(self.job(site.span)),
+            Keeps::State => Some(self.instance(site.span)),
+            Keeps::Nothing => None,
         };
         self.emit(
             Op::Output(Output::App(AppInstruction {

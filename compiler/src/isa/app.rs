@@ -90,8 +90,18 @@ pub enum Runs {
     /// Every scan, with its rung's power (the P form: ON only in the scan
     /// the rung rose): it keeps state across scans, like a timer.
     EveryScan,
-    /// Every scan, keeping a job in the image (SORT, SORT2, DSORT2).
-    EveryScanWithJob,
+}
+
+/// What an instruction keeps in the image between scans, besides its
+/// operands; the checker numbers each instance.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Keeps {
+    Nothing,
+    /// A sort job (SORT, SORT2, DSORT2): `Memory::sort_state`.
+    SortJob,
+    /// An instance state (`Memory::instance`): pulse outputs, high-speed
+    /// compares, HOUR, ...
+    State,
 }
 
 /// One operand position of an instruction.
@@ -116,6 +126,7 @@ pub struct AppSpec {
     pub pulse: bool,
     pub family: Family,
     pub runs: Runs,
+    pub keeps: Keeps,
     pub summary: &'static str,
     pub operands: &'static [OperandDecl],
     /// Special relays the instruction reads (modes).
@@ -279,13 +290,19 @@ macro_rules! wide_name {
 
 macro_rules! runs {
     (on) => {
-        Runs::WhenOn
+        (Runs::WhenOn, Keeps::Nothing)
     };
     (always) => {
-        Runs::EveryScan
+        (Runs::EveryScan, Keeps::Nothing)
     };
     (job) => {
-        Runs::EveryScanWithJob
+        (Runs::EveryScan, Keeps::SortJob)
+    };
+    (state) => {
+        (Runs::EveryScan, Keeps::State)
+    };
+    (on_state) => {
+        (Runs::WhenOn, Keeps::State)
     };
 }
 
@@ -325,7 +342,8 @@ macro_rules! app_instructions {
                             wide_name: wide_name!($wide),
                             pulse: pulse_form!($pulse),
                             family: Family::$family,
-                            runs: runs!($runs),
+                            runs: runs!($runs).0,
+                            keeps: runs!($runs).1,
                             summary: $summary,
                             operands: &[$(OperandDecl {
                                 name: stringify!($field),

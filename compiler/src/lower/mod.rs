@@ -421,7 +421,7 @@ impl<'p> Lowering<'p> {
                 // A failed operand check leaves the body early, to `after`.
                 match app.args.op().spec().runs {
                     Runs::WhenOn => self.when(power, |this, after| this.app(app, power, line, after)),
-                    Runs::EveryScan | Runs::EveryScanWithJob => {
+                    Runs::EveryScan => {
                         let after = self.b.create_block();
                         self.app(app, power, line, after);
                         self.b.jump_to(after);

@@ -38,7 +38,7 @@ use ladder_runtime::{Memory, OperationError, Place, Width};
 pub fn execute(mem: &mut Memory, app: &AppInstruction, power: bool, line: u32) {
     match app.args.op().spec().runs {
         Runs::WhenOn if !power => return,
-        Runs::WhenOn | Runs::EveryScan | Runs::EveryScanWithJob => {}
+        Runs::WhenOn | Runs::EveryScan => {}
     }
     let mut step = Step {
         mem,
