@@ -7,6 +7,13 @@
 //! D8018 shows the year's last two digits (FX3U's default); a program that
 //! writes 2000 to D8018 switches it to four digits, as on an FX3U.
 //!
+//! The clock relays: M8015 ON stops the clock (the program may then write
+//! D8013-D8019), and when it turns OFF the clock takes those registers (an
+//! impossible time leaves it as it was and turns M8019 ON); M8016 ON
+//! freezes D8013-D8019 while the clock runs on; M8017 turning ON rounds to
+//! the nearest minute (30 s and more to the next); M8018 (clock present) is
+//! always ON.
+//!
 //! Also here: the scan-time registers D8010-D8012, whose "scan time" is
 //! the elapsed time reported to the next scan.
 
@@ -27,6 +34,21 @@ pub const FIRST_YEAR: u32 = 1980;
 pub const LAST_YEAR: u32 = 2079;
 /// `calendar_flags`: D8018 shows four digits.
 pub const CALENDAR_FOUR_DIGIT_YEAR: u32 = 1;
+/// `calendar_flags`: M8015 was ON at the previous scan.
+const CALENDAR_WAS_STOPPED: u32 = 2;
+/// `calendar_flags`: M8017 was ON at the previous scan.
+const CALENDAR_WAS_ROUNDING: u32 = 4;
+
+/// M8015: clock stopped (and preset when it turns OFF).
+pub const M_CLOCK_STOP: u32 = 8015;
+/// M8016: D8013-D8019 frozen.
+pub const M_CLOCK_HOLD: u32 = 8016;
+/// M8017: round to the nearest minute (when it turns ON).
+pub const M_CLOCK_ROUND: u32 = 8017;
+/// M8018: a clock is present.
+pub const M_CLOCK_PRESENT: u32 = 8018;
+/// M8019: a clock setting was out of range.
+pub const M_CLOCK_ERROR: u32 = 8019;
 
 /// A calendar time: year (four digits), month 1-12, day 1-31, hour,
 /// minute, second, and the day of the week (0 Sunday to 6 Saturday) when
@@ -152,6 +174,25 @@ impl Memory {
     /// At the start of a scan: the clock advances by the elapsed time and
     /// D8013-D8019 show it; D8010-D8012 take the previous scan's time.
     pub(crate) fn advance_calendar(&mut self, elapsed_ms: u32) {
+        self.m[M_CLOCK_PRESENT as usize] = 1;
+        let stopped = self.m[M_CLOCK_STOP as usize] != 0;
+        let was_stopped = self.calendar_flags & CALENDAR_WAS_STOPPED != 0;
+        self.calendar_flags =
+            (self.calendar_flags & !CALENDAR_WAS_STOPPED) | if stopped { CALENDAR_WAS_STOPPED } else { 0 };
+        if self.scan_count > 0 {
+            self.record_scan_time(elapsed_ms);
+        }
+        if stopped {
+            return;
+        }
+        if was_stopped {
+            self.preset_from_registers();
+            return;
+        }
+        let rounding = self.m[M_CLOCK_ROUND as usize] != 0;
+        let was_rounding = self.calendar_flags & CALENDAR_WAS_ROUNDING != 0;
+        self.calendar_flags =
+            (self.calendar_flags & !CALENDAR_WAS_ROUNDING) | if rounding { CALENDAR_WAS_ROUNDING } else { 0 };
         let ms = u64::from(self.calendar_ms) + u64::from(elapsed_ms);
         let seconds = u64::from(self.calendar_seconds) + ms / 1000;
         // The clock stops at the end of 2079 rather than wrapping.
@@ -168,12 +209,41 @@ impl Memory {
         .unwrap_or(u32::MAX);
         self.calendar_seconds = seconds.min(u64::from(last)) as u32;
         self.calendar_ms = (ms % 1000) as u32;
+        if rounding && !was_rounding {
+            let second = self.calendar_seconds % 60;
+            let minute_start = self.calendar_seconds - second;
+            self.calendar_seconds = if second >= 30 {
+                (minute_start + 60).min(last)
+            } else {
+                minute_start
+            };
+            self.calendar_ms = 0;
+        }
         if self.d[(D_CLOCK_FIRST + 5) as usize] == 2000 {
             self.calendar_flags |= CALENDAR_FOUR_DIGIT_YEAR;
         }
-        self.write_clock_registers();
-        if self.scan_count > 0 {
-            self.record_scan_time(elapsed_ms);
+        if self.m[M_CLOCK_HOLD as usize] == 0 {
+            self.write_clock_registers();
+        }
+    }
+
+    /// M8015 turned OFF: the clock takes D8013-D8019.
+    fn preset_from_registers(&mut self) {
+        let register = |offset: u32| i32::from(self.d[(D_CLOCK_FIRST + offset) as usize]);
+        let year = full_year(register(5));
+        let time = year.map(|year| CalendarTime {
+            year,
+            month: register(4) as u32,
+            day: register(3) as u32,
+            hour: register(2) as u32,
+            minute: register(1) as u32,
+            second: register(0) as u32,
+            weekday: 0,
+        });
+        let valid = (0..=5).all(|offset| register(offset) >= 0) && time.is_some_and(|t| self.set_calendar(t));
+        self.m[M_CLOCK_ERROR as usize] = u8::from(!valid);
+        if !valid {
+            self.write_clock_registers();
         }
     }
 

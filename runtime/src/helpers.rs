@@ -53,6 +53,9 @@ pub enum Writes {
     OperationError,
     /// Any bit of an area (flags such as SM229, alarm states).
     Bits(BitArea),
+    /// Any device: the machine around the program (the clock and its
+    /// registers, pulse outputs and their registers and flags).
+    Image,
 }
 
 impl Writes {
@@ -70,6 +73,7 @@ impl Writes {
             Writes::Bits(BitArea::Sm) => &[BitArea::Sm],
             Writes::Bits(BitArea::TimerContact) => &[BitArea::TimerContact],
             Writes::Bits(BitArea::CounterContact) => &[BitArea::CounterContact],
+            Writes::Image => &BitArea::ALL,
         }
     }
 }
@@ -376,6 +380,77 @@ helpers! {
     DecimalToReal = fn ladder_rt_decimal_to_real(mem, decimal: u32) -> i32 writes [] {
         let _ = mem;
         compiled::decimal_to_real(decimal)
+    }
+
+    /// TWR: sets the clock from 7 words at a checked place; 1, or 0 when they are out of range.
+    SetClock = fn ladder_rt_set_clock(mem, source: source_place) -> i32 writes [Image] {
+        match Place::unpack(source) {
+            Some(source) => i32::from(compiled::clock::set_clock(mem, source)),
+            None => 0,
+        }
+    }
+
+    /// TCMP: the time `hour`:`minute`:`second` against 3 words at a checked place; 1, or 0 out of range.
+    TimeCompare = fn ladder_rt_time_compare(
+        mem, hour: i32, minute: i32, second: i32, data: source_place, destination: destination_place
+    ) -> i32 writes [] {
+        match (Place::unpack(data), Place::unpack(destination)) {
+            (Some(data), Some(destination)) => {
+                let limit = [hour, minute, second].map(i64::from);
+                i32::from(compiled::clock::time_compare(mem, limit, data, destination))
+            }
+            _ => 0,
+        }
+    }
+
+    /// TZCP: the time at `data` against the zone from `low` to `high` (checked places); 1, or 0 out of range.
+    TimeZone = fn ladder_rt_time_zone(
+        mem, low: source_place, high: source_place, data: source_place, destination: destination_place
+    ) -> i32 writes [] {
+        match (Place::unpack(low), Place::unpack(high), Place::unpack(data), Place::unpack(destination)) {
+            (Some(low), Some(high), Some(data), Some(destination)) => {
+                i32::from(compiled::clock::time_zone(mem, low, high, data, destination))
+            }
+            _ => 0,
+        }
+    }
+
+    /// TADD (`subtract` 0) or TSUB of times at checked places: `TIME_OK` | `TIME_ZERO` | `TIME_WRAPPED`, or 0
+    /// out of range.
+    TimeAdd = fn ladder_rt_time_add(
+        mem, a: source_place, b: source_place, destination: destination_place, subtract: u32
+    ) -> i32 writes [] {
+        match (Place::unpack(a), Place::unpack(b), Place::unpack(destination)) {
+            (Some(a), Some(b), Some(destination)) => compiled::clock::time_add(mem, a, b, destination, subtract != 0),
+            _ => 0,
+        }
+    }
+
+    /// HTOS: the seconds of the time at a checked place, or -1 when out of range or above `limit`.
+    TimeToSeconds = fn ladder_rt_time_to_seconds(mem, source: source_place, limit: i32) -> i32 writes [] {
+        match Place::unpack(source) {
+            Some(source) => compiled::clock::time_to_seconds(mem, source, i64::from(limit)) as i32,
+            None => -1,
+        }
+    }
+
+    /// STOH: `seconds` as hours, minutes, seconds at a checked place; 1, or 0 out of range.
+    SecondsToTime = fn ladder_rt_seconds_to_time(mem, seconds: i32, destination: destination_place) -> i32
+        writes [] {
+        match Place::unpack(destination) {
+            Some(destination) => i32::from(compiled::clock::seconds_to_time(mem, i64::from(seconds), destination)),
+            None => 0,
+        }
+    }
+
+    /// HOUR (`wide` 0) / DHOUR instance `instance` with its rung ON: hours and seconds at a checked place, the
+    /// alarm bit ON from `limit` hours.
+    Hour = fn ladder_rt_hour(
+        mem, instance: u32, limit: i32, hours: destination_place, alarm: destination_place, wide: u32
+    ) -> none writes [] {
+        if let (Some(hours), Some(alarm)) = (Place::unpack(hours), Place::unpack(alarm)) {
+            compiled::clock::hour(mem, instance, i64::from(limit), hours, alarm, wide != 0)
+        }
     }
 
     /// Records an operation error: M8067 ON, D8067 = `code`, D8069 = `line`.

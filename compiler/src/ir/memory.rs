@@ -107,7 +107,7 @@ fn call_footprint(helper: Helper) -> Footprint {
             ]),
             // The pending-OFF flags of states, which the IR never names.
             Writes::StlBookkeeping => {}
-            Writes::OperationError | Writes::Bits(_) => return Footprint::Everything,
+            Writes::OperationError | Writes::Bits(_) | Writes::Image => return Footprint::Everything,
         }
     }
     Footprint::Regions(regions)

@@ -156,7 +156,7 @@ fn written_bits(inst: &Inst, constants: &HashMap<Value, i64>) -> Vec<(BitArea, O
             let effects = decl.writes.iter().flat_map(|w| match w {
                 // The error flag is one relay, not the whole of M.
                 Writes::OperationError => vec![(BitArea::M, Some(M_OPERATION_ERROR), 1)],
-                Writes::Timers | Writes::Counters | Writes::StlBookkeeping | Writes::Bits(_) => {
+                Writes::Timers | Writes::Counters | Writes::StlBookkeeping | Writes::Bits(_) | Writes::Image => {
                     w.bit_areas().iter().map(|&area| (area, None, 0)).collect()
                 }
             });

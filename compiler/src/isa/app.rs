@@ -48,10 +48,12 @@ pub enum Family {
     Shift,
     /// DEADD, DECMP, FLT, INT, DSIN, ... (real numbers).
     Float,
+    /// TRD, TWR, TCMP, TZCP, TADD, TSUB, HTOS, STOH, HOUR.
+    Clock,
 }
 
 impl Family {
-    pub const ALL: [Family; 11] = [
+    pub const ALL: [Family; 12] = [
         Family::Move,
         Family::Arithmetic,
         Family::Logic,
@@ -63,6 +65,7 @@ impl Family {
         Family::Check,
         Family::Alarm,
         Family::Float,
+        Family::Clock,
     ];
 
     pub fn title(self) -> &'static str {
@@ -78,6 +81,7 @@ impl Family {
             Family::Alarm => "Alarms",
             Family::Shift => "Rotation and shift",
             Family::Float => "Floating point",
+            Family::Clock => "Clock",
         }
     }
 }
@@ -773,6 +777,51 @@ app_instructions! {
         (s: RealSource(REAL_VALUE), d: RealDestination(REGISTERS))
         reads [] writes []
         "D = the common logarithm of S (S ≤ 0 is 4084H)";
+    /// TRD D: reads the clock.
+    Trd: "TRD" _ pulse Clock on
+        (d: BlockDestination(REGISTERS))
+        reads [] writes []
+        "D..D+6 = year, month, day, hour, minute, second, day of week of the clock (D8018, D8017, ..., D8013, D8019)";
+    /// TWR S: sets the clock.
+    Twr: "TWR" _ pulse Clock on
+        (s: BlockSource(REGISTERS))
+        reads [] writes []
+        "sets the clock to year, month, day, hour, minute, second, day of week S..S+6 (out of range: 4084H)";
+    /// TCMP S1 S2 S3 S D: time comparison.
+    Tcmp: "TCMP" _ pulse Clock on
+        (s1: Count(ANY_VALUE), s2: Count(ANY_VALUE), s3: Count(ANY_VALUE), s: BlockSource(WORDS), d: BitTriple(RESULT_BITS))
+        reads [] writes []
+        "D, D+1, D+2 = the time S1:S2:S3 is later than, the same as, earlier than the time S..S+2";
+    /// TZCP S1 S2 S D: time zone comparison.
+    Tzcp: "TZCP" _ pulse Clock on
+        (s1: BlockSource(WORDS), s2: BlockSource(WORDS), s: BlockSource(WORDS), d: BitTriple(RESULT_BITS))
+        reads [] writes []
+        "D, D+1, D+2 = the time S is before S1, from S1 to S2, after S2 (times in 3 words)";
+    /// TADD S1 S2 D: time addition.
+    Tadd: "TADD" _ pulse Clock on
+        (s1: BlockSource(WORDS), s2: BlockSource(WORDS), d: BlockDestination(WORDS))
+        reads [] writes [ZERO_FLAG, CARRY_FLAG]
+        "D = the time S1 + S2, wrapped to 24 hours (M8022 when it wrapped)";
+    /// TSUB S1 S2 D: time subtraction.
+    Tsub: "TSUB" _ pulse Clock on
+        (s1: BlockSource(WORDS), s2: BlockSource(WORDS), d: BlockDestination(WORDS))
+        reads [] writes [ZERO_FLAG, BORROW_FLAG]
+        "D = the time S1 − S2, wrapped to 24 hours (M8021 when it wrapped)";
+    /// HTOS S D: hours, minutes, seconds to seconds.
+    Htos: "HTOS" "DHTOS" pulse Clock on
+        (s: BlockSource(WORDS), d: Destination(WRITABLE_WORD))
+        reads [] writes []
+        "D = the hours S, minutes S+1, seconds S+2 in seconds";
+    /// STOH S D: seconds to hours, minutes, seconds.
+    Stoh: "STOH" "DSTOH" pulse Clock on
+        (s: Source(ANY_VALUE), d: BlockDestination(WORDS))
+        reads [] writes []
+        "D, D+1, D+2 = the seconds S in hours, minutes, seconds";
+    /// HOUR S D1 D2: hour meter.
+    Hour: "HOUR" "DHOUR" no_pulse Clock on_state
+        (s: Source(ANY_VALUE), d1: BlockDestination(REGISTERS), d2: BitDestination(RESULT_BITS))
+        reads [] writes []
+        "while ON, counts hours in D1 and seconds in the next word; D2 turns ON at S hours";
 }
 
 #[cfg(test)]

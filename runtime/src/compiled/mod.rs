@@ -8,6 +8,7 @@
 //! (a test makes sure it does not call this module), so that the
 //! differential test compares two implementations.
 
+pub mod clock;
 mod real;
 
 pub use real::{decimal_to_real, real_function, real_to_decimal};

@@ -11,6 +11,7 @@
 mod alarm;
 mod arithmetic;
 mod check;
+mod clock;
 mod compare;
 mod convert;
 mod float;
@@ -135,6 +136,15 @@ fn dispatch(step: &mut Step, args: &AppArgs, run: &Execution) {
         AppArgs::Exp { s, d } => float::map(step, [s], d, flags, float::apply(RealFunction::Exp)),
         AppArgs::Loge { s, d } => float::map(step, [s], d, flags, float::apply(RealFunction::Ln)),
         AppArgs::Log10 { s, d } => float::map(step, [s], d, flags, float::apply(RealFunction::Log10)),
+        AppArgs::Trd { d } => clock::read(step, d),
+        AppArgs::Twr { s } => clock::write(step, s),
+        AppArgs::Tcmp { s1, s2, s3, s, d } => clock::compare(step, [s1, s2, s3], s, d),
+        AppArgs::Tzcp { s1, s2, s, d } => clock::zone(step, s1, s2, s, d),
+        AppArgs::Tadd { s1, s2, d } => clock::add(step, s1, s2, d, false, flags),
+        AppArgs::Tsub { s1, s2, d } => clock::add(step, s1, s2, d, true, flags),
+        AppArgs::Htos { s, d } => clock::to_seconds(step, s, d),
+        AppArgs::Stoh { s, d } => clock::to_time(step, s, d),
+        AppArgs::Hour { s, d1, d2 } => clock::hour(step, run.job, s, d1, d2),
     }
 }
 
