@@ -453,6 +453,96 @@ helpers! {
         }
     }
 
+    /// SER: count, first, last match of `key` and positions of the smallest and largest of `n` values of `width`
+    /// at checked places.
+    Search = fn ladder_rt_search(
+        mem, table: source_place, n: u32, key: i32, destination: destination_place, width: u32
+    ) -> none writes [] {
+        if let (Some(table), Some(destination)) = (Place::unpack(table), Place::unpack(destination)) {
+            compiled::handy::search(mem, table, n, i64::from(key), destination, width_of(width))
+        }
+    }
+
+    /// ABSD: `n` outputs from the rising and falling points at checked places for the counter value `value`.
+    AbsoluteDrum = fn ladder_rt_absolute_drum(
+        mem, table: source_place, n: u32, value: i32, outputs: destination_place, width: u32
+    ) -> none writes [] {
+        if let (Some(table), Some(outputs)) = (Place::unpack(table), Place::unpack(outputs)) {
+            compiled::handy::absolute_drum(mem, table, n, i64::from(value), outputs, width_of(width))
+        }
+    }
+
+    /// INCD with the counters `counter`, `counter` + 1 (checked) and `power` the rung; M8029 at the end.
+    IncrementalDrum = fn ladder_rt_incremental_drum(
+        mem, table: source_place, n: u32, counter: u32, outputs: destination_place, power: u32
+    ) -> none writes [Counters, Bits(BitArea::M)] {
+        if let (Some(table), Some(outputs)) = (Place::unpack(table), Place::unpack(outputs)) {
+            compiled::handy::incremental_drum(mem, table, n, counter, outputs, power != 0)
+        }
+    }
+
+    /// An instruction that keeps an instance state ran with its rung OFF (RAMP, SEGL): it starts afresh.
+    InstanceOff = fn ladder_rt_instance_off(mem, instance: u32) -> none writes [] {
+        compiled::handy::instance_off(mem, instance)
+    }
+
+    /// RAMP instance `instance` with its rung ON: D and D+1 at a checked place; M8029 at the end.
+    Ramp = fn ladder_rt_ramp(mem, instance: u32, from: i32, to: i32, target: destination_place, n: i32) -> none
+        writes [Bits(BitArea::M)] {
+        if let Some(target) = Place::unpack(target) {
+            compiled::handy::ramp(mem, instance, i64::from(from), i64::from(to), target, i64::from(n))
+        }
+    }
+
+    /// TTMR instance `instance`: D and D+1 at a checked place, `n` 0-2.
+    TeachingTimer = fn ladder_rt_teaching_timer(mem, instance: u32, power: u32, target: destination_place, n: u32)
+        -> none writes [] {
+        if let Some(target) = Place::unpack(target) {
+            compiled::handy::teaching_timer(mem, instance, power != 0, target, n)
+        }
+    }
+
+    /// STMR instance `instance` on timer `timer` (checked) for `m` × 100 ms: four outputs at a checked place.
+    SpecialTimer = fn ladder_rt_special_timer(
+        mem, instance: u32, power: u32, timer: u32, m: i32, outputs: destination_place
+    ) -> none writes [Timers] {
+        if let Some(outputs) = Place::unpack(outputs) {
+            compiled::handy::special_timer(mem, instance, power != 0, timer, i64::from(m), outputs)
+        }
+    }
+
+    /// SEGD: the seven segments of the hex digit `digit`.
+    Segments = fn ladder_rt_segments(mem, digit: u32) -> i32 writes [] {
+        let _ = mem;
+        compiled::handy::segments(digit)
+    }
+
+    /// SEGL instance `instance` with its rung ON: `sets` values at a checked place, outputs at another, mode `n`;
+    /// 1, or 0 when a value is above 9999. M8029 at the end of a cycle.
+    SegmentLatch = fn ladder_rt_segment_latch(
+        mem, instance: u32, source: source_place, sets: u32, outputs: destination_place, n: u32
+    ) -> i32 writes [Bits(BitArea::M)] {
+        match (Place::unpack(source), Place::unpack(outputs)) {
+            (Some(source), Some(outputs)) => {
+                i32::from(compiled::handy::segment_latch(mem, instance, source, sets, outputs, n))
+            }
+            _ => 0,
+        }
+    }
+
+    /// ASCI (`op` 0), HEX (1) or CCD (2) of `n` characters between checked places (M8161: one per word); 1, or
+    /// 0 when HEX met a character that is not a hex digit.
+    Characters = fn ladder_rt_characters(
+        mem, op: u32, source: source_place, destination: destination_place, n: u32
+    ) -> i32 writes [] {
+        match (Place::unpack(source), Place::unpack(destination)) {
+            (Some(source), Some(destination)) => {
+                i32::from(compiled::handy::characters(mem, op, source, destination, n))
+            }
+            _ => 0,
+        }
+    }
+
     /// Records an operation error: M8067 ON, D8067 = `code`, D8069 = `line`.
     RecordError = fn ladder_rt_record_error(mem, code: u32, line: u32) -> none writes [OperationError] {
         if let Some(error) = OperationError::from_code(code) {

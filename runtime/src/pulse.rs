@@ -30,8 +30,7 @@ use crate::memory::{InstanceState, Memory};
 use crate::place::Place;
 use crate::Width;
 
-/// M8029: the latest positioning or table instruction has completed.
-pub const M_EXECUTION_COMPLETE: u32 = 8029;
+pub use crate::special::M_EXECUTION_COMPLETE;
 /// D8340: the current address of Y0 (a pair); Y1-Y3 follow every 10.
 pub const D_CURRENT_ADDRESS: u32 = 8340;
 /// M8340: Y0 is outputting pulses; Y1-Y3 follow every 10.

@@ -80,6 +80,21 @@ pub const M_ZERO: u32 = 8020;
 pub const M_BORROW: u32 = 8021;
 pub const M_CARRY: u32 = 8022;
 
+/// M8029: the latest positioning, drum, ramp or display instruction has
+/// completed (each execution writes it).
+pub const M_EXECUTION_COMPLETE: u32 = 8029;
+/// M8026: RAMP holds at its end value (OFF: it starts again).
+pub const M_RAMP_HOLD: u32 = 8026;
+/// M8161: ASCI, HEX and CCD handle one character per word (8-bit mode).
+pub const M_EIGHT_BIT_MODE_FX: u32 = 8161;
+
+/// M8029 as a flag of the instructions that write it.
+pub const EXECUTION_COMPLETE: SpecialBit = SpecialBit::m(M_EXECUTION_COMPLETE);
+/// M8026 as a mode of RAMP.
+pub const RAMP_HOLD: SpecialBit = SpecialBit::m(M_RAMP_HOLD);
+/// M8161 as a mode of ASCI, HEX, CCD.
+pub const EIGHT_BIT_MODE_FX: SpecialBit = SpecialBit::m(M_EIGHT_BIT_MODE_FX);
+
 /// M8067 turns ON when an instruction records an operation error.
 pub const M_OPERATION_ERROR: u32 = 8067;
 /// D8067 holds the code of the latest operation error.

@@ -50,10 +50,12 @@ pub enum Family {
     Float,
     /// TRD, TWR, TCMP, TZCP, TADD, TSUB, HTOS, STOH, HOUR.
     Clock,
+    /// SER, ABSD, INCD, TTMR, STMR, RAMP, SEGD, SEGL, ASCI, HEX, CCD.
+    Handy,
 }
 
 impl Family {
-    pub const ALL: [Family; 12] = [
+    pub const ALL: [Family; 13] = [
         Family::Move,
         Family::Arithmetic,
         Family::Logic,
@@ -66,6 +68,7 @@ impl Family {
         Family::Alarm,
         Family::Float,
         Family::Clock,
+        Family::Handy,
     ];
 
     pub fn title(self) -> &'static str {
@@ -82,6 +85,7 @@ impl Family {
             Family::Shift => "Rotation and shift",
             Family::Float => "Floating point",
             Family::Clock => "Clock",
+            Family::Handy => "Handy and display instructions",
         }
     }
 }
@@ -822,6 +826,61 @@ app_instructions! {
         (s: Source(ANY_VALUE), d1: BlockDestination(REGISTERS), d2: BitDestination(RESULT_BITS))
         reads [] writes []
         "while ON, counts hours in D1 and seconds in the next word; D2 turns ON at S hours";
+    /// SER S1 S2 D n: data search.
+    Ser: "SER" "DSER" pulse Handy on
+        (s1: BlockSource(WORDS), s2: Source(ANY_VALUE), d: BlockDestination(WRITABLE_WORD), n: Source(COUNT))
+        reads [] writes []
+        "searches n values from S1 for S2: D = matches, D+1 first, D+2 last, D+3 smallest, D+4 largest position";
+    /// ABSD S1 S2 D n: absolute drum.
+    Absd: "ABSD" "DABSD" no_pulse Handy on
+        (s1: BlockSource(WORDS), s2: Source(Devices::of(DeviceClass::C).with(Devices::of(DeviceClass::WideCounter))), d: BitDestination(RESULT_BITS), n: Count(CONSTANT))
+        reads [] writes []
+        "output k of n from D is ON while counter S2 is from S1+2k to S1+2k+1";
+    /// INCD S1 S2 D n: incremental drum.
+    Incd: "INCD" _ no_pulse Handy always
+        (s1: BlockSource(WORDS), s2: CounterPair(Devices::of(DeviceClass::C)), d: BitDestination(RESULT_BITS), n: Count(CONSTANT))
+        reads [] writes [EXECUTION_COMPLETE]
+        "step k (counter S2+1) lasts until counter S2 reaches S1+k; output D+k ON during step k; M8029 after the last";
+    /// TTMR D n: teaching timer.
+    Ttmr: "TTMR" _ no_pulse Handy state
+        (d: BlockDestination(REGISTERS), n: Count(CONSTANT))
+        reads [] writes []
+        "D+1 = the rung's ON time in 100 ms; when it turns OFF, D = D+1 × 10^n / 10";
+    /// STMR S m D: special timer.
+    Stmr: "STMR" _ no_pulse Handy state
+        (s: Timer(Devices::of(DeviceClass::T)), m: Count(COUNT), d: BitDestination(RESULT_BITS))
+        reads [] writes []
+        "D OFF-delay, D+1 one-shot after OFF, D+2 one-shot after ON, D+3 ON- and OFF-delay, of m × 100 ms";
+    /// RAMP S1 S2 D n: ramp.
+    Ramp: "RAMP" _ no_pulse Handy state
+        (s1: Count(REGISTERS), s2: Count(REGISTERS), d: BlockDestination(REGISTERS), n: Count(COUNT))
+        reads [RAMP_HOLD] writes [EXECUTION_COMPLETE]
+        "D moves from S1 to S2 in n scans (D+1 counts them); M8029 at the end, M8026 holds it there";
+    /// SEGD S D: seven-segment decode.
+    Segd: "SEGD" _ pulse Handy on
+        (s: Source(ANY_VALUE), d: Destination(WRITABLE_WORD))
+        reads [] writes []
+        "the low byte of D = the seven segments of the hex digit in the low 4 bits of S";
+    /// SEGL S D n: seven-segment with latch.
+    Segl: "SEGL" _ no_pulse Handy state
+        (s: BlockSource(ANY_WORD.with(CONSTANT)), d: BitDestination(Devices::of(DeviceClass::Y)), n: Count(CONSTANT))
+        reads [] writes [EXECUTION_COMPLETE]
+        "shows S (and S+1 for n 4-7) as 4 BCD digits on D..D+3 with strobes D+4..D+7, a cycle of 12 scans";
+    /// ASCI S D n: hex to ASCII.
+    Asci: "ASCI" _ pulse Handy on
+        (s: BlockSource(ANY_WORD), d: BlockDestination(WRITABLE_WORD), n: Count(COUNT))
+        reads [EIGHT_BIT_MODE_FX] writes []
+        "the n lowest hex digits of S as ASCII characters from D (M8161: one per word)";
+    /// HEX S D n: ASCII to hex.
+    Hex: "HEX" _ pulse Handy on
+        (s: BlockSource(ANY_WORD), d: BlockDestination(WRITABLE_WORD), n: Count(COUNT))
+        reads [EIGHT_BIT_MODE_FX] writes []
+        "n ASCII hex characters from S as a number in D, D+1, ... (M8161: one per word)";
+    /// CCD S D n: check code.
+    Ccd: "CCD" _ pulse Handy on
+        (s: BlockSource(ANY_WORD), d: BlockDestination(WRITABLE_WORD), n: Count(COUNT))
+        reads [EIGHT_BIT_MODE_FX] writes []
+        "D = the sum and D+1 the exclusive OR of n bytes from S (M8161: low bytes only)";
 }
 
 #[cfg(test)]

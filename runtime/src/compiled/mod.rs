@@ -9,6 +9,7 @@
 //! differential test compares two implementations.
 
 pub mod clock;
+pub mod handy;
 mod real;
 
 pub use real::{decimal_to_real, real_function, real_to_decimal};

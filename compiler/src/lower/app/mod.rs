@@ -15,6 +15,7 @@ mod clock;
 mod compare;
 mod convert;
 mod float;
+mod handy;
 mod logic;
 mod moves;
 mod shift;
@@ -145,6 +146,17 @@ fn dispatch(step: &mut Step, args: &AppArgs, run: &Execution) {
         AppArgs::Htos { s, d } => clock::to_seconds(step, s, d),
         AppArgs::Stoh { s, d } => clock::to_time(step, s, d),
         AppArgs::Hour { s, d1, d2 } => clock::hour(step, run.job, s, d1, d2),
+        AppArgs::Ser { s1, s2, d, n } => handy::search(step, s1, s2, d, n),
+        AppArgs::Absd { s1, s2, d, n } => handy::absolute_drum(step, s1, s2, d, n),
+        AppArgs::Incd { s1, s2, d, n } => handy::incremental_drum(step, run, s1, s2, d, n),
+        AppArgs::Ttmr { d, n } => handy::teaching_timer(step, run, d, n),
+        AppArgs::Stmr { s, m, d } => handy::special_timer(step, run, s, m, d),
+        AppArgs::Ramp { s1, s2, d, n } => handy::ramp(step, run, s1, s2, d, n),
+        AppArgs::Segd { s, d } => handy::segment_decode(step, s, d),
+        AppArgs::Segl { s, d, n } => handy::segment_latch(step, run, s, d, n),
+        AppArgs::Asci { s, d, n } => handy::characters(step, 0, s, d, n),
+        AppArgs::Hex { s, d, n } => handy::characters(step, 1, s, d, n),
+        AppArgs::Ccd { s, d, n } => handy::characters(step, 2, s, d, n),
     }
 }
 
