@@ -543,6 +543,61 @@ helpers! {
         }
     }
 
+    /// DHSCS (`kind` 0), DHSCR (1), DHSZ (2) instance `instance`: registers (`power` 1) or withdraws the compare of
+    /// counter `counter` with `low`, `high` and the checked destination.
+    HighSpeedCompare = fn ladder_rt_high_speed_compare(
+        mem, instance: u32, kind: u32, power: u32, counter: u32, low: i32, high: i32, destination: destination_place
+    ) -> none writes [Image] {
+        let kind = match kind {
+            0 => crate::hsc::HscCompare::Set,
+            1 => crate::hsc::HscCompare::Reset,
+            _ => crate::hsc::HscCompare::Zone,
+        };
+        mem.high_speed_compare(instance, kind, power != 0, counter, [low, high], destination)
+    }
+
+    /// SPD: the rising edges of X`input` over `period` ms into D, D+1, D+2 (a checked place, 32-bit when
+    /// `width` is 2).
+    Speed = fn ladder_rt_speed(mem, input: u32, period: i32, destination: destination_place, width: u32) -> none
+        writes [] {
+        if let Some(destination) = Place::unpack(destination) {
+            compiled::highspeed::speed(mem, input, i64::from(period), destination, width_of(width))
+        }
+    }
+
+    /// PLSY, PLSR, ... instance `instance` with its drive ON: `kind` (`PulseKind`) on output Y`output` (0-3),
+    /// with the values of its operands and its direction output (a checked place, or 0).
+    PulseOutput = fn ladder_rt_pulse_output(
+        mem, instance: u32, kind: u32, output: u32, frequency: i32, amount: i32, ramp: i32, creep: i32,
+        near_point: u32, direction: destination_place
+    ) -> none writes [Image] {
+        if let Some(kind) = crate::pulse::PulseKind::from_code(kind) {
+            let request = crate::pulse::PulseRequest {
+                kind,
+                output,
+                frequency,
+                amount,
+                ramp_ms: ramp,
+                creep,
+                near_point: near_point != 0,
+                direction,
+            };
+            mem.pulse_output(instance, true, &request);
+        }
+    }
+
+    /// A pulse instruction's drive is OFF: its output stops.
+    PulseStop = fn ladder_rt_pulse_stop(mem, instance: u32) -> none writes [Image] {
+        mem.pulse_stop(instance)
+    }
+
+    /// PWM instance `instance`: `width` ms ON of every `period` ms on a checked output while `power`.
+    PulseWidth = fn ladder_rt_pulse_width(
+        mem, instance: u32, power: u32, width: u32, period: u32, output: destination_place
+    ) -> none writes [] {
+        mem.pulse_width(instance, power != 0, width, period, output)
+    }
+
     /// Records an operation error: M8067 ON, D8067 = `code`, D8069 = `line`.
     RecordError = fn ladder_rt_record_error(mem, code: u32, line: u32) -> none writes [OperationError] {
         if let Some(error) = OperationError::from_code(code) {

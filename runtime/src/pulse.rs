@@ -303,6 +303,21 @@ impl Memory {
         place.write(self, Width::Single, i64::from(forward));
     }
 
+    /// An execution of pulse instruction `instance` with its drive OFF:
+    /// a running output stops at once; M8029 OFF.
+    pub fn pulse_stop(&mut self, instance: u32) {
+        let owner = instance + 1;
+        if let Some(output) = self.pulse_owner.iter().position(|&o| o == owner) {
+            if self.instance.get(instance as usize).is_some_and(|s| s.phase == RUNNING) {
+                self.release(output);
+            }
+        }
+        if let Some(state) = self.instance.get_mut(instance as usize) {
+            *state = InstanceState::default();
+        }
+        self.m[M_EXECUTION_COMPLETE as usize] = 0;
+    }
+
     /// One execution of PWM instance `instance`: with power the output bit
     /// `output` (a packed place) is ON for the first `width_ms` of every
     /// `period_ms`, counted from the scan the drive turned ON; without

@@ -52,10 +52,14 @@ pub enum Family {
     Clock,
     /// SER, ABSD, INCD, TTMR, STMR, RAMP, SEGD, SEGL, ASCI, HEX, CCD.
     Handy,
+    /// DHSCS, DHSCR, DHSZ, SPD, PLSY, PLSR, PLSV, DRVI, DRVA, ZRN, DSZR, PWM.
+    HighSpeed,
+    /// FROM, TO.
+    Module,
 }
 
 impl Family {
-    pub const ALL: [Family; 13] = [
+    pub const ALL: [Family; 15] = [
         Family::Move,
         Family::Arithmetic,
         Family::Logic,
@@ -69,6 +73,8 @@ impl Family {
         Family::Float,
         Family::Clock,
         Family::Handy,
+        Family::HighSpeed,
+        Family::Module,
     ];
 
     pub fn title(self) -> &'static str {
@@ -86,6 +92,8 @@ impl Family {
             Family::Float => "Floating point",
             Family::Clock => "Clock",
             Family::Handy => "Handy and display instructions",
+            Family::HighSpeed => "High-speed counters and pulse outputs",
+            Family::Module => "Special-function modules",
         }
     }
 }
@@ -126,8 +134,11 @@ pub struct OperandDecl {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct AppSpec {
     pub op: AppOp,
-    /// The 16-bit mnemonic.
+    /// The 16-bit mnemonic, or the 32-bit one of an instruction that has
+    /// only a 32-bit form (`narrow` false).
     pub name: &'static str,
+    /// There is a 16-bit form (`name`).
+    pub narrow: bool,
     /// The 32-bit mnemonic, if there is a 32-bit form.
     pub wide_name: Option<&'static str>,
     /// There are P (pulse) forms: `NAMEP`, `DNAMEP`.
@@ -148,12 +159,17 @@ impl AppSpec {
     /// Every mnemonic of the instruction: 16/32-bit, plain/pulse.
     pub fn mnemonics(&self) -> Vec<(String, ladder_runtime::Width, bool)> {
         use ladder_runtime::Width;
-        let mut names = vec![(self.name.to_string(), Width::Single, false)];
+        let mut names = Vec::new();
+        if self.narrow {
+            names.push((self.name.to_string(), Width::Single, false));
+        }
         if let Some(wide) = self.wide_name {
             names.push((wide.to_string(), Width::Double, false));
         }
         if self.pulse {
-            names.push((format!("{}P", self.name), Width::Single, true));
+            if self.narrow {
+                names.push((format!("{}P", self.name), Width::Single, true));
+            }
             if let Some(wide) = self.wide_name {
                 names.push((format!("{wide}P"), Width::Double, true));
             }
@@ -296,6 +312,16 @@ macro_rules! wide_name {
     };
 }
 
+/// (the name, whether there is a 16-bit form) of `NAME DNAME` or `_ DNAME`.
+macro_rules! narrow_name {
+    (_ $wide:literal) => {
+        ($wide, false)
+    };
+    ($name:literal $wide:tt) => {
+        ($name, true)
+    };
+}
+
 macro_rules! runs {
     (on) => {
         (Runs::WhenOn, Keeps::Nothing)
@@ -326,7 +352,7 @@ macro_rules! pulse_form {
 macro_rules! app_instructions {
     ($(
         $(#[doc = $doc:literal])*
-        $variant:ident: $name:literal $wide:tt $pulse:ident $family:ident $runs:ident
+        $variant:ident: $name:tt $wide:tt $pulse:ident $family:ident $runs:ident
             ($($field:ident: $kind:ident($devices:expr)),* $(,)?)
             reads [$($read:ident),* $(,)?] writes [$($flag:ident),* $(,)?]
             $summary:literal;
@@ -346,7 +372,8 @@ macro_rules! app_instructions {
                     $(AppOp::$variant => {
                         const SPEC: AppSpec = AppSpec {
                             op: AppOp::$variant,
-                            name: $name,
+                            name: narrow_name!($name $wide).0,
+                            narrow: narrow_name!($name $wide).1,
                             wide_name: wide_name!($wide),
                             pulse: pulse_form!($pulse),
                             family: Family::$family,
@@ -881,6 +908,76 @@ app_instructions! {
         (s: BlockSource(ANY_WORD), d: BlockDestination(WRITABLE_WORD), n: Count(COUNT))
         reads [EIGHT_BIT_MODE_FX] writes []
         "D = the sum and D+1 the exclusive OR of n bytes from S (M8161: low bytes only)";
+    /// DHSCS S1 S2 D: high-speed counter set.
+    Hscs: _ "DHSCS" no_pulse HighSpeed state
+        (s1: Source(ANY_VALUE), s2: HighSpeedCounter(Devices::of(DeviceClass::C)), d: BitDestination(RESULT_BITS))
+        reads [] writes []
+        "D turns ON when counting at the input refresh brings counter S2 to S1";
+    /// DHSCR S1 S2 D: high-speed counter reset.
+    Hscr: _ "DHSCR" no_pulse HighSpeed state
+        (s1: Source(ANY_VALUE), s2: HighSpeedCounter(Devices::of(DeviceClass::C)), d: BitDestination(RESULT_BITS))
+        reads [] writes []
+        "D turns OFF when counting at the input refresh brings counter S2 to S1";
+    /// DHSZ S1 S2 S D: high-speed zone compare.
+    Hsz: _ "DHSZ" no_pulse HighSpeed state
+        (s1: Source(ANY_VALUE), s2: Source(ANY_VALUE), s: HighSpeedCounter(Devices::of(DeviceClass::C)), d: BitTriple(RESULT_BITS))
+        reads [] writes []
+        "D, D+1, D+2 = counter S below S1, from S1 to S2, above S2, as it counts";
+    /// SPD S1 S2 D: pulse speed.
+    Spd: "SPD" "DSPD" no_pulse HighSpeed on
+        (s1: BitSource(Devices::of(DeviceClass::X)), s2: Source(ANY_VALUE), d: BlockDestination(REGISTERS))
+        reads [] writes []
+        "D = the rising edges of S1 (X0-X5) in the last S2 ms, D+1 so far, D+2 the time left";
+    /// PLSY S1 S2 D: pulse output.
+    Plsy: "PLSY" "DPLSY" no_pulse HighSpeed state
+        (s1: Source(ANY_VALUE), s2: Source(ANY_VALUE), d: BitDestination(Devices::of(DeviceClass::Y)))
+        reads [] writes [EXECUTION_COMPLETE]
+        "S2 pulses (0: without end) at S1 Hz on D (Y0-Y3)";
+    /// PLSR S1 S2 S3 D: pulse output with ramps.
+    Plsr: "PLSR" "DPLSR" no_pulse HighSpeed state
+        (s1: Source(ANY_VALUE), s2: Source(ANY_VALUE), s3: Source(ANY_VALUE), d: BitDestination(Devices::of(DeviceClass::Y)))
+        reads [] writes [EXECUTION_COMPLETE]
+        "S2 pulses up to S1 Hz on D (Y0-Y3), accelerating and decelerating in S3 ms";
+    /// PLSV S D1 D2: variable speed output.
+    Plsv: "PLSV" "DPLSV" no_pulse HighSpeed state
+        (s: Source(ANY_VALUE), d1: BitDestination(Devices::of(DeviceClass::Y)), d2: BitDestination(RESULT_BITS))
+        reads [] writes []
+        "pulses at the signed frequency S on D1 (Y0-Y3) while driven; D2 the direction";
+    /// DRVI S1 S2 D1 D2: relative positioning.
+    Drvi: "DRVI" "DDRVI" no_pulse HighSpeed state
+        (s1: Source(ANY_VALUE), s2: Source(ANY_VALUE), d1: BitDestination(Devices::of(DeviceClass::Y)), d2: BitDestination(RESULT_BITS))
+        reads [] writes [EXECUTION_COMPLETE]
+        "moves S1 pulses from where it starts at S2 Hz on D1 (Y0-Y3); D2 the direction";
+    /// DRVA S1 S2 D1 D2: absolute positioning.
+    Drva: "DRVA" "DDRVA" no_pulse HighSpeed state
+        (s1: Source(ANY_VALUE), s2: Source(ANY_VALUE), d1: BitDestination(Devices::of(DeviceClass::Y)), d2: BitDestination(RESULT_BITS))
+        reads [] writes [EXECUTION_COMPLETE]
+        "moves to the address S1 at S2 Hz on D1 (Y0-Y3); D2 the direction";
+    /// ZRN S1 S2 S3 D: zero return.
+    Zrn: "ZRN" "DZRN" no_pulse HighSpeed state
+        (s1: Source(ANY_VALUE), s2: Source(ANY_VALUE), s3: BitSource(ANY_BIT), d: BitDestination(Devices::of(DeviceClass::Y)))
+        reads [] writes [EXECUTION_COMPLETE]
+        "returns to zero at S1 Hz until the near point S3, then at S2 Hz until it is released (address 0)";
+    /// DSZR S1 S2 D1 D2: zero return with the near point and zero signal.
+    Dszr: "DSZR" _ no_pulse HighSpeed state
+        (s1: BitSource(ANY_BIT), s2: BitSource(Devices::of(DeviceClass::X)), d1: BitDestination(Devices::of(DeviceClass::Y)), d2: BitDestination(RESULT_BITS))
+        reads [] writes [EXECUTION_COMPLETE]
+        "returns to zero at the speeds of D8346 and D8345 until the near point S1 is released (address 0)";
+    /// PWM S1 S2 D: pulse width modulation.
+    Pwm: "PWM" _ no_pulse HighSpeed state
+        (s1: Source(ANY_VALUE), s2: Source(ANY_VALUE), d: BitDestination(Devices::of(DeviceClass::Y)))
+        reads [] writes []
+        "D (Y0-Y3) is ON for S1 ms of every S2 ms while driven";
+    /// FROM m1 m2 D n: reads buffer memory.
+    From: "FROM" "DFROM" pulse Module on
+        (m1: Count(COUNT), m2: Source(COUNT), d: BlockDestination(WRITABLE_WORD), n: Count(COUNT))
+        reads [] writes []
+        "n units from buffer word m2 of unit m1 (U0-U7) to D";
+    /// TO m1 m2 S n: writes buffer memory.
+    To: "TO" "DTO" pulse Module on
+        (m1: Count(COUNT), m2: Source(COUNT), s: Source(ANY_VALUE), n: Count(COUNT))
+        reads [] writes []
+        "n units from S (a constant: n times) to buffer word m2 of unit m1 (U0-U7)";
 }
 
 #[cfg(test)]

@@ -10,6 +10,7 @@
 
 pub mod clock;
 pub mod handy;
+pub mod highspeed;
 mod real;
 
 pub use real::{decimal_to_real, real_function, real_to_decimal};

@@ -20,7 +20,9 @@ mod compare;
 mod convert;
 mod float;
 mod handy;
+mod highspeed;
 mod logic;
+mod module;
 mod moves;
 mod shift;
 mod table;
@@ -30,6 +32,9 @@ use super::access::{bit_place, effective_index, resolve_word, write_place};
 use crate::isa::app::Runs;
 use crate::isa::AppArgs;
 use crate::program::{AppInstruction, BitRef, WordRef};
+use highspeed::PulseOperands;
+use ladder_runtime::hsc::HscCompare;
+use ladder_runtime::pulse::PulseKind;
 use ladder_runtime::real::RealFunction;
 use ladder_runtime::{Memory, OperationError, Place, Width};
 
@@ -163,6 +168,60 @@ fn dispatch(step: &mut Step, args: &AppArgs, run: &Execution) -> Outcome {
         AppArgs::Asci { s, d, n } => handy::ascii(step, s, d, n),
         AppArgs::Hex { s, d, n } => handy::hex(step, s, d, n),
         AppArgs::Ccd { s, d, n } => handy::check_code(step, s, d, n),
+        AppArgs::Hscs { s1, s2, d } => highspeed::compare(step, run, HscCompare::Set, &[s1], s2, d),
+        AppArgs::Hscr { s1, s2, d } => highspeed::compare(step, run, HscCompare::Reset, &[s1], s2, d),
+        AppArgs::Hsz { s1, s2, s, d } => highspeed::compare(step, run, HscCompare::Zone, &[s1, s2], s, d),
+        AppArgs::Spd { s1, s2, d } => highspeed::speed(step, s1, s2, d),
+        AppArgs::Plsy { s1, s2, d } => highspeed::pulse(
+            step,
+            run,
+            &PulseOperands::new(PulseKind::Plsy, d).frequency(s1).amount(s2),
+        ),
+        AppArgs::Plsr { s1, s2, s3, d } => highspeed::pulse(
+            step,
+            run,
+            &PulseOperands::new(PulseKind::Plsr, d).frequency(s1).amount(s2).ramp(s3),
+        ),
+        AppArgs::Plsv { s, d1, d2 } => highspeed::pulse(
+            step,
+            run,
+            &PulseOperands::new(PulseKind::Plsv, d1).frequency(s).direction(d2),
+        ),
+        AppArgs::Drvi { s1, s2, d1, d2 } => highspeed::pulse(
+            step,
+            run,
+            &PulseOperands::new(PulseKind::Drvi, d1)
+                .amount(s1)
+                .frequency(s2)
+                .direction(d2),
+        ),
+        AppArgs::Drva { s1, s2, d1, d2 } => highspeed::pulse(
+            step,
+            run,
+            &PulseOperands::new(PulseKind::Drva, d1)
+                .amount(s1)
+                .frequency(s2)
+                .direction(d2),
+        ),
+        AppArgs::Zrn { s1, s2, s3, d } => highspeed::pulse(
+            step,
+            run,
+            &PulseOperands::new(PulseKind::Zrn, d)
+                .frequency(s1)
+                .creep(s2)
+                .near_point(s3),
+        ),
+        AppArgs::Dszr { s1, s2, d1, d2 } => highspeed::pulse(
+            step,
+            run,
+            &PulseOperands::new(PulseKind::Dszr, d1)
+                .near_point(s1)
+                .zero_signal(s2)
+                .direction(d2),
+        ),
+        AppArgs::Pwm { s1, s2, d } => highspeed::pulse_width(step, run, s1, s2, d),
+        AppArgs::From { m1, m2, d, n } => module::transfer(step, m1, m2, d, n, true),
+        AppArgs::To { m1, m2, s, n } => module::transfer(step, m1, m2, s, n, false),
     }
 }
 

@@ -16,7 +16,9 @@ mod compare;
 mod convert;
 mod float;
 mod handy;
+mod highspeed;
 mod logic;
+mod module;
 mod moves;
 mod shift;
 mod table;
@@ -27,6 +29,8 @@ use super::Lowering;
 use crate::ir::{BinOp, BlockId, Builder, Index, Inst, Terminator, Type, Value};
 use crate::isa::{AppArgs, CompareOp};
 use crate::program::{Address, AppInstruction, BitRef, WordRef};
+use ladder_runtime::hsc::HscCompare;
+use ladder_runtime::pulse::PulseKind;
 use ladder_runtime::real::RealFunction;
 use ladder_runtime::special::SpecialBit;
 use ladder_runtime::{OperationError, Width};
@@ -157,6 +161,83 @@ fn dispatch(step: &mut Step, args: &AppArgs, run: &Execution) {
         AppArgs::Asci { s, d, n } => handy::characters(step, 0, s, d, n),
         AppArgs::Hex { s, d, n } => handy::characters(step, 1, s, d, n),
         AppArgs::Ccd { s, d, n } => handy::characters(step, 2, s, d, n),
+        AppArgs::Hscs { s1, s2, d } => highspeed::compare(step, run, HscCompare::Set, &[s1], s2, d),
+        AppArgs::Hscr { s1, s2, d } => highspeed::compare(step, run, HscCompare::Reset, &[s1], s2, d),
+        AppArgs::Hsz { s1, s2, s, d } => highspeed::compare(step, run, HscCompare::Zone, &[s1, s2], s, d),
+        AppArgs::Spd { s1, s2, d } => highspeed::speed(step, s1, s2, d),
+        AppArgs::Plsy { s1, s2, d } => highspeed::pulse(
+            step,
+            run,
+            &pulse_operands(PulseKind::Plsy, d, [Some(s1), Some(s2), None, None], None, None, None),
+        ),
+        AppArgs::Plsr { s1, s2, s3, d } => highspeed::pulse(
+            step,
+            run,
+            &pulse_operands(
+                PulseKind::Plsr,
+                d,
+                [Some(s1), Some(s2), Some(s3), None],
+                None,
+                None,
+                None,
+            ),
+        ),
+        AppArgs::Plsv { s, d1, d2 } => highspeed::pulse(
+            step,
+            run,
+            &pulse_operands(PulseKind::Plsv, d1, [Some(s), None, None, None], None, None, Some(d2)),
+        ),
+        AppArgs::Drvi { s1, s2, d1, d2 } => highspeed::pulse(
+            step,
+            run,
+            &pulse_operands(
+                PulseKind::Drvi,
+                d1,
+                [Some(s2), Some(s1), None, None],
+                None,
+                None,
+                Some(d2),
+            ),
+        ),
+        AppArgs::Drva { s1, s2, d1, d2 } => highspeed::pulse(
+            step,
+            run,
+            &pulse_operands(
+                PulseKind::Drva,
+                d1,
+                [Some(s2), Some(s1), None, None],
+                None,
+                None,
+                Some(d2),
+            ),
+        ),
+        AppArgs::Zrn { s1, s2, s3, d } => highspeed::pulse(
+            step,
+            run,
+            &pulse_operands(
+                PulseKind::Zrn,
+                d,
+                [Some(s1), None, None, Some(s2)],
+                Some(s3),
+                None,
+                None,
+            ),
+        ),
+        AppArgs::Dszr { s1, s2, d1, d2 } => highspeed::pulse(
+            step,
+            run,
+            &pulse_operands(
+                PulseKind::Dszr,
+                d1,
+                [None, None, None, None],
+                Some(s1),
+                Some(s2),
+                Some(d2),
+            ),
+        ),
+        AppArgs::Pwm { s1, s2, d } => highspeed::pulse_width(step, run, s1, s2, d),
+        AppArgs::From { m1, m2, d, n } => module::transfer(step, m1, m2, d, n, true),
+        AppArgs::To { m1, m2, s, n } => module::transfer(step, m1, m2, s, n, false),
     }
 }
 
@@ -496,5 +577,28 @@ impl Step<'_, '_> {
             let target = self.l.nth(&d, unit, self.width);
             self.write_bit(&target, value);
         }
+    }
+}
+
+/// The operands of a pulse instruction: frequency, amount, ramp, creep
+/// (in that order), near point, zero signal, output and direction.
+fn pulse_operands<'a>(
+    kind: PulseKind,
+    output: &'a BitRef,
+    [frequency, amount, ramp, creep]: [Option<&'a WordRef>; 4],
+    near_point: Option<&'a BitRef>,
+    zero_signal: Option<&'a BitRef>,
+    direction: Option<&'a BitRef>,
+) -> highspeed::PulseOperands<'a> {
+    highspeed::PulseOperands {
+        kind,
+        frequency,
+        amount,
+        ramp,
+        creep,
+        near_point,
+        zero_signal,
+        output,
+        direction,
     }
 }
