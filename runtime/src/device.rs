@@ -166,6 +166,24 @@ impl WordArea {
         }
     }
 
+    /// The words that a device written as word `index` of the area may
+    /// reach with an offset or a run: (first, end), `end` excluded. The
+    /// whole area, except for buffer memory: one unit's words.
+    pub const fn reach(self, index: u32) -> (u32, u32) {
+        match self {
+            WordArea::Buffer => {
+                let unit = index / BUFFER_WORDS_PER_UNIT;
+                (unit * BUFFER_WORDS_PER_UNIT, (unit + 1) * BUFFER_WORDS_PER_UNIT)
+            }
+            WordArea::D
+            | WordArea::Sd
+            | WordArea::R
+            | WordArea::TimerValue
+            | WordArea::CounterValue
+            | WordArea::Index => (0, self.count()),
+        }
+    }
+
     /// The prefix of the area's devices (for the index registers, of Zn).
     pub const fn prefix(self) -> &'static str {
         match self {

@@ -517,16 +517,17 @@ helpers! {
         compiled::handy::segments(digit)
     }
 
-    /// SEGL instance `instance` with its rung ON: `sets` values at a checked place, outputs at another, mode `n`;
-    /// 1, or 0 when a value is above 9999. M8029 at the end of a cycle.
+    /// SEGL instance `instance` with its rung ON: `sets` values (`first`, `second`), outputs at a checked place,
+    /// mode `n`; 1, or 0 when a value is above 9999. M8029 at the end of a cycle.
     SegmentLatch = fn ladder_rt_segment_latch(
-        mem, instance: u32, source: source_place, sets: u32, outputs: destination_place, n: u32
+        mem, instance: u32, first: i32, second: i32, sets: u32, outputs: destination_place, n: u32
     ) -> i32 writes [Bits(BitArea::M)] {
-        match (Place::unpack(source), Place::unpack(outputs)) {
-            (Some(source), Some(outputs)) => {
-                i32::from(compiled::handy::segment_latch(mem, instance, source, sets, outputs, n))
+        match Place::unpack(outputs) {
+            Some(outputs) => {
+                let values = [i64::from(first), i64::from(second)];
+                i32::from(compiled::handy::segment_latch(mem, instance, values, sets, outputs, n))
             }
-            _ => 0,
+            None => 0,
         }
     }
 

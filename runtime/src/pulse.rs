@@ -399,16 +399,18 @@ pub fn ramp_position(frequency: i32, ramp_ms: i32, total: i64, t: u32) -> i64 {
     (milli.clamp(0, goal) / 1000) as i64
 }
 
+/// The integer square root, rounded down (no floating point: the runtime
+/// builds without a standard library).
 fn isqrt(n: i128) -> i128 {
     if n <= 0 {
         return 0;
     }
-    let mut x = (n as f64).sqrt() as i128;
-    while x * x > n {
-        x -= 1;
-    }
-    while (x + 1) * (x + 1) <= n {
-        x += 1;
+    // Newton's method from above converges to the floor of the root.
+    let mut x = n;
+    let mut y = (x + 1) / 2;
+    while y < x {
+        x = y;
+        y = (x + n / x) / 2;
     }
     x
 }
@@ -526,6 +528,14 @@ mod tests {
             assert_eq!(last, total, "{f} {ramp} {total}");
         }
         assert_eq!(ramp_position(1000, 100, 500, 100), 50, "the ramp's area");
+    }
+
+    #[test]
+    fn integer_roots() {
+        for n in [0i128, 1, 2, 3, 4, 15, 16, 17, 1 << 40, (1 << 62) + 12345] {
+            let r = isqrt(n);
+            assert!(r * r <= n && (r + 1) * (r + 1) > n, "{n}");
+        }
     }
 
     #[test]

@@ -7,6 +7,7 @@
  *   I x on       ladder_set_input(x, on)
  *   W k n v      ladder_write(kind k, number n, value v)
  *   B k n b v    ladder_write_word_bit(kind k, number n, bit b, value v)
+ *   H x n        ladder_add_pulses(input x, count n)
  *   F k n on     ladder_force(kind k, number n, on)
  *   U k n        ladder_unforce(kind k, number n)
  *   S ms         one scan reporting ms; prints a hash of the whole image
@@ -62,6 +63,10 @@ int main(void) {
             ladder_write_word_bit(mem, (uint32_t)a, (uint32_t)b, (uint32_t)bit, (int32_t)v);
             break;
         }
+        case 'H':
+            if (sscanf(line + 1, "%lu %lu", &a, &b) != 2) return 2;
+            ladder_add_pulses(mem, (uint32_t)a, (uint32_t)b);
+            break;
         case 'F':
             if (sscanf(line + 1, "%lu %lu %ld", &a, &b, &v) != 3) return 2;
             ladder_force(mem, (uint32_t)a, (uint32_t)b, v != 0);

@@ -512,12 +512,12 @@ pub fn word_destination(operand: &Operand, width: Width, multiple: u32) -> Resol
     if multiple > 1
         && !matches!(
             word,
-            WordRef::Word(WordArea::D | WordArea::R | WordArea::Sd, _) | WordRef::Digits(..)
+            WordRef::Word(WordArea::D | WordArea::R | WordArea::Sd | WordArea::Buffer, _) | WordRef::Digits(..)
         )
     {
         return Err(kind_error(
             operand,
-            "this result is several words long; use D, R, SD or a digit group",
+            "this result is several words long; use D, R, SD, U\\G or a digit group",
             "not a register",
         ));
     }
@@ -612,7 +612,20 @@ fn word_device(operand: &Operand, d: &DeviceSyntax, width: Width, multiple: u32)
             ));
         }
     };
-    check_extent(operand, &name, d.number, words, area.count(), &area_text_words(area))?;
+    let (first, end) = area.reach(d.number);
+    if area == WordArea::Buffer {
+        // Within one unit's buffer memory (the number is already in range).
+        check_extent(
+            operand,
+            &name,
+            d.number - first,
+            words,
+            end - first,
+            "buffer memory words are G0..G32766",
+        )?;
+    } else {
+        check_extent(operand, &name, d.number, words, area.count(), &area_text_words(area))?;
+    }
     Ok(WordRef::Word(area, address))
 }
 

@@ -75,7 +75,10 @@ pub fn resolve_word(mem: &Memory, word: WordRef, width: Width, units: u32) -> Op
         WordRef::Constant(value) => Some(Place::Constant(value)),
         WordRef::Word(area, address) => {
             let index = effective_index(mem, address);
-            in_range(index, u64::from(width.words()) * units, area.count()).then_some(Place::Word(area, index as u32))
+            let (first, end) = area.reach(address.index);
+            let from_first = index - i64::from(first);
+            (from_first >= 0 && in_range(index, u64::from(width.words()) * units, end))
+                .then_some(Place::Word(area, index as u32))
         }
         WordRef::WideCounter(address) => {
             let index = effective_index(mem, address);
@@ -104,7 +107,10 @@ pub fn clamp_word(mem: &Memory, word: WordRef, width: Width) -> Place {
     };
     match word {
         WordRef::Constant(value) => Place::Constant(value),
-        WordRef::Word(area, address) => Place::Word(area, clamp_start(address, 0, width.words(), area.count())),
+        WordRef::Word(area, address) => {
+            let (first, end) = area.reach(address.index);
+            Place::Word(area, clamp_start(address, first, width.words(), end))
+        }
         WordRef::WideCounter(address) => Place::WideCounter(clamp_start(
             address,
             FIRST_WIDE_COUNTER,

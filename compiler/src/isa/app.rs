@@ -890,7 +890,7 @@ app_instructions! {
         "the low byte of D = the seven segments of the hex digit in the low 4 bits of S";
     /// SEGL S D n: seven-segment with latch.
     Segl: "SEGL" _ no_pulse Handy state
-        (s: BlockSource(ANY_WORD.with(CONSTANT)), d: BitDestination(Devices::of(DeviceClass::Y)), n: Count(CONSTANT))
+        (s: Source(ANY_VALUE), d: BitDestination(Devices::of(DeviceClass::Y)), n: Count(CONSTANT))
         reads [] writes [EXECUTION_COMPLETE]
         "shows S (and S+1 for n 4-7) as 4 BCD digits on D..D+3 with strobes D+4..D+7, a cycle of 12 scans";
     /// ASCI S D n: hex to ASCII.
@@ -992,6 +992,17 @@ mod tests {
             assert!(!spec.summary.is_empty(), "{op:?}");
             for operand in spec.operands {
                 assert_ne!(operand.devices, Devices::NONE, "{op:?} {}", operand.name);
+                // Runs of devices never start at a constant.
+                if matches!(
+                    operand.kind,
+                    OperandKind::BlockSource | OperandKind::TableEnd | OperandKind::ByteSource
+                ) {
+                    assert!(
+                        !operand.devices.contains(super::super::operand::DeviceClass::Constant),
+                        "{op:?} {}",
+                        operand.name
+                    );
+                }
                 // Destinations never take constants.
                 if !operand.kind.is_read() {
                     assert!(

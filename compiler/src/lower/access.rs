@@ -96,7 +96,8 @@ impl Lowering<'_> {
             WordRef::Constant(value) => Operand::Constant(i64::from(value)),
             WordRef::Word(area, address) => {
                 let span = width.words();
-                Operand::Word(area, self.clamped_index(address, 0, area.count() - span, error, line))
+                let (first, end) = area.reach(address.index);
+                Operand::Word(area, self.clamped_index(address, first, end - span, error, line))
             }
             WordRef::WideCounter(address) => {
                 Operand::WideCounter(self.clamped_index(address, FIRST_WIDE_COUNTER, COUNTER_COUNT - 1, error, line))

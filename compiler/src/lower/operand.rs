@@ -39,7 +39,10 @@ impl Lowering<'_> {
     pub(super) fn resolve(&mut self, word: WordRef, width: Width, units: Units) -> (Operand, Option<Value>) {
         let (address, first, len, per_unit) = match word {
             WordRef::Constant(value) => return (Operand::Constant(i64::from(value)), None),
-            WordRef::Word(area, address) => (address, 0, area.count(), width.words()),
+            WordRef::Word(area, address) => {
+                let (first, end) = area.reach(address.index);
+                (address, first, end, width.words())
+            }
             WordRef::WideCounter(address) => (address, FIRST_WIDE_COUNTER, COUNTER_COUNT, 1),
             WordRef::Digits(area, address, digits) => (address, 0, area.count(), 4 * u32::from(digits)),
         };

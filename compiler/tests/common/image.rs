@@ -96,6 +96,17 @@ fn fields() -> Vec<Field> {
         field("scan_count", offset_of!(Memory, scan_count), 4, None),
         field("clock_ms", offset_of!(Memory, clock_ms), 4, None),
         field("loop_repetitions", offset_of!(Memory, loop_repetitions), 4, None),
+        field("pulses_pending", offset_of!(Memory, pulses_pending), 4, None),
+        field("input_edges", offset_of!(Memory, input_edges), 4, None),
+        // Four words per instance: phase, a, b, c.
+        field("instance", offset_of!(Memory, instance), 4, None),
+        field("pulse_owner", offset_of!(Memory, pulse_owner), 4, None),
+        field("pulse_remainder", offset_of!(Memory, pulse_remainder), 4, None),
+        field("calendar_seconds", offset_of!(Memory, calendar_seconds), 4, None),
+        field("calendar_ms", offset_of!(Memory, calendar_ms), 4, None),
+        field("calendar_flags", offset_of!(Memory, calendar_flags), 4, None),
+        field("reserved", offset_of!(Memory, reserved), 4, None),
+        field("buffer", offset_of!(Memory, buffer), 2, Some((LadderDevice::U, 0))),
     ]
 }
 

@@ -22,6 +22,8 @@ pub enum HostAction {
     Force(LadderDevice, u32, bool),
     /// `ladder_unforce(kind, number)`.
     Unforce(LadderDevice, u32),
+    /// `ladder_add_pulses(x, count)`: edges for the high-speed counters.
+    Pulses(u32, u32),
 }
 
 /// The host's calls before one scan, and the time that scan reports.
@@ -70,6 +72,7 @@ fn action() -> impl Strategy<Value = HostAction> {
             .prop_map(|(n, bit, on)| HostAction::WriteWordBit(n, bit, on)),
         1 => (forced_device(), any::<bool>()).prop_map(|((kind, n), on)| HostAction::Force(kind, n, on)),
         1 => forced_device().prop_map(|(kind, n)| HostAction::Unforce(kind, n)),
+        2 => (0u32..8, prop_oneof![0u32..4, Just(1000), Just(u32::MAX)]).prop_map(|(x, n)| HostAction::Pulses(x, n)),
     ]
 }
 
@@ -105,6 +108,7 @@ pub fn apply(mem: &mut Memory, step: &Step) {
                 }
                 HostAction::Force(kind, n, on) => capi::ladder_force(image, kind as u32, n, on),
                 HostAction::Unforce(kind, n) => capi::ladder_unforce(image, kind as u32, n),
+                HostAction::Pulses(x, n) => capi::ladder_add_pulses(image, x, n),
             };
         }
     }
@@ -122,6 +126,7 @@ pub fn driver_commands(step: &Step, out: &mut String) {
             }
             HostAction::Force(kind, n, on) => writeln!(out, "F {} {n} {}", kind as u32, u8::from(on)),
             HostAction::Unforce(kind, n) => writeln!(out, "U {} {n}", kind as u32),
+            HostAction::Pulses(x, n) => writeln!(out, "H {x} {n}"),
         };
     }
     let _ = writeln!(out, "S {}", step.elapsed_ms);
@@ -144,6 +149,7 @@ pub fn scenario_device(kind: LadderDevice, number: u32) -> String {
         LadderDevice::Cn => "CN",
         LadderDevice::V => "V",
         LadderDevice::Z => "Z",
+        LadderDevice::U => return format!("U{}\\G{}", number / 32767, number % 32767),
     };
     format!("{prefix}{number}")
 }
@@ -159,6 +165,7 @@ pub fn scenario_directives(step: &Step, scan_ms: &mut u32, out: &mut String) {
             HostAction::WriteWordBit(n, bit, on) => writeln!(out, "set D{n}.{bit:X} {}", u8::from(on)),
             HostAction::Force(kind, n, on) => writeln!(out, "force {} {}", scenario_device(kind, n), u8::from(on)),
             HostAction::Unforce(kind, n) => writeln!(out, "unforce {}", scenario_device(kind, n)),
+            HostAction::Pulses(x, n) => writeln!(out, "pulse X{x:o} {n}"),
         };
     }
     if step.elapsed_ms != *scan_ms {

@@ -53,6 +53,10 @@ fn class_operand(class: DeviceClass, kind: OperandKind, width: Width) -> BoxedSt
         .boxed(),
         DeviceClass::KnS => regex(format!("K{digits}S[0-3]")),
         DeviceClass::T => "T[0-3]".boxed(),
+        DeviceClass::C if kind == OperandKind::HighSpeedCounter => {
+            prop_oneof!["C23[5-9]", "C24[0-9]", "C25[0-5]"].boxed()
+        }
+        DeviceClass::C if kind == OperandKind::CounterPair => "C[0-2]".boxed(),
         DeviceClass::C if wide => "C20[0-3]".boxed(),
         DeviceClass::C => "C[0-2]".boxed(),
         DeviceClass::WideCounter => "C20[0-3]".boxed(),
@@ -72,6 +76,18 @@ fn class_operand(class: DeviceClass, kind: OperandKind, width: Width) -> BoxedSt
             "K-?[0-9]{1,3}",
             "H[0-9A-F]{1,4}",
             if wide { "K[0-9]{6,9}" } else { "K3276[0-7]" },
+        ]
+        .boxed(),
+        DeviceClass::Real => prop_oneof![
+            "E-?[0-9]\\.[0-9]{1,3}",
+            "E[1-9]\\.[0-9]{1,2}[+-][0-3]?[0-7]",
+            Just("E0".to_string()),
+        ]
+        .boxed(),
+        DeviceClass::Buffer => prop_oneof![
+            "U[0-1]\\\\G[0-9]{1,2}",
+            Just("U7\\G32760".to_string()),
+            Just("U0\\G10[D1]".to_string()),
         ]
         .boxed(),
     }
@@ -105,7 +121,9 @@ fn operand(classes: Vec<DeviceClass>, kind: OperandKind, width: Width) -> BoxedS
             | DeviceClass::D
             | DeviceClass::R
             | DeviceClass::Sd
-            | DeviceClass::Constant => true,
+            | DeviceClass::Constant
+            | DeviceClass::Real
+            | DeviceClass::Buffer => true,
         })
         .collect();
     proptest::sample::select(classes)

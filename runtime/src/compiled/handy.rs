@@ -188,14 +188,11 @@ pub fn segments(digit: u32) -> i32 {
     i32::from(TABLE[(digit & 0xF) as usize])
 }
 
-/// SEGL with its rung ON: `sets` values from `source`, outputs from
+/// SEGL with its rung ON: the first `sets` of `values`, outputs from
 /// `outputs`; false (nothing written) when a value is above 9999.
-pub fn segment_latch(mem: &mut Memory, instance: u32, source: Place, sets: u32, outputs: Place, n: u32) -> bool {
-    let mut values = [0i64; 2];
-    for (set_number, value) in (0..sets.min(2)).zip(values.iter_mut()) {
-        *value = get(mem, source, set_number, Width::Single);
-    }
-    if values.iter().any(|&v| !(0..10_000).contains(&v)) {
+pub fn segment_latch(mem: &mut Memory, instance: u32, values: [i64; 2], sets: u32, outputs: Place, n: u32) -> bool {
+    let sets = sets.clamp(1, 2);
+    if values[..sets as usize].iter().any(|&v| !(0..10_000).contains(&v)) {
         return false;
     }
     let Some(state) = state(mem, instance) else { return true };
@@ -208,7 +205,7 @@ pub fn segment_latch(mem: &mut Memory, instance: u32, source: Place, sets: u32, 
     for _ in 0..digit {
         divisor *= 10;
     }
-    for (set_number, value) in (0..sets.min(2)).zip(values) {
+    for (set_number, value) in (0..sets).zip(values) {
         let bcd = value / divisor % 10;
         for bit in 0..4 {
             let on = (bcd >> bit) & 1 == 1;

@@ -170,11 +170,10 @@ pub fn incremental_drum(
 /// where it is. n 1-32767, else 4084H.
 pub fn ramp(step: &mut Step, run: &Execution, s1: &WordRef, s2: &WordRef, d: &WordRef, n: &WordRef) -> Outcome {
     let instance = run.job as usize;
-    let was_on = step.mem.instance.get(instance).is_some_and(|s| s.phase != 0);
-    if let Some(state) = step.mem.instance.get_mut(instance) {
-        state.phase = u32::from(run.power);
-    }
     if !run.power {
+        if let Some(state) = step.mem.instance.get_mut(instance) {
+            *state = Default::default();
+        }
         return Ok(());
     }
     let n = step.count_value(n)?;
@@ -189,6 +188,12 @@ pub fn ramp(step: &mut Step, run: &Execution, s1: &WordRef, s2: &WordRef, d: &Wo
         return Ok(());
     };
     let (from, to) = (step.read_at(from, Width::Single), step.read_at(to, Width::Single));
+    // The ramp starts in the first scan it runs after its rung was OFF.
+    let Some(state) = step.mem.instance.get_mut(instance) else {
+        return Ok(());
+    };
+    let was_on = state.phase != 0;
+    state.phase = 1;
     let count_place = d.nth(1, Width::Single);
     let counted = step.read_at(count_place, Width::Single);
     let hold = step.mem.m[M_RAMP_HOLD as usize] != 0;

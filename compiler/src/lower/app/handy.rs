@@ -166,9 +166,21 @@ pub fn segment_latch(step: &mut Step, run: &Execution, s: &WordRef, d: &BitRef, 
     let s = step.resolve(s, Width::Single, Units::Dynamic(sets), true);
     let d = step.bits(d, Units::Dynamic(outputs), false);
     step.commit();
-    let (s, d) = (step.l.place(&s), step.l.place(&d));
+    let first = step.read_at(&s, Width::Single);
+    let first = step.i32_of(first);
+    // The second set's value only counts with two sets (the read of a
+    // word past the operand is clamped to the image, and then unused).
+    let next = step.l.nth(&s, 1, Width::Single);
+    let second = step.read_at(&next, Width::Single);
+    let second = step.i32_of(second);
+    let zero = step.b().constant(Type::I32, 0);
+    let second = step.b().select(two_sets, second, zero);
+    let d = step.l.place(&d);
     let instance = step.b().number(run.job);
-    let answer = match step.b().call(Helper::SegmentLatch, vec![instance, s, sets, d, n]) {
+    let answer = match step
+        .b()
+        .call(Helper::SegmentLatch, vec![instance, first, second, sets, d, n])
+    {
         Some(answer) => answer,
         None => step.b().constant(Type::I32, 0),
     };
