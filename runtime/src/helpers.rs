@@ -599,6 +599,16 @@ helpers! {
         mem.pulse_width(instance, power != 0, width, period, output)
     }
 
+    /// PID instance `instance` with its rung ON: set value `sv`, process value `pv`, the 25-word parameter block
+    /// and the output at checked places; a parameter error is recorded against `line`.
+    Pid = fn ladder_rt_pid(
+        mem, instance: u32, sv: i32, pv: i32, block: source_place, mv: destination_place, line: u32
+    ) -> none writes [OperationError] {
+        if let (Some(block), Some(mv)) = (Place::unpack(block), Place::unpack(mv)) {
+            compiled::pid::pid(mem, instance, i64::from(sv), i64::from(pv), block, mv, line)
+        }
+    }
+
     /// Records an operation error: M8067 ON, D8067 = `code`, D8069 = `line`.
     RecordError = fn ladder_rt_record_error(mem, code: u32, line: u32) -> none writes [OperationError] {
         if let Some(error) = OperationError::from_code(code) {

@@ -142,6 +142,23 @@ pub enum OperationError {
     /// 6509H: FOR/NEXT loops repeated more than `LOOP_REPETITION_LIMIT`
     /// times in one scan; the loops stopped repeating for that scan.
     LoopWatchdog = 0x6509,
+    /// 6730H: PID sampling time outside 1-32767 ms (the PID stops).
+    PidSamplingTime = 0x6730,
+    /// 6732H: PID input filter outside 0-99 % (the PID stops).
+    PidInputFilter = 0x6732,
+    /// 6733H: PID proportional gain outside 1-32767 % (the PID stops).
+    PidProportionalGain = 0x6733,
+    /// 6734H: PID integral time below 0 (the PID stops).
+    PidIntegralTime = 0x6734,
+    /// 6735H: PID derivative gain outside 0-200 % (the PID stops).
+    PidDerivativeGain = 0x6735,
+    /// 6736H: PID derivative time below 0 (the PID stops).
+    PidDerivativeTime = 0x6736,
+    /// 6748H: PID output upper limit below the lower one (they are
+    /// exchanged; the PID goes on).
+    PidLimitOrder = 0x6748,
+    /// 6749H: PID alarm setting below 0 (that alarm is off; the PID goes on).
+    PidAlarmSetting = 0x6749,
 }
 
 /// FOR/NEXT repetitions (a NEXT going back to its FOR) one scan allows, all
@@ -155,7 +172,7 @@ pub const CLOCK_RELAYS: [(u32, u32); 4] = [(8011, 10), (8012, 100), (8013, 1_000
 pub const CLOCK_CYCLE_MS: u32 = 60_000;
 
 impl OperationError {
-    pub const ALL: [OperationError; 8] = [
+    pub const ALL: [OperationError; 16] = [
         OperationError::DataOutOfRange,
         OperationError::ReadOutOfRange,
         OperationError::WriteOutOfRange,
@@ -164,6 +181,14 @@ impl OperationError {
         OperationError::RangeNotSameDevice,
         OperationError::RangeOrder,
         OperationError::LoopWatchdog,
+        OperationError::PidSamplingTime,
+        OperationError::PidInputFilter,
+        OperationError::PidProportionalGain,
+        OperationError::PidIntegralTime,
+        OperationError::PidDerivativeGain,
+        OperationError::PidDerivativeTime,
+        OperationError::PidLimitOrder,
+        OperationError::PidAlarmSetting,
     ];
 
     pub const fn code(self) -> u16 {

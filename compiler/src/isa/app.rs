@@ -56,10 +56,12 @@ pub enum Family {
     HighSpeed,
     /// FROM, TO.
     Module,
+    /// PID.
+    Control,
 }
 
 impl Family {
-    pub const ALL: [Family; 15] = [
+    pub const ALL: [Family; 16] = [
         Family::Move,
         Family::Arithmetic,
         Family::Logic,
@@ -75,6 +77,7 @@ impl Family {
         Family::Handy,
         Family::HighSpeed,
         Family::Module,
+        Family::Control,
     ];
 
     pub fn title(self) -> &'static str {
@@ -94,6 +97,7 @@ impl Family {
             Family::Handy => "Handy and display instructions",
             Family::HighSpeed => "High-speed counters and pulse outputs",
             Family::Module => "Special-function modules",
+            Family::Control => "Process control",
         }
     }
 }
@@ -978,6 +982,11 @@ app_instructions! {
         (m1: Count(COUNT), m2: Source(COUNT), s: Source(ANY_VALUE), n: Count(COUNT))
         reads [] writes []
         "n units from S (a constant: n times) to buffer word m2 of unit m1 (U0-U7)";
+    /// PID S1 S2 S3 D: PID control.
+    Pid: "PID" _ no_pulse Control state
+        (s1: Count(REGISTERS), s2: Count(REGISTERS), s3: BlockSource(REGISTERS), d: Destination(REGISTERS))
+        reads [] writes []
+        "MV D from the set value S1 and the process value S2, with the parameter block S3..S3+24, every Ts ms";
 }
 
 #[cfg(test)]

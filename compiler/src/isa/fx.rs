@@ -17,7 +17,7 @@ const UNSUPPORTED_FX: &[&str] = &[
     "REF", "REFF", "MTR", "HSCT", // Handy instructions.
     "IST", "ROTC", // External I/O.
     "TKY", "HKY", "DSW", "ARWS", "ASC", "PR", // Serial devices.
-    "RS", "RS2", "VRRD", "VRSC", "PID", // Floating point.
+    "RS", "RS2", "VRRD", "VRSC", // Floating point.
     "ESTR", "EVAL", // Index register stack.
     "ZPUSH", "ZPOP", // Positioning.
     "DVIT", "TBL", "ABS", // Real-time clock.
@@ -89,7 +89,7 @@ mod tests {
 
     #[test]
     fn fx_instructions_are_known_as_unsupported() {
-        for mnemonic in ["REF", "refp", "PID", "DSW", "RS", "ZPUSH"] {
+        for mnemonic in ["REF", "refp", "DSW", "RS", "ZPUSH"] {
             assert!(unsupported_fx(mnemonic), "{mnemonic}");
         }
         for mnemonic in ["MOV", "DMOVP", "LD", "QQQ", "SORT", "DECMP", "EADD", "DPLSY", "TRD"] {

@@ -11,6 +11,7 @@
 pub mod clock;
 pub mod handy;
 pub mod highspeed;
+pub mod pid;
 mod real;
 
 pub use real::{decimal_to_real, real_function, real_to_decimal};

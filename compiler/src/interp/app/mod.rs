@@ -24,6 +24,7 @@ mod highspeed;
 mod logic;
 mod module;
 mod moves;
+mod pid;
 mod shift;
 mod table;
 mod zone;
@@ -222,6 +223,7 @@ fn dispatch(step: &mut Step, args: &AppArgs, run: &Execution) -> Outcome {
         AppArgs::Pwm { s1, s2, d } => highspeed::pulse_width(step, run, s1, s2, d),
         AppArgs::From { m1, m2, d, n } => module::transfer(step, m1, m2, d, n, true),
         AppArgs::To { m1, m2, s, n } => module::transfer(step, m1, m2, s, n, false),
+        AppArgs::Pid { s1, s2, s3, d } => pid::pid(step, run, s1, s2, s3, d),
     }
 }
 
