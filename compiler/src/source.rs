@@ -126,7 +126,14 @@ impl SourceFile {
 
     /// A program file's bytes as the front end sees them.
     pub fn from_bytes(name: impl Into<String>, bytes: &[u8]) -> SourceFile {
-        let (text, _, undecodable_at) = decode(bytes);
+        let (mut text, _, undecodable_at) = decode(bytes);
+        // A byte-order mark saved twice (an editor re-saving a file that
+        // had one) is not text either.
+        let marks = text.len() - text.trim_start_matches('\u{feff}').len();
+        if marks > 0 {
+            text.drain(..marks);
+        }
+        let undecodable_at = undecodable_at.map(|at| at.saturating_sub(marks));
         SourceFile {
             undecodable_at,
             ..SourceFile::new(name, text)

@@ -1,10 +1,13 @@
-//! `ladderc import`: a GX Works2 instruction-list CSV export as plain IL, so
-//! that a team can keep the program as text in version control.
+//! `ladderc import`: an instruction-list export (GX Works2, GX Developer, a
+//! step CSV) as plain IL, so that a team can keep the program as text in
+//! version control. An export is written only when it compiles: otherwise
+//! its diagnostics are printed (at the export's own lines) and nothing is
+//! written, so an imported file always compiles.
 
 use super::{output, status, write_raw};
 use crate::diagnostics::Shown;
 use crate::source::SourceFile;
-use crate::syntax::gxworks;
+use crate::syntax::export;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -16,10 +19,10 @@ pub fn run(export: &Path, output_path: Option<&PathBuf>, shown: Shown) -> u8 {
             return status::UNUSABLE;
         }
     };
-    if !gxworks::is_export(&source.text) {
+    if !export::is_export(&source.text) {
         say_err!(
-            "error: {} is not a GX Works2 instruction-list CSV export (tab-separated quoted fields, a program-name \
-             line first); plain IL needs no import",
+            "error: {} is not an instruction-list export (rows of step, line statement, instruction, operand, ... \
+             separated by tabs or commas, as GX Works2 and GX Developer write them); plain IL needs no import",
             export.display()
         );
         return status::UNUSABLE;
@@ -41,7 +44,13 @@ pub fn run(export: &Path, output_path: Option<&PathBuf>, shown: Shown) -> u8 {
         write_raw(true, &crate::diagnostics::render_all(&source, &diagnostics, shown));
         return status::FAILED;
     }
-    let il = match gxworks::to_il(&source) {
+    // An export that does not compile is not written.
+    let (program, diagnostics) = crate::check::compile_source(&source);
+    if program.is_none() {
+        write_raw(true, &crate::diagnostics::render_all(&source, &diagnostics, shown));
+        return status::FAILED;
+    }
+    let il = match export::to_il(&source) {
         Ok(il) => il,
         Err(diagnostics) => {
             let diagnostics = diagnostics.into_sorted();

@@ -264,12 +264,13 @@ before FOR, and put conditions inside the loop, or skip the loop with CJ.
 outside a loop may not jump into one: the loop's count would be skipped or
 left behind. Jump over the whole loop instead.";
 
-    MalformedCsvRow = "E0045", Error, "unreadable row of a GX Works2 CSV export",
-"A GX Works2 instruction-list export has one row per step: tab-separated
-fields in double quotes (step, line statement, instruction, operand, blank,
-PI statement, note). This row cannot be read: a quote is not closed, text
-follows a closing quote, or it holds an operand with no instruction above
-it. Export the program again, or fix the row.";
+    MalformedCsvRow = "E0045", Error, "unreadable row of an instruction-list export",
+"An instruction-list export (GX Works2, GX Developer, a step CSV) has one
+row per step: fields separated by tabs or commas, quoted or not (step, line
+statement, instruction, operand, blank, PI statement, note). This row cannot
+be read: a quote is not closed, text follows a closing quote, or it holds an
+operand with no instruction above it. Export the program again, or fix the
+row.";
 
     UnknownEncoding = "E0046", Error, "text encoding not recognised",
 "Program files are UTF-8 (with or without the byte-order mark EF BB BF) or
@@ -277,6 +278,23 @@ UTF-16 with a byte-order mark (FF FE little-endian, as GX Works2 exports,
 or FE FF big-endian). The file holds bytes that are not valid in the
 encoding its start says, e.g. a Shift-JIS or Latin-1 file without a mark.
 Save it as UTF-8 or UTF-16.";
+
+    NotAnFxProgram = "E0047", Error, "an export of another PLC family",
+"The export's PLC information names a CPU of another family: a MELSEC-L,
+MELSEC-Q or MELSEC iQ-R CPU, or an iQ-F (FX5). Their instruction lists use
+other devices (SM400, SD, U\\G with other numbers, hexadecimal X/Y) and other
+instructions, so ladderc does not read them as FX programs. ladderc compiles
+programs of Mitsubishi FX PLCs (FX1S, FX1N, FX2N, FX3U, FX3G and
+compatibles): export the FX project, or port the program.";
+
+    UnreadableExport = "E0048", Error, "a file that looks like an export but is not one ladderc reads",
+"Most lines of the file hold several fields separated by commas or tabs,
+as an editor's CSV export does, but ladderc could not find the rows of an
+instruction list in them (step, line statement, instruction, operand,
+...). Rather than reporting every line as broken IL, ladderc reports this
+once. Export the program as an instruction list (GX Works2: Project >
+Export to CSV file; GX Developer: Write to CSV file), or save it as plain
+IL with one instruction per line.";
 
     CodeAfterEnd = "W0001", Warning, "code after END",
 "Instructions after END are never executed.";

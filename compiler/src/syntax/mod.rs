@@ -1,7 +1,7 @@
 //! Front end, first stage: source text to a `ParsedProgram` of statements with
 //! spans. Nothing here knows what an instruction means.
 
-pub mod gxworks;
+pub mod export;
 pub mod lexer;
 pub mod operand;
 mod parser;

@@ -10,10 +10,33 @@ use crate::source::{SourceFile, Span};
 /// its content). Problems are reported, never fatal: the result holds every
 /// statement that could be recognised.
 pub fn parse(file: &SourceFile) -> (ParsedProgram, Diagnostics) {
-    if super::gxworks::is_export(&file.text) {
-        return super::gxworks::parse(file);
+    if super::export::is_export(&file.text) {
+        return super::export::parse(file);
     }
-    parse_il(file)
+    let (program, diagnostics) = parse_il(file);
+    // Rows of fields that are not an instruction list ladderc knows: one
+    // error, not one per line.
+    let errors = diagnostics.iter().filter(|d| d.severity() == crate::diagnostics::Severity::Error).count();
+    if errors >= 3 {
+        if let Some(line) = super::export::tabular(&file.text) {
+            let start = file.line_starts().get(line).copied().unwrap_or(0);
+            let end = file.text[start..].find('\n').map_or(file.text.len(), |n| start + n);
+            let mut one = Diagnostics::default();
+            one.push(
+                Diagnostic::new(
+                    Code::UnreadableExport,
+                    Span::new(start, end.max(start)),
+                    "this file looks like a CSV export, but not of an instruction list ladderc reads",
+                )
+                .with_label("fields separated by tabs or commas")
+                .with_note(format!(
+                    "read as plain IL it gives {errors} errors; `ladderc explain E0048` says which exports are read"
+                )),
+            );
+            return (ParsedProgram::default(), one);
+        }
+    }
+    (program, diagnostics)
 }
 
 /// Parses plain IL.
