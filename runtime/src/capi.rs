@@ -586,7 +586,11 @@ mod tests {
         let mut mem = Memory::new_boxed();
         let past_z7 = basic_device(13, 8).expect("a device kind");
         assert!(mem.write_basic(past_z7, 1).is_err(), "Z8 does not exist");
-        assert_eq!(basic_device(14, 32_767 + 10), Some(Basic::Word(WordArea::Buffer, 32_777)), "U1\\G10");
+        assert_eq!(
+            basic_device(14, 32_767 + 10),
+            Some(Basic::Word(WordArea::Buffer, 32_777)),
+            "U1\\G10"
+        );
         assert_eq!(basic_device(15, 0), None);
     }
 

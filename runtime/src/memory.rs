@@ -309,6 +309,20 @@ impl Memory {
     }
 }
 
+impl Memory {
+    /// FNV-1a over the image's 64-bit little-endian words: how test drivers
+    /// (and hosts) compare whole images cheaply.
+    pub fn digest(&self) -> u64 {
+        bytemuck::bytes_of(self)
+            .chunks_exact(8)
+            .fold(0xcbf2_9ce4_8422_2325u64, |hash, word| {
+                let mut bytes = [0u8; 8];
+                bytes.copy_from_slice(word);
+                (hash ^ u64::from_le_bytes(bytes)).wrapping_mul(0x0000_0100_0000_01b3)
+            })
+    }
+}
+
 /// Joins a low and a high word into one 32-bit value.
 pub fn join_words(low: i16, high: i16) -> i32 {
     (i32::from(high) << 16) | i32::from(low as u16)

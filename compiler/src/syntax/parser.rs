@@ -16,7 +16,10 @@ pub fn parse(file: &SourceFile) -> (ParsedProgram, Diagnostics) {
     let (program, diagnostics) = parse_il(file);
     // Rows of fields that are not an instruction list ladderc knows: one
     // error, not one per line.
-    let errors = diagnostics.iter().filter(|d| d.severity() == crate::diagnostics::Severity::Error).count();
+    let errors = diagnostics
+        .iter()
+        .filter(|d| d.severity() == crate::diagnostics::Severity::Error)
+        .count();
     if errors >= 3 {
         if let Some(line) = super::export::tabular(&file.text) {
             let start = file.line_starts().get(line).copied().unwrap_or(0);

@@ -204,6 +204,11 @@ pub fn layout_header() -> String {
         ("SCAN_COUNT", offset_of!(Memory, scan_count)),
         ("CLOCK_MS", offset_of!(Memory, clock_ms)),
         ("LOOP_REPETITIONS", offset_of!(Memory, loop_repetitions)),
+        ("PULSES_PENDING", offset_of!(Memory, pulses_pending)),
+        ("INPUT_EDGES", offset_of!(Memory, input_edges)),
+        ("CALENDAR_SECONDS", offset_of!(Memory, calendar_seconds)),
+        ("CALENDAR_MS", offset_of!(Memory, calendar_ms)),
+        ("CALENDAR_FLAGS", offset_of!(Memory, calendar_flags)),
     ];
     for (name, offset) in fields {
         writeln!(header, "#define OFFSET_{name} {offset}ul").unwrap();

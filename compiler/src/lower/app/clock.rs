@@ -15,7 +15,8 @@ use ladder_runtime::{OperationError, Width, WordArea};
 
 impl Step<'_, '_> {
     fn words(&mut self, word: &WordRef, units: u32, read: bool) -> crate::lower::operand::Operand {
-        self.resolve(word, Width::Single, Units::Checked(units), read)
+        let units = self.run_of(units);
+        self.resolve(word, Width::Single, units, read)
     }
 
     /// A helper's I32 answer; 4084H unless it is not 0.

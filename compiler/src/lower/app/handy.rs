@@ -53,7 +53,8 @@ pub fn search(step: &mut Step, s1: &WordRef, s2: &WordRef, d: &WordRef, n: &Word
     let n = step.i32_of(n);
     let table = step.resolve(s1, width, Units::Dynamic(n), true);
     let key = step.source(s2);
-    let d = step.resolve(d, width, Units::Checked(5), false);
+    let five = step.run_of(5);
+    let d = step.resolve(d, width, five, false);
     step.commit();
     let key = step.read(&key);
     let key = step.i32_of(key);
@@ -98,7 +99,8 @@ pub fn ramp(step: &mut Step, run: &Execution, s1: &WordRef, s2: &WordRef, d: &Wo
     let n = step.count_within(n, 1, 32_767);
     let from = step.count(s1);
     let to = step.count(s2);
-    let d = step.resolve(d, Width::Single, Units::Checked(2), false);
+    let two = step.run_of(2);
+    let d = step.resolve(d, Width::Single, two, false);
     step.commit();
     let from = step.read_at(&from, Width::Single);
     let from = step.i32_of(from);
@@ -112,7 +114,8 @@ pub fn ramp(step: &mut Step, run: &Execution, s1: &WordRef, s2: &WordRef, d: &Wo
 /// TTMR D n (every scan).
 pub fn teaching_timer(step: &mut Step, run: &Execution, d: &WordRef, n: &WordRef) {
     let n = step.count_within(n, 0, 2);
-    let d = step.resolve(d, Width::Single, Units::Checked(2), false);
+    let two = step.run_of(2);
+    let d = step.resolve(d, Width::Single, two, false);
     step.commit();
     let d = step.l.place(&d);
     let instance = step.b().number(run.job);
@@ -199,7 +202,7 @@ pub fn characters(step: &mut Step, op: u32, s: &WordRef, d: &WordRef, n: &WordRe
     let (source_units, destination_units) = match op {
         0 => (Units::Dynamic(digit_words), Units::Dynamic(character_words)),
         1 => (Units::Dynamic(character_words), Units::Dynamic(digit_words)),
-        _ => (Units::Dynamic(character_words), Units::Checked(2)),
+        _ => (Units::Dynamic(character_words), step.run_of(2)),
     };
     let s = step.resolve(s, Width::Single, source_units, true);
     let d = step.resolve(d, Width::Single, destination_units, false);

@@ -82,7 +82,8 @@ pub fn speed(step: &mut Step, s1: &BitRef, s2: &WordRef, d: &WordRef) {
     let width = step.width;
     let input = step.bits(s1, Units::Checked(1), true);
     let period = step.source(s2);
-    let d = step.resolve(d, width, Units::Checked(3), false);
+    let three = step.run_of(3);
+    let d = step.resolve(d, width, three, false);
     step.commit();
     let input = step.require_number_at_most(&input, 5);
     let period = step.read(&period);

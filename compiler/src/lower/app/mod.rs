@@ -458,6 +458,13 @@ impl Step<'_, '_> {
         }
     }
 
+    /// `n` units the checker did not prove to fit (it checked the operand's
+    /// first unit only): checked when the instruction runs, like a count
+    /// known only then (constant operands fold the check away).
+    pub fn run_of(&mut self, n: u32) -> Units {
+        Units::Dynamic(self.b().constant(Type::I32, i64::from(n)))
+    }
+
     /// The operand's value at the instruction's width, as an I64.
     pub fn read(&mut self, operand: &Operand) -> Value {
         self.l.read(operand, self.width)

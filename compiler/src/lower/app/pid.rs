@@ -4,7 +4,6 @@
 
 use super::{Execution, Step};
 use crate::ir::Type;
-use crate::lower::operand::Units;
 use crate::program::WordRef;
 use ladder_runtime::helpers::Helper;
 use ladder_runtime::Width;
@@ -19,7 +18,8 @@ pub fn pid(step: &mut Step, run: &Execution, s1: &WordRef, s2: &WordRef, s3: &Wo
     step.skip_unless(run.power);
     let sv = step.count(s1);
     let pv = step.count(s2);
-    let block = step.resolve(s3, Width::Single, Units::Checked(25), true);
+    let block_words = step.run_of(25);
+    let block = step.resolve(s3, Width::Single, block_words, true);
     let mv = step.destination(d);
     step.commit();
     let sv = step.read_at(&sv, Width::Single);

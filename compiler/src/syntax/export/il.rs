@@ -119,4 +119,3 @@ pub fn to_il(file: &SourceFile) -> Result<String, Diagnostics> {
 fn one_line(text: &str) -> String {
     text.split(['\r', '\n']).collect::<Vec<_>>().join(" ")
 }
-

@@ -95,16 +95,19 @@ pub fn detect(text: &str) -> Option<Layout> {
         let mut votes = [0usize; 3];
         for fields in &rows {
             let column = (0..3).find(|&c| {
-                mnemonic_like(&fields[c]) && fields[..c].iter().enumerate().all(|(i, f)| {
-                    f.trim().is_empty() || (i == 0 && step_like(f))
-                })
+                mnemonic_like(&fields[c])
+                    && fields[..c]
+                        .iter()
+                        .enumerate()
+                        .all(|(i, f)| f.trim().is_empty() || (i == 0 && step_like(f)))
             });
             if let Some(column) = column {
                 votes[column] += 1;
             }
         }
         let (column, &count) = votes.iter().enumerate().max_by_key(|&(_, v)| *v).unwrap_or((2, &0));
-        let enough = count > 0 && (2 * count >= rows.len() || first_quoted) && (2 * rows.len() >= lines.len() || first_quoted);
+        let enough =
+            count > 0 && (2 * count >= rows.len() || first_quoted) && (2 * rows.len() >= lines.len() || first_quoted);
         if enough && best.is_none_or(|(c, _)| count > c) {
             best = Some((count, Layout::with_instruction_at(separator, column)));
         }

@@ -49,9 +49,13 @@ impl Layout {
 
     /// The row's comments: its line statement, PI statement and note.
     fn comments<'r>(&self, row: &'r Row) -> impl Iterator<Item = &'r str> {
-        [row.column(self.statement), row.text(self.pi_statement), row.text(self.note)]
-            .into_iter()
-            .filter(|t| !t.is_empty())
+        [
+            row.column(self.statement),
+            row.text(self.pi_statement),
+            row.text(self.note),
+        ]
+        .into_iter()
+        .filter(|t| !t.is_empty())
     }
 }
 
@@ -91,18 +95,21 @@ fn foreign_cpu(header: &[Row]) -> Option<Diagnostic> {
     // The PLC-information line comes after the program name; the name is
     // looked at last (a program may be called anything).
     let rows = header.iter().skip(1).chain(header.first());
-    rows.flat_map(|row| &row.fields).find_map(|field| match cpu_family(&field.text)? {
-        Cpu::Fx => None,
-        Cpu::Other(family) => Some(
-            Diagnostic::new(
-                Code::NotAnFxProgram,
-                field.span,
-                format!("this is an export of a {family} program, not of an FX program"),
-            )
-            .with_label(format!("the PLC information names a {family} CPU"))
-            .with_note("ladderc compiles programs of Mitsubishi FX PLCs (FX1S, FX1N, FX2N, FX3U, FX3G and compatibles)"),
-        ),
-    })
+    rows.flat_map(|row| &row.fields)
+        .find_map(|field| match cpu_family(&field.text)? {
+            Cpu::Fx => None,
+            Cpu::Other(family) => Some(
+                Diagnostic::new(
+                    Code::NotAnFxProgram,
+                    field.span,
+                    format!("this is an export of a {family} program, not of an FX program"),
+                )
+                .with_label(format!("the PLC information names a {family} CPU"))
+                .with_note(
+                    "ladderc compiles programs of Mitsubishi FX PLCs (FX1S, FX1N, FX2N, FX3U, FX3G and compatibles)",
+                ),
+            ),
+        })
 }
 
 /// Reads an export as a program.
@@ -210,7 +217,11 @@ fn row_problem(layout: &Layout, row: &Row) -> Option<Diagnostic> {
     }
     let operand = row.text(layout.operand);
     if operand.contains(|c: char| c.is_whitespace() || c == ';' || c == ',') || operand.contains("//") {
-        return problem(layout.operand, "the operand column holds one operand", "more than one operand");
+        return problem(
+            layout.operand,
+            "the operand column holds one operand",
+            "more than one operand",
+        );
     }
     if label_number(instruction).is_some() && !operand.is_empty() {
         return problem(
