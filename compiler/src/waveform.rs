@@ -36,16 +36,46 @@ fn signal_bits(device: HostDevice) -> u32 {
     }
 }
 
+/// A recorded or watched device: its name as shown, the device, and
+/// whether its 32 bits are a real number (`D0:float`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Signal {
+    pub name: String,
+    pub device: HostDevice,
+    pub real: bool,
+}
+
+impl Signal {
+    /// A device shown as an integer, named as a programmer writes it.
+    pub fn of(device: HostDevice) -> Signal {
+        Signal {
+            name: device_name(device),
+            device,
+            real: false,
+        }
+    }
+
+    /// The value as text: a real number in its shortest exact decimal form,
+    /// anything else as `format` says.
+    pub fn show(&self, value: i32, format: impl FnOnce(i32, HostDevice) -> String) -> String {
+        if self.real {
+            format!("{:?}", f32::from_bits(value as u32))
+        } else {
+            format(value, self.device)
+        }
+    }
+}
+
 /// Values of the recorded devices over time.
 #[derive(Clone, Debug)]
 pub struct Recorder {
-    signals: Vec<(String, HostDevice)>,
+    signals: Vec<Signal>,
     /// (time in ms, value of every signal), times increasing.
     samples: Vec<(u64, Vec<i32>)>,
 }
 
 impl Recorder {
-    pub fn new(signals: Vec<(String, HostDevice)>) -> Recorder {
+    pub fn new(signals: Vec<Signal>) -> Recorder {
         Recorder {
             signals,
             samples: Vec::new(),
@@ -57,8 +87,8 @@ impl Recorder {
     /// share a time: the last one's values stand for it.
     pub fn sample(&mut self, engine: &mut dyn Engine, time_ms: u64) -> Result<(), String> {
         let mut values = Vec::with_capacity(self.signals.len());
-        for (_, device) in &self.signals {
-            values.push(engine.read(*device)?);
+        for signal in &self.signals {
+            values.push(engine.read(signal.device)?);
         }
         let changed = self.samples.last().is_none_or(|(_, previous)| *previous != values);
         // The first sample (the values before the first scan) stays.
@@ -75,14 +105,19 @@ impl Recorder {
 
     /// The recording as a VCD file.
     pub fn to_vcd(&self) -> std::io::Result<Vec<u8>> {
-        use vcd::{SimulationCommand, TimescaleUnit, Value};
+        use vcd::{SimulationCommand, TimescaleUnit, Value, VarType};
         let mut writer = vcd::Writer::new(Vec::new());
         writer.timescale(1, TimescaleUnit::MS)?;
         writer.add_module("ladderc")?;
         let mut ids = Vec::with_capacity(self.signals.len());
-        for (name, device) in &self.signals {
+        for signal in &self.signals {
             // VCD names hold no blanks; ours never do.
-            ids.push(writer.add_wire(signal_bits(*device), name)?);
+            let id = if signal.real {
+                writer.add_var(VarType::Real, 32, &signal.name, None)?
+            } else {
+                writer.add_wire(signal_bits(signal.device), &signal.name)?
+            };
+            ids.push(id);
         }
         writer.upscope()?;
         writer.enddefinitions()?;
@@ -101,14 +136,15 @@ impl Recorder {
             if index == 0 {
                 writer.begin(SimulationCommand::Dumpvars)?;
             }
-            for (signal, ((_, device), id)) in self.signals.iter().zip(&ids).enumerate() {
-                let value = &values[signal];
-                if previous.is_some_and(|p| p.get(signal) == Some(value)) {
+            for (index, (signal, id)) in self.signals.iter().zip(&ids).enumerate() {
+                let value = &values[index];
+                if previous.is_some_and(|p| p.get(index) == Some(value)) {
                     continue;
                 }
-                match signal_bits(*device) {
-                    1 => writer.change_scalar(*id, if *value != 0 { Value::V1 } else { Value::V0 })?,
-                    width => writer.change_vector(*id, bits(*value, width))?,
+                match (signal.real, signal_bits(signal.device)) {
+                    (true, _) => writer.change_real(*id, f64::from(f32::from_bits(*value as u32)))?,
+                    (false, 1) => writer.change_scalar(*id, if *value != 0 { Value::V1 } else { Value::V0 })?,
+                    (false, width) => writer.change_vector(*id, bits(*value, width))?,
                 }
             }
             if index == 0 {

@@ -23,16 +23,64 @@ fn ops(program: &CheckedProgram) -> Vec<Op> {
     program.instructions.iter().map(|i| i.op.clone()).collect()
 }
 
+/// The readable exports of `testsuite/programs/gxworks2/` and of
+/// `testsuite/programs/exports/` (one program in every editor's format).
 fn exports() -> Vec<PathBuf> {
-    let dir = workspace().join("testsuite/programs/gxworks2");
-    let mut exports: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap()
+    let mut exports: Vec<PathBuf> = ["testsuite/programs/gxworks2", "testsuite/programs/exports"]
+        .into_iter()
+        .flat_map(|dir| std::fs::read_dir(workspace().join(dir)).unwrap())
         .map(|entry| entry.unwrap().path())
         .filter(|path| path.extension().is_some_and(|e| e == "csv"))
-        .filter(|path| !path.file_name().unwrap().to_string_lossy().starts_with("bad_"))
+        .filter(|path| {
+            let name = path.file_name().unwrap().to_string_lossy().into_owned();
+            !name.starts_with("bad_") && !name.starts_with("melsec_") && name != "device_comments.csv"
+        })
         .collect();
     exports.sort();
     exports
+}
+
+#[test]
+fn every_editors_export_is_the_same_program() {
+    let dir = workspace().join("testsuite/programs/exports");
+    let formats = [
+        "gx_developer_comma.csv",
+        "step_csv_headerless.csv",
+        "tsv_unquoted_double_bom.csv",
+    ];
+    let programs: Vec<Vec<Op>> = formats.iter().map(|f| ops(&compile(&dir.join(f)))).collect();
+    assert_eq!(
+        programs[0].len(),
+        9,
+        "LD OR ANI OUT OUT LD MOV END and the program's end"
+    );
+    assert!(programs.iter().all(|p| *p == programs[0]), "{programs:?}");
+}
+
+#[test]
+fn import_refuses_other_cpus_and_exports_that_do_not_compile() {
+    let dir = scratch("import-foreign");
+    let existing = dir.path().join("kept.il");
+    std::fs::write(&existing, "LD X0\nOUT Y0\n").unwrap();
+    let melsec = workspace().join("testsuite/programs/exports/melsec_l_export.csv");
+    let output = ladderc(&["import", melsec.to_str().unwrap(), "-o", existing.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("E0047") && stderr.contains("MELSEC-L"), "{stderr}");
+    assert_eq!(
+        stderr.matches("error[").count(),
+        1,
+        "one error, not a cascade:\n{stderr}"
+    );
+    // Readable rows, but a program that does not compile: nothing written.
+    let broken = dir.path().join("broken.csv");
+    std::fs::write(&broken, "0,,LD,X0,,,,,\n1,,FROBNICATE,Y0,,,,,\n2,,END,,,,,,\n").unwrap();
+    let target = dir.path().join("broken.il");
+    let output = ladderc(&["import", broken.to_str().unwrap(), "-o", target.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&output.stderr).contains("broken.csv:2:"));
+    assert!(!target.exists(), "an export that does not compile is not written");
+    assert_eq!(std::fs::read_to_string(&existing).unwrap(), "LD X0\nOUT Y0\n");
 }
 
 #[test]
@@ -90,7 +138,7 @@ fn import_refuses_what_it_cannot_convert_and_writes_nothing() {
     std::fs::write(&plain, "LD X0\nOUT Y0\n").unwrap();
     let output = ladderc(&["import", plain.to_str().unwrap(), "-o", existing.to_str().unwrap()]);
     assert_eq!(output.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&output.stderr).contains("not a GX Works2"));
+    assert!(String::from_utf8_lossy(&output.stderr).contains("not an instruction-list export"));
     // A row that cannot be read: a diagnostic at its line.
     let bad = dir.path().join("bad.csv");
     std::fs::write(

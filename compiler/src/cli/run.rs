@@ -12,7 +12,7 @@ use crate::scenario::{
     drive, instantiate, parse_stimulus, Directive, Engine, EngineError, EngineKind, Observer, Step, ERROR_CODE,
     ERROR_FLAG, ERROR_LINE,
 };
-use crate::waveform::Recorder;
+use crate::waveform::{Recorder, Signal};
 use clap::{Args, ValueEnum};
 use ladder_runtime::{BitArea, Device, Width};
 use std::path::PathBuf;
@@ -157,7 +157,7 @@ pub fn run(args: &RunArgs, shown: Shown) -> u8 {
 }
 
 /// The watched devices.
-fn watch_list(args: &RunArgs, program: &CheckedProgram) -> Result<Vec<(String, HostDevice)>, String> {
+fn watch_list(args: &RunArgs, program: &CheckedProgram) -> Result<Vec<Signal>, String> {
     let names: Vec<String> = if args.watch.is_empty() {
         driven_outputs(program)
     } else {
@@ -353,7 +353,7 @@ fn statistics(times: &ScanTimes) -> String {
 struct Printer {
     format: Format,
     radix: Radix,
-    watched: Vec<(String, HostDevice)>,
+    watched: Vec<Signal>,
     widths: Vec<usize>,
     /// The operation error last seen (code, line), to report new ones.
     error: Option<(u16, u16)>,
@@ -361,22 +361,23 @@ struct Printer {
 }
 
 impl Printer {
-    fn new(args: &RunArgs, watched: Vec<(String, HostDevice)>) -> Printer {
+    fn new(args: &RunArgs, watched: Vec<Signal>) -> Printer {
         let scan_width = if args.stimulus.is_some() {
             6
         } else {
             args.scans.to_string().len().max(4)
         };
         let widths = std::iter::once(scan_width)
-            .chain(watched.iter().map(|(name, device)| {
-                let value_width = match (device.bits(), args.radix) {
+            .chain(watched.iter().map(|signal| {
+                let value_width = match (signal.device.bits(), args.radix) {
+                    _ if signal.real => 13,
                     (1, _) => 1,
                     (16, Radix::Dec) => 6,
                     (16, Radix::Hex) => 5,
                     (_, Radix::Dec) => 11,
                     (_, Radix::Hex) => 9,
                 };
-                name.len().max(value_width)
+                signal.name.len().max(value_width)
             }))
             .collect();
         let printer = Printer {
@@ -388,7 +389,7 @@ impl Printer {
             recorder: None,
         };
         let headers: Vec<String> = std::iter::once("scan".to_string())
-            .chain(printer.watched.iter().map(|(n, _)| n.clone()))
+            .chain(printer.watched.iter().map(|signal| signal.name.clone()))
             .collect();
         match printer.format {
             Format::Table | Format::Csv => say!("{}", printer.line(headers)),
@@ -433,8 +434,8 @@ impl Observer for Printer {
 
     fn scanned(&mut self, engine: &mut dyn Engine, scan: u64, time_ms: u64) -> Result<(), String> {
         let mut values = Vec::with_capacity(self.watched.len());
-        for (_, device) in &self.watched {
-            values.push(engine.read(*device)?);
+        for signal in &self.watched {
+            values.push(engine.read(signal.device)?);
         }
         let error = self.new_error(engine)?;
         match self.format {
@@ -444,7 +445,7 @@ impl Observer for Printer {
                         values
                             .iter()
                             .zip(&self.watched)
-                            .map(|(v, (_, d))| show(*v, *d, self.radix)),
+                            .map(|(v, signal)| signal.show(*v, |v, d| show(v, d, self.radix))),
                     )
                     .collect();
                 say!("{}", self.line(cells));
@@ -457,12 +458,13 @@ impl Observer for Printer {
                     .watched
                     .iter()
                     .zip(&values)
-                    .map(|((name, device), value)| {
-                        let shown = match (self.radix, device.bits()) {
+                    .map(|(signal, value)| {
+                        let shown = match (self.radix, signal.device.bits()) {
+                            _ if signal.real => serde_json::Value::from(f64::from(f32::from_bits(*value as u32))),
                             (Radix::Dec, _) | (Radix::Hex, 1) => serde_json::Value::from(*value),
-                            (Radix::Hex, _) => serde_json::Value::from(show(*value, *device, self.radix)),
+                            (Radix::Hex, _) => serde_json::Value::from(show(*value, signal.device, self.radix)),
                         };
-                        (name.clone(), shown)
+                        (signal.name.clone(), shown)
                     })
                     .collect();
                 let mut object = serde_json::json!({ "scan": scan, "time_ms": time_ms, "devices": devices });

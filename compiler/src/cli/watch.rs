@@ -1,9 +1,9 @@
 //! What `ladderc run` watches and how it shows values: device lists with
-//! ranges (`Y0..Y7`, `D100..D109`) and 32-bit values (`D10:32`), in decimal
-//! or hex.
+//! ranges (`Y0..Y7`, `D100..D109`), 32-bit values (`D10:32`) and real
+//! numbers (`D20:float`), in decimal or hex.
 
 use crate::host_device::{parse_device, HostDevice};
-use crate::waveform::device_name;
+use crate::waveform::{device_name, Signal};
 use clap::ValueEnum;
 use ladder_runtime::Device;
 
@@ -17,21 +17,51 @@ pub enum Radix {
     Hex,
 }
 
-/// One `--watch` entry: a device, `FIRST..LAST` of one kind, or `DEV:32`.
-pub fn parse_watch(entry: &str) -> Result<Vec<(String, HostDevice)>, String> {
+/// One `--watch` entry: a device, `FIRST..LAST` of one kind, `DEV:32`, or
+/// `DEV:float` (the pair read as a real number).
+pub fn parse_watch(entry: &str) -> Result<Vec<Signal>, String> {
     let entry = entry.trim();
-    let (entry, double) = match entry.strip_suffix(":32") {
-        Some(bare) => (bare, true),
-        None => (entry, false),
+    let lower = entry.to_ascii_lowercase();
+    let (entry, double, real) = if lower.ends_with(":float") || lower.ends_with(":real") {
+        let colon = entry.rfind(':').unwrap_or(entry.len());
+        (&entry[..colon], true, true)
+    } else {
+        match entry.strip_suffix(":32") {
+            Some(bare) => (bare, true, false),
+            None => (entry, false, false),
+        }
     };
+    let named = |device: HostDevice| {
+        let name = device_name(device);
+        Signal {
+            name: if real { name.replace(":32", ":float") } else { name },
+            device,
+            real,
+        }
+    };
+    if real {
+        let words = |device: HostDevice| matches!(device.device, Device::Word(area, _) if area != ladder_runtime::WordArea::TimerValue && area != ladder_runtime::WordArea::CounterValue && area != ladder_runtime::WordArea::Index);
+        let ends = entry
+            .split("..")
+            .map(|end| parse_device(end.trim(), true))
+            .collect::<Result<Vec<_>, _>>()?;
+        if !ends.into_iter().all(words) {
+            return Err(format!(
+                "`{entry}`: real numbers are word pairs of D, R, SD or U\\G (D0:float)"
+            ));
+        }
+    }
     let Some((first, last)) = entry.split_once("..") else {
         let device = parse_device(entry, double)?;
-        let name = if double {
-            device_name(device)
+        return Ok(vec![if double {
+            named(device)
         } else {
-            entry.to_ascii_uppercase()
-        };
-        return Ok(vec![(name, device)]);
+            Signal {
+                name: entry.to_ascii_uppercase(),
+                device,
+                real: false,
+            }
+        }]);
     };
     let (first, last) = (parse_device(first.trim(), double)?, parse_device(last.trim(), double)?);
     // (the device with number 0, the number): both ends must agree on the first.
@@ -76,7 +106,7 @@ pub fn parse_watch(entry: &str) -> Result<Vec<(String, HostDevice)>, String> {
                 },
                 width: first.width,
             };
-            (device_name(device), device)
+            named(device)
         })
         .collect())
 }
@@ -101,7 +131,7 @@ mod tests {
             parse_watch(entry)
                 .unwrap()
                 .into_iter()
-                .map(|(n, _)| n)
+                .map(|signal| signal.name)
                 .collect::<Vec<_>>()
         };
         assert_eq!(names("Y6..Y11"), ["Y6", "Y7", "Y10", "Y11"]);
@@ -114,5 +144,10 @@ mod tests {
         assert!(parse_watch("Y7..Y0").is_err());
         assert!(parse_watch("Y0..D3").is_err());
         assert!(parse_watch("M0..M8000").is_err());
+        assert_eq!(names("D20:float"), ["D20:float"]);
+        assert_eq!(names("R0..R2:float"), ["R0:float", "R2:float"]);
+        assert!(parse_watch("D0:float").unwrap()[0].real);
+        assert!(parse_watch("M0:float").is_err());
+        assert_eq!(names("C235:32"), ["CN235"]);
     }
 }

@@ -128,12 +128,12 @@ pub fn render_all(file: &SourceFile, diagnostics: &[Diagnostic], shown: Shown) -
         out.push_str(&format!(
             "{}: {} error{}{}\n",
             file.name,
-            errors,
+            thousands(errors),
             if errors == 1 { "" } else { "s" },
             match warnings {
                 0 => String::new(),
                 1 => ", 1 warning".to_string(),
-                n => format!(", {n} warnings"),
+                n => format!(", {} warnings", thousands(n)),
             }
         ));
     }

@@ -9,7 +9,7 @@ use crate::diagnostics::render_all;
 use crate::host_device::{format_value, HostDevice};
 use crate::program::{BitRef, CheckedProgram, Op, Output};
 use crate::source::SourceFile;
-use crate::waveform::{device_name, Recorder};
+use crate::waveform::{Recorder, Signal};
 use ladder_runtime::{Device, Width};
 use std::path::{Path, PathBuf};
 
@@ -267,12 +267,12 @@ impl Observer for ScenarioObserver {
 
 /// What a test's waveform shows: every device the scenario sets, forces,
 /// expects or prints, then the coils the program drives at fixed numbers.
-fn waveform_signals(scenario: &Scenario, program: &CheckedProgram) -> Vec<(String, HostDevice)> {
-    let mut signals: Vec<(String, HostDevice)> = Vec::new();
-    let mut add = |device: HostDevice| {
-        if !signals.iter().any(|(_, known)| *known == device) {
-            signals.push((device_name(device), device));
-        }
+fn waveform_signals(scenario: &Scenario, program: &CheckedProgram) -> Vec<Signal> {
+    let mut signals: Vec<Signal> = Vec::new();
+    let mut add_signal = |signal: Signal| match signals.iter_mut().find(|known| known.device == signal.device) {
+        // A pair also expected as a real number is shown as one.
+        Some(known) => known.real |= signal.real,
+        None => signals.push(signal),
     };
     let bit = |area, index| HostDevice {
         device: Device::Bit(area, index),
@@ -280,12 +280,16 @@ fn waveform_signals(scenario: &Scenario, program: &CheckedProgram) -> Vec<(Strin
     };
     for step in &scenario.steps {
         match &step.directive {
-            Directive::Set { device, .. } | Directive::Expect { device, .. } | Directive::ExpectReal { device, .. } => {
-                add(*device)
+            Directive::Set { device, .. } | Directive::Expect { device, .. } => add_signal(Signal::of(*device)),
+            Directive::ExpectReal { device, .. } => add_signal(Signal {
+                real: true,
+                ..Signal::of(*device)
+            }),
+            Directive::Pulse { input, .. } => add_signal(Signal::of(bit(ladder_runtime::BitArea::X, *input))),
+            Directive::Force { area, index, .. } | Directive::Unforce { area, index } => {
+                add_signal(Signal::of(bit(*area, *index)))
             }
-            Directive::Pulse { input, .. } => add(bit(ladder_runtime::BitArea::X, *input)),
-            Directive::Force { area, index, .. } | Directive::Unforce { area, index } => add(bit(*area, *index)),
-            Directive::Print(devices) => devices.iter().for_each(|(_, device)| add(*device)),
+            Directive::Print(devices) => devices.iter().for_each(|(_, device)| add_signal(Signal::of(*device))),
             Directive::ScanMs(_)
             | Directive::Scan(_)
             | Directive::ExpectError(_)
@@ -296,8 +300,13 @@ fn waveform_signals(scenario: &Scenario, program: &CheckedProgram) -> Vec<(Strin
     for instruction in &program.instructions {
         if let Op::Output(Output::Coil(BitRef::Device(area, address))) = &instruction.op {
             if address.is_fixed() {
-                add(bit(*area, address.index));
+                add_signal(Signal::of(bit(*area, address.index)));
             }
+        }
+    }
+    for signal in &mut signals {
+        if signal.real {
+            signal.name = signal.name.replace(":32", ":float");
         }
     }
     signals

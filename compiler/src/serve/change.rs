@@ -4,8 +4,11 @@
 //! values of edge instructions (LDP, PLS, MOVP, ...) are carried by
 //! instruction identity: an edge instruction of the new program takes the
 //! value of the old one with the same text (mnemonic and operands, the n-th
-//! of equal texts); new edge instructions start OFF.
+//! of equal texts); new edge instructions start OFF. Instance states
+//! (pulse outputs, high-speed compares, HOUR, PID, ...) move the same way;
+//! an output driven by an instruction that is gone is released.
 
+use crate::isa::app::Keeps;
 use crate::program::{CheckedProgram, Contact, Op, Output};
 use crate::source::SourceFile;
 use ladder_runtime::Memory;
@@ -16,6 +19,8 @@ pub struct Loaded {
     pub program: CheckedProgram,
     /// Each edge slot and the identity of its instruction.
     pub slots: Vec<(u32, String)>,
+    /// Each instance state and the identity of its instruction.
+    pub instances: Vec<(u32, String)>,
     /// The program already compiled to native code, off the scan thread.
     pub native: Option<crate::codegen::JitProgram>,
 }
@@ -24,10 +29,17 @@ impl Loaded {
     pub fn new(program: CheckedProgram, source: &SourceFile) -> Loaded {
         let mut seen: HashMap<String, u32> = HashMap::new();
         let mut slots = Vec::new();
+        let mut instances = Vec::new();
         for instruction in &program.instructions {
-            let Some(slot) = edge_slot(&instruction.op) else {
-                continue;
+            let instance = if let Op::Output(Output::App(app)) = &instruction.op {
+                app.job.filter(|_| app.args.op().spec().keeps == Keeps::State)
+            } else {
+                None
             };
+            let slot = edge_slot(&instruction.op);
+            if slot.is_none() && instance.is_none() {
+                continue;
+            }
             let text: String = source
                 .slice(instruction.span)
                 .split_whitespace()
@@ -36,11 +48,18 @@ impl Loaded {
                 .to_ascii_uppercase();
             let nth = seen.entry(text.clone()).or_default();
             *nth += 1;
-            slots.push((slot, format!("{text}#{nth}")));
+            let key = format!("{text}#{nth}");
+            if let Some(slot) = slot {
+                slots.push((slot, key.clone()));
+            }
+            if let Some(instance) = instance {
+                instances.push((instance, key));
+            }
         }
         Loaded {
             program,
             slots,
+            instances,
             native: None,
         }
     }
@@ -107,6 +126,26 @@ pub fn carry_over(image: &Memory, old: &Loaded, new: &Loaded) -> Box<Memory> {
     // Sort jobs belong to instructions that may be gone: they start again.
     next.sort_state.fill(0);
     next.sort_scans.fill(0);
+    // Instance states follow their instructions; a pulse output keeps its
+    // driver only if the driver is still there.
+    next.instance.fill(Default::default());
+    let old_instances: HashMap<&str, u32> = old.instances.iter().map(|(i, key)| (key.as_str(), *i)).collect();
+    let mut moved: HashMap<u32, u32> = HashMap::new();
+    for (instance, key) in &new.instances {
+        if let Some(&before) = old_instances.get(key.as_str()) {
+            next.instance[*instance as usize] = image.instance[before as usize];
+            moved.insert(before + 1, instance + 1);
+        }
+    }
+    for (output, owner) in next.pulse_owner.iter_mut().enumerate() {
+        if *owner != 0 {
+            *owner = moved.get(owner).copied().unwrap_or(0);
+            if *owner == 0 {
+                next.m[(ladder_runtime::pulse::M_BUSY + 10 * output as u32) as usize] = 0;
+                next.pulse_remainder[output] = 0;
+            }
+        }
+    }
     next
 }
 
@@ -131,5 +170,21 @@ mod tests {
         let next = carry_over(&image, &old, &new);
         assert_eq!(&next.edge_slot[..3], [0, 0, 1], "X5 new, X1 kept, X0 moved to slot 2");
         assert_eq!(next.d[3], 77, "devices kept");
+    }
+
+    #[test]
+    fn pulse_outputs_follow_their_instructions_or_stop() {
+        let old = load("LD X0\nDRVI K1000 K100 Y0 Y4\nLD X1\nPLSY K10 K0 Y1\n");
+        let new = load("LD X1\nPLSY K10 K0 Y1\n");
+        let mut image = Memory::new_boxed();
+        image.instance[0].phase = 1; // DRVI running on Y0
+        image.instance[1].phase = 1; // PLSY running on Y1
+        image.pulse_owner = [1, 2, 0, 0];
+        image.m[8340] = 1;
+        image.m[8350] = 1;
+        let next = carry_over(&image, &old, &new);
+        assert_eq!(next.pulse_owner, [0, 1, 0, 0], "DRVI gone, PLSY is instance 0 now");
+        assert_eq!((next.m[8340], next.m[8350]), (0, 1));
+        assert_eq!(next.instance[0].phase, 1);
     }
 }

@@ -123,7 +123,7 @@ pub fn time_to_seconds(mem: &Memory, source: Place, limit: i64) -> i64 {
 
 /// STOH: `seconds` as hours, minutes, seconds; false out of range.
 pub fn seconds_to_time(mem: &mut Memory, seconds: i64, destination: Place) -> bool {
-    if seconds < 0 || seconds > 32_767 * 3_600 + 3_599 {
+    if !(0..=32_767 * 3_600 + 3_599).contains(&seconds) {
         return false;
     }
     write_words(mem, destination, &time_of_day(seconds));

@@ -11,7 +11,16 @@ use crate::interp::access::effective_index;
 use crate::program::{BitRef, CounterRef, WordRef};
 use ladder_runtime::hsc::HscCompare;
 use ladder_runtime::pulse::{PulseKind, PulseRequest, NO_PLACE};
-use ladder_runtime::{OperationError, Width};
+use ladder_runtime::{BitArea, OperationError, Place, Width};
+
+/// The number of a bit device of `area` (not of a word bit).
+fn bit_number(place: Place, area: BitArea) -> Option<u32> {
+    if let Place::Bit(found, n) = place {
+        (found == area).then_some(n)
+    } else {
+        None
+    }
+}
 
 /// DHSCS/DHSCR S1 S2 D and DHSZ S1 S2 S D (`values` the one or two compare
 /// values): registers the compare while driven, withdraws it when not.
@@ -56,9 +65,8 @@ pub fn speed(step: &mut Step, s1: &BitRef, s2: &WordRef, d: &WordRef) -> Outcome
     let (Some(input), Some(period), Some(d)) = (input, period, d) else {
         return Ok(());
     };
-    let x = match input {
-        ladder_runtime::Place::Bit(ladder_runtime::BitArea::X, n) if n <= 5 => n,
-        _ => return Err(OperationError::DataOutOfRange),
+    let Some(x) = bit_number(input, BitArea::X).filter(|&n| n <= 5) else {
+        return Err(OperationError::DataOutOfRange);
     };
     let period = step.read(period);
     if period < 1 {
@@ -184,12 +192,10 @@ pub fn pulse(step: &mut Step, run: &Execution, operands: &PulseOperands) -> Outc
     let output = step.bits(operands.output, 1, false);
     let direction = operands.direction.map(|b| step.bits(b, 1, false));
     step.commit()?;
-    let value = |place: Option<Option<ladder_runtime::Place>>, step: &Step| {
-        place.flatten().map_or(0, |p| step.read_at(p, width) as i32)
-    };
-    let output = match output {
-        Some(ladder_runtime::Place::Bit(ladder_runtime::BitArea::Y, n)) if n <= 3 => n,
-        _ => return Err(OperationError::DataOutOfRange),
+    let value =
+        |place: Option<Option<Place>>, step: &Step| place.flatten().map_or(0, |p| step.read_at(p, width) as i32);
+    let Some(output) = output.and_then(|p| bit_number(p, BitArea::Y)).filter(|&n| n <= 3) else {
+        return Err(OperationError::DataOutOfRange);
     };
     let request = PulseRequest {
         kind: operands.kind,
@@ -217,7 +223,7 @@ pub fn pulse_width(step: &mut Step, run: &Execution, s1: &WordRef, s2: &WordRef,
     let (Some(width_place), Some(period_place), Some(d)) = (width_place, period_place, d) else {
         return Ok(());
     };
-    if !matches!(d, ladder_runtime::Place::Bit(ladder_runtime::BitArea::Y, 0..=3)) {
+    if bit_number(d, BitArea::Y).is_none_or(|n| n > 3) {
         return Err(OperationError::DataOutOfRange);
     }
     let (on_ms, period) = (step.read(width_place), step.read(period_place));

@@ -94,8 +94,11 @@ pub fn detect(text: &str) -> Option<Layout> {
         // Votes for the column that holds the instruction.
         let mut votes = [0usize; 3];
         for fields in &rows {
+            // The operand beside the instruction is one word or nothing
+            // (column titles are not: "Line Statement", "I/O (Device)").
             let column = (0..3).find(|&c| {
                 mnemonic_like(&fields[c])
+                    && !fields[c + 1].trim().contains(char::is_whitespace)
                     && fields[..c]
                         .iter()
                         .enumerate()
@@ -105,7 +108,12 @@ pub fn detect(text: &str) -> Option<Layout> {
                 votes[column] += 1;
             }
         }
-        let (column, &count) = votes.iter().enumerate().max_by_key(|&(_, v)| *v).unwrap_or((2, &0));
+        // Ties go to the editors' own layout (the instruction third).
+        let (column, &count) = votes
+            .iter()
+            .enumerate()
+            .max_by_key(|&(column, votes)| (*votes, column == 2))
+            .unwrap_or((2, &0));
         let enough =
             count > 0 && (2 * count >= rows.len() || first_quoted) && (2 * rows.len() >= lines.len() || first_quoted);
         if enough && best.is_none_or(|(c, _)| count > c) {
