@@ -74,6 +74,8 @@ pub fn parse_device(text: &str, double: bool) -> Result<HostDevice, String> {
         Prefix::S => bit_area(BitArea::S)?,
         Prefix::Sm => bit_area(BitArea::Sm)?,
         Prefix::T | Prefix::Ts => bit_area(BitArea::TimerContact)?,
+        // `C235:32` is the 32-bit counter's value, as `CN235` is.
+        Prefix::C if double && (FIRST_WIDE_COUNTER..COUNTER_COUNT).contains(&n) => Device::WideCounter(n),
         Prefix::C | Prefix::Cs => bit_area(BitArea::CounterContact)?,
         Prefix::D => word(WordArea::D)?,
         Prefix::Sd => word(WordArea::Sd)?,

@@ -56,7 +56,12 @@ pub fn suggestion(mnemonic: &str) -> Option<&'static str> {
     const LONGEST: usize = 8;
     let upper = mnemonic.to_ascii_uppercase();
     let length = upper.chars().count();
-    if length > LONGEST + 2 {
+    // A quoted CSV field (`"Step`) or other punctuation is no typo of a
+    // mnemonic.
+    let word_like = upper
+        .chars()
+        .all(|c| c.is_ascii_alphanumeric() || matches!(c, '<' | '>' | '='));
+    if length > LONGEST + 2 || !word_like {
         return None;
     }
     // `EADD` for `DEADD`: an instruction with only a 32-bit form.
@@ -104,6 +109,7 @@ mod tests {
         assert_eq!(suggestion("MOOV"), Some("MOV"));
         assert_eq!(suggestion("XYZZY"), None);
         assert_eq!(suggestion("EADD"), Some("DEADD"));
+        assert_eq!(suggestion("\"STEP"), None, "a quoted CSV header is no typo of ZSETP");
         assert_eq!(suggestion(&"A".repeat(100_000)), None);
         assert!(
             mnemonics().iter().all(|m| m.chars().count() <= 8),

@@ -82,9 +82,19 @@ fn lines(file: &SourceFile, layout: &Layout, diagnostics: &mut Diagnostics) -> L
                     header.push(row);
                 }
             }
-            Err(diagnostic) if in_data => diagnostics.push(diagnostic),
-            // A header line that does not split is only a title.
-            Err(_) => {}
+            Err(diagnostic) => {
+                // A line that does not split is a broken row once the rows
+                // have begun, or when it reads as one; before that, a title.
+                let fields = rows::split_fields(line, layout.separator);
+                let looks_like_row = fields.len() > layout.operand
+                    && layout
+                        .step
+                        .is_none_or(|step| fields[step].trim().bytes().all(|b| b.is_ascii_digit()));
+                in_data = in_data || looks_like_row;
+                if in_data {
+                    diagnostics.push(diagnostic);
+                }
+            }
         }
     }
     Lines { header, rows }
