@@ -13,6 +13,7 @@ pub mod host_device;
 pub mod interp;
 pub mod ir;
 pub mod isa;
+pub mod ladder;
 pub mod lower;
 pub mod pipeline;
 pub mod program;

@@ -212,12 +212,21 @@ pub enum Op {
     /// An instruction that takes the rung result: a coil, SET/RST, an
     /// application instruction, ...
     Output(Output),
-    /// Jump to instruction index `target` (possibly the end of the list).
+    /// CJ `Plabel`: jump to instruction index `target` (possibly the end of
+    /// the list).
     Jump {
         target: usize,
+        label: u32,
     },
-    /// A jump target; does nothing.
-    Label,
+    /// A jump target `Pn` (also a subroutine's entry); does nothing.
+    Label {
+        number: u32,
+    },
+    /// MCR `Nlevel`: closes the level (and deeper ones). It does nothing
+    /// when it runs: the loads after it name the levels they are under.
+    MasterControlReset {
+        level: u8,
+    },
     StlBegin {
         block: usize,
     },

@@ -262,10 +262,11 @@ impl BlockTracker {
         true
     }
 
-    /// `MCR Nk`: closes level k and every deeper one.
-    pub fn mcr(&mut self, level: u8, span: Span, diagnostics: &mut Diagnostics) {
+    /// `MCR Nk`: closes level k and every deeper one; false when it is
+    /// misplaced (already reported).
+    pub fn mcr(&mut self, level: u8, span: Span, diagnostics: &mut Diagnostics) -> bool {
         if self.in_subroutine("MCR", span, diagnostics) {
-            return;
+            return false;
         }
         if let Some(open) = &self.open_block {
             diagnostics.push(
@@ -273,14 +274,20 @@ impl BlockTracker {
                     .with_label("not allowed between STL and STLE")
                     .with_related(open.span, "the block starts here"),
             );
-            return;
+            return false;
         }
         match self.mc_open.iter().position(|&(open, _, _)| open == level) {
-            Some(index) => self.mc_open.truncate(index),
-            None => diagnostics.push(
-                Diagnostic::new(Code::McPairing, span, format!("MCR N{level} without MC N{level}"))
-                    .with_label("no open master-control region of this level"),
-            ),
+            Some(index) => {
+                self.mc_open.truncate(index);
+                true
+            }
+            None => {
+                diagnostics.push(
+                    Diagnostic::new(Code::McPairing, span, format!("MCR N{level} without MC N{level}"))
+                        .with_label("no open master-control region of this level"),
+                );
+                false
+            }
         }
     }
 

@@ -81,7 +81,9 @@ pub fn check(parsed: &ParsedProgram, name: &str, source_len: usize) -> (CheckedP
         // A jump in the main program to a label after FEND (possible only
         // for one after END) ends the main program.
         let target = if jump < main_end { target.min(main_end) } else { target };
-        checker.instructions[jump].op = Op::Jump { target };
+        if let Op::Jump { target: pending, .. } = &mut checker.instructions[jump].op {
+            *pending = target;
+        }
     }
     checker.resolve_calls();
     checker.lints.finish(&mut checker.diagnostics);
@@ -210,7 +212,7 @@ impl Checker {
         let target = self.instructions.len();
         self.blocks
             .label(number, position, target, site.span, &mut self.diagnostics);
-        self.emit(Op::Label, site);
+        self.emit(Op::Label { number }, site);
     }
 
     /// END or the end of the file: everything open is an error.
@@ -484,7 +486,9 @@ impl Checker {
                 self.rung.close(span, &mut self.diagnostics);
                 if let Some([level]) = operands {
                     if let Some(level) = self.ok(operands::nest_level(level)) {
-                        self.blocks.mcr(level, span, &mut self.diagnostics);
+                        if self.blocks.mcr(level, span, &mut self.diagnostics) {
+                            self.emit(Op::MasterControlReset { level }, site);
+                        }
                     }
                 }
             }
@@ -494,7 +498,13 @@ impl Checker {
                 if let Some([label]) = operands {
                     if let Some(label) = self.ok(operands::label(label)) {
                         let context = self.blocks.context();
-                        if let Some(instruction) = self.emit(Op::Jump { target: usize::MAX }, site) {
+                        if let Some(instruction) = self.emit(
+                            Op::Jump {
+                                target: usize::MAX,
+                                label,
+                            },
+                            site,
+                        ) {
                             self.blocks.jump(PendingJump {
                                 label,
                                 position,

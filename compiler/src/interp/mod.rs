@@ -149,13 +149,13 @@ impl Run<'_> {
             Op::BranchPop => self.result = self.branches.pop().unwrap_or(false),
             Op::Invert => self.result = !self.result,
             Op::ResultEdge { falling, slot } => self.result = self.edge(*slot, self.result, *falling),
-            Op::Jump { target } => {
+            Op::Jump { target, .. } => {
                 if self.result {
                     return *target;
                 }
             }
             Op::StlBegin { block } => return self.enter_block(&self.program.stl_blocks[*block], pc),
-            Op::Label | Op::StlEnd => {}
+            Op::Label { .. } | Op::MasterControlReset { .. } | Op::StlEnd => {}
             Op::Output(output) => self.output(output, self.result, line),
             Op::Call { subroutine, slot } => {
                 let power = match slot {

@@ -78,7 +78,7 @@ impl<'p> Lowering<'p> {
         let instructions = &self.program.instructions[range.clone()];
         for instruction in instructions {
             let target = match &instruction.op {
-                Op::Jump { target } => Some(*target),
+                Op::Jump { target, .. } => Some(*target),
                 Op::StlBegin { block } => Some(self.program.stl_blocks[*block].end + 1),
                 Op::Load { .. }
                 | Op::And(_)
@@ -91,7 +91,8 @@ impl<'p> Lowering<'p> {
                 | Op::Invert
                 | Op::ResultEdge { .. }
                 | Op::Output(_)
-                | Op::Label
+                | Op::Label { .. }
+                | Op::MasterControlReset { .. }
                 | Op::StlEnd
                 | Op::MainEnd
                 | Op::Call { .. }
@@ -232,7 +233,7 @@ impl<'p> Lowering<'p> {
             Op::BranchPop => self.result = self.branches.pop().unwrap_or(self.result),
             Op::Invert => self.result = self.b.not(self.result),
             Op::ResultEdge { falling, slot } => self.result = self.edge(*slot, self.result, *falling),
-            Op::Jump { target } => {
+            Op::Jump { target, .. } => {
                 let continue_at = self.b.create_block();
                 let taken = self.targets[target];
                 self.b.terminate(Terminator::Branch {
@@ -246,7 +247,7 @@ impl<'p> Lowering<'p> {
                 let program = self.program;
                 self.stl_gate(&program.stl_blocks[*block]);
             }
-            Op::Label | Op::StlEnd => {}
+            Op::Label { .. } | Op::MasterControlReset { .. } | Op::StlEnd => {}
             Op::Output(output) => self.output(output, self.result, line),
             Op::Call { subroutine, slot } => {
                 let power = match slot {

@@ -102,7 +102,8 @@ fn edge_slot(op: &Op) -> Option<u32> {
         | Op::BranchPop
         | Op::Invert
         | Op::Jump { .. }
-        | Op::Label
+        | Op::Label { .. }
+        | Op::MasterControlReset { .. }
         | Op::StlBegin { .. }
         | Op::StlEnd
         | Op::MainEnd

@@ -204,6 +204,25 @@ pub fn parse(file: &SourceFile) -> (ParsedProgram, Diagnostics) {
     (ParsedProgram { statements }, diagnostics)
 }
 
+/// The comment rows of an export (no instruction, no operand): their line
+/// and their line statement, PI statement and note, for the ladder.
+pub fn comment_rows(file: &SourceFile) -> Vec<(u32, String)> {
+    let Some(layout) = detect(&file.text) else {
+        return Vec::new();
+    };
+    let mut ignored = Diagnostics::default();
+    let Lines { rows, .. } = lines(file, &layout, &mut ignored);
+    rows.iter()
+        .filter(|row| row.text(layout.instruction).is_empty() && row.text(layout.operand).is_empty())
+        .flat_map(|row| {
+            layout
+                .comments(row)
+                .map(|text| (row.line, text.to_string()))
+                .collect::<Vec<_>>()
+        })
+        .collect()
+}
+
 /// What makes a row that splits into fields still unreadable: a step that
 /// is not a number, an instruction field that is not one word, an operand
 /// on a label's row. (Such rows would also not survive `to_il`.)
