@@ -59,7 +59,8 @@ pub fn parse_device(text: &str, double: bool) -> Result<HostDevice, String> {
     };
     let word = |area: WordArea| -> Result<Device, String> {
         let words = if double { 2 } else { 1 };
-        if u64::from(n) + words > u64::from(area.count()) {
+        if n >= area.count() || u64::from(n) + words > u64::from(area.reach(n).1) {
+            // A buffer memory's pair stays within its unit.
             return Err(format!("`{text}` is out of range"));
         }
         Ok(match d.bit {

@@ -282,3 +282,36 @@ mod bounded_input {
         std::fs::remove_file(&path).unwrap();
     }
 }
+
+#[test]
+fn render_draws_programs_and_destroys_nothing() {
+    let dir = temp_dir("render");
+    std::fs::write(dir.join("p.il"), "// start\nLD X0\nOR Y0\nANI X1\nOUT Y0\nMOV K5 D0\n").unwrap();
+    std::fs::write(dir.join("bad.il"), "LD X0\nOUT X1\n").unwrap();
+    // SVG on standard output.
+    let output = ladderc(&["render", "p.il"], &dir);
+    assert_eq!(output.status.code(), Some(0), "{}", text(&output.stderr));
+    let svg = text(&output.stdout);
+    assert!(svg.starts_with("<svg"), "{svg}");
+    for shown in ["X000", "X001", "Y000", "MOV", "K5", "D0", ">start<", "END"] {
+        assert!(svg.contains(shown), "{shown} missing from {svg}");
+    }
+    // An HTML page by the output's extension.
+    let output = ladderc(&["render", "p.il", "-o", "p.html"], &dir);
+    assert_eq!(output.status.code(), Some(0), "{}", text(&output.stderr));
+    let page = std::fs::read_to_string(dir.join("p.html")).unwrap();
+    assert!(page.starts_with("<!DOCTYPE html>") && page.contains("<svg"), "{page}");
+    // A program that does not compile: its diagnostic, exit 1, the old
+    // output left as it was.
+    std::fs::write(dir.join("old.svg"), "kept").unwrap();
+    let output = ladderc(&["render", "bad.il", "-o", "old.svg"], &dir);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(text(&output.stderr).contains("bad.il:2:"), "{}", text(&output.stderr));
+    assert_eq!(std::fs::read_to_string(dir.join("old.svg")).unwrap(), "kept");
+    // Never over its own input.
+    let output = ladderc(&["render", "p.il", "-o", "p.il"], &dir);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(std::fs::read_to_string(dir.join("p.il"))
+        .unwrap()
+        .starts_with("// start"));
+}

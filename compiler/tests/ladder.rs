@@ -15,7 +15,10 @@ use std::path::PathBuf;
 
 /// What runs: the instructions without their spans and lines, and the
 /// program's structure.
-fn shape(program: &CheckedProgram) -> (Vec<Op>, Vec<(u32, usize, usize)>, Vec<(u32, usize, usize)>, usize) {
+/// (label or state, first, last) of each STL block or subroutine.
+type Spans = Vec<(u32, usize, usize)>;
+
+fn shape(program: &CheckedProgram) -> (Vec<Op>, Spans, Spans, usize) {
     (
         program.instructions.iter().map(|i| i.op.clone()).collect(),
         program.stl_blocks.iter().map(|b| (b.state, b.begin, b.end)).collect(),
@@ -114,5 +117,188 @@ proptest! {
     #[test]
     fn random_memory_programs_are_their_ladders(text in common::memory_program()) {
         prop_assert!(round_trip("memory.il", &text).is_ok(), "{}", round_trip("memory.il", &text).unwrap_err());
+    }
+}
+
+/// What is wrong with the drawing of `text`'s ladder, if anything: every
+/// element in exactly one cell, no two cells on top of each other, nothing
+/// outside the grid, outputs against the right rail, no wire through a
+/// cell, and every cell connected to the left rail by wires and cells.
+fn drawing_faults(name: &str, text: &str) -> Result<(), String> {
+    use ladderc::ladder::layout::{layout, Symbol, Wire};
+    use std::collections::{BTreeSet, HashMap};
+    let source = SourceFile::new(name, text);
+    let (Some(program), _) = compile_source(&source) else {
+        return Ok(());
+    };
+    let ladder = ladderc::ladder::build(&program, &source);
+    for (number, rung) in ladder.rungs.iter().enumerate() {
+        let laid = layout(rung, &program);
+        let fault = |what: String| Err(format!("{name}: rung {number} (line {}): {what}\n{laid:#?}", rung.line));
+        let mut drawn: Vec<usize> = laid.cells.iter().map(|c| c.element.index).collect();
+        let mut expected: Vec<usize> = rung.elements().iter().map(|e| e.index).collect();
+        drawn.sort_unstable();
+        expected.sort_unstable();
+        if laid.label.is_none() && drawn != expected {
+            return fault(format!("cells {drawn:?}, elements {expected:?}"));
+        }
+        for (i, a) in laid.cells.iter().enumerate() {
+            if a.column + a.width > laid.columns || a.row >= laid.rows || a.width == 0 {
+                return fault(format!("cell {i} outside the grid"));
+            }
+            for b in &laid.cells[i + 1..] {
+                if a.row == b.row && a.column < b.column + b.width && b.column < a.column + a.width {
+                    return fault(format!("cells of {} and {} overlap", a.element.index, b.element.index));
+                }
+            }
+        }
+        // Union-find over grid points (column edge, row).
+        let mut parent: HashMap<(u32, u32), (u32, u32)> = HashMap::new();
+        fn find(parent: &mut HashMap<(u32, u32), (u32, u32)>, p: (u32, u32)) -> (u32, u32) {
+            let mut root = p;
+            while let Some(&up) = parent.get(&root) {
+                if up == root {
+                    break;
+                }
+                root = up;
+            }
+            parent.insert(p, root);
+            root
+        }
+        let join = |parent: &mut HashMap<(u32, u32), (u32, u32)>, a: (u32, u32), b: (u32, u32)| {
+            let (ra, rb) = (find(parent, a), find(parent, b));
+            parent.insert(ra, rb);
+        };
+        for row in 0..laid.rows {
+            join(&mut parent, (0, row), (0, 0));
+        }
+        let mut points: BTreeSet<(u32, u32)> = BTreeSet::new();
+        for wire in &laid.wires {
+            match *wire {
+                Wire::Horizontal { row, from, to } => {
+                    if from >= to || to > laid.columns || row >= laid.rows {
+                        return fault(format!("wire {wire:?} outside the grid"));
+                    }
+                    for cell in &laid.cells {
+                        if cell.row == row && from < cell.column + cell.width && cell.column < to {
+                            return fault(format!("wire {wire:?} runs through the cell of {}", cell.element.index));
+                        }
+                    }
+                    for column in from..to {
+                        join(&mut parent, (column, row), (column + 1, row));
+                    }
+                }
+                Wire::Vertical { column, from, to } => {
+                    if from >= to || column > laid.columns || to >= laid.rows {
+                        return fault(format!("wire {wire:?} outside the grid"));
+                    }
+                    for row in from..to {
+                        join(&mut parent, (column, row), (column, row + 1));
+                    }
+                }
+            }
+        }
+        for cell in &laid.cells {
+            join(
+                &mut parent,
+                (cell.column, cell.row),
+                (cell.column + cell.width, cell.row),
+            );
+            points.insert((cell.column, cell.row));
+        }
+        let rail = find(&mut parent, (0, 0));
+        for cell in &laid.cells {
+            if find(&mut parent, (cell.column, cell.row)) != rail {
+                return fault(format!(
+                    "the cell of {} is not connected to the rail",
+                    cell.element.index
+                ));
+            }
+        }
+        let outputs: Vec<usize> = match &rung.body {
+            ladderc::ladder::Body::Logic { tail, .. } => {
+                fn walk(tail: &ladderc::ladder::Tail, out: &mut Vec<usize>) {
+                    for item in &tail.items {
+                        match item {
+                            ladderc::ladder::TailItem::Output(e) => out.push(e.index),
+                            ladderc::ladder::TailItem::Split(branches) => branches.iter().for_each(|b| walk(b, out)),
+                            ladderc::ladder::TailItem::Contacts(_) => {}
+                        }
+                    }
+                }
+                let mut out = Vec::new();
+                walk(tail, &mut out);
+                out
+            }
+            _ => laid.cells.iter().map(|c| c.element.index).collect(),
+        };
+        for cell in laid.cells.iter().filter(|c| outputs.contains(&c.element.index)) {
+            if cell.column + cell.width != laid.columns {
+                return fault(format!("the output {} is not at the right rail", cell.element.index));
+            }
+            if !matches!(cell.symbol, Symbol::Coil { .. } | Symbol::Box { .. }) {
+                return fault(format!(
+                    "the output {} is drawn as {:?}",
+                    cell.element.index, cell.symbol
+                ));
+            }
+        }
+    }
+    // The SVG is well-formed XML, and names every element once.
+    let svg = ladderc::ladder::svg::render(&ladder, &program);
+    let mut reader = quick_xml::Reader::from_str(&svg);
+    let mut named = Vec::new();
+    loop {
+        match reader.read_event() {
+            Ok(quick_xml::events::Event::Eof) => break,
+            Ok(quick_xml::events::Event::Start(tag)) => {
+                if let Ok(Some(e)) = tag.try_get_attribute("data-e") {
+                    named.push(String::from_utf8_lossy(&e.value).parse::<usize>().unwrap());
+                }
+            }
+            Ok(_) => {}
+            Err(error) => return Err(format!("{name}: the SVG is not XML: {error}")),
+        }
+    }
+    let mut all: Vec<usize> = ladder
+        .rungs
+        .iter()
+        .filter(|r| !matches!(r.body, ladderc::ladder::Body::Label { .. }))
+        .flat_map(|r| r.elements().into_iter().map(|e| e.index))
+        .collect();
+    named.sort_unstable();
+    all.sort_unstable();
+    if named != all {
+        return Err(format!(
+            "{name}: the SVG names {} elements, the ladder has {}",
+            named.len(),
+            all.len()
+        ));
+    }
+    Ok(())
+}
+
+#[test]
+fn every_testsuite_program_draws_soundly() {
+    let failures: Vec<String> = programs()
+        .iter()
+        .filter_map(|(name, text)| drawing_faults(name, text).err())
+        .collect();
+    assert!(failures.is_empty(), "{}:\n{}", failures.len(), failures.join("\n\n"));
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
+
+    #[test]
+    fn random_programs_draw_soundly(text in common::program()) {
+        let faults = drawing_faults("random.il", &text);
+        prop_assert!(faults.is_ok(), "{}", faults.unwrap_err());
+    }
+
+    #[test]
+    fn random_fx_programs_draw_soundly(text in common::fx::fx_program()) {
+        let faults = drawing_faults("fx.il", &text);
+        prop_assert!(faults.is_ok(), "{}", faults.unwrap_err());
     }
 }

@@ -284,7 +284,7 @@ pub unsafe extern "C" fn ladder_write(mem: *mut LadderMemory, kind: u32, number:
 /// Writes bit `bit` (0-15) of a word device (`D0.F`) as a programming tool
 /// would: the rest of the word keeps its value. `on` is 0 or 1, else
 /// `LADDER_STATUS_BAD_VALUE`; a kind that is not a 16-bit word (D, SD, R,
-/// Tn, Cn C0-C199, V, Z) or a bit above 15 is `BAD_ARGUMENT`.
+/// Tn, Cn C0-C199, V, Z, U) or a bit above 15 is `BAD_ARGUMENT`.
 ///
 /// # Safety
 /// `mem` is null or an image from `ladder_init` that no other call uses now.

@@ -181,7 +181,7 @@ macro_rules! helpers {
                                 use Writes::*;
                                 &[$($writes)*]
                             },
-                            doc: $doc,
+                            doc: concat!($doc $(, "\n", $more)*),
                         };
                         &DECL
                     })*
@@ -567,12 +567,14 @@ helpers! {
     }
 
     /// PLSY, PLSR, ... instance `instance` with its drive ON: `kind` (`PulseKind`) on output Y`output` (0-3),
-    /// with the values of its operands and its direction output (a checked place, or 0).
+    /// with the values of its operands and its direction output (a checked place, or 0). 0: operands
+    /// with which it cannot start (4084H).
     PulseOutput = fn ladder_rt_pulse_output(
         mem, instance: u32, kind: u32, output: u32, frequency: i32, amount: i32, ramp: i32, creep: i32,
         near_point: u32, direction: destination_place
-    ) -> none writes [Image] {
-        if let Some(kind) = crate::pulse::PulseKind::from_code(kind) {
+    ) -> i32 writes [Image] {
+        match crate::pulse::PulseKind::from_code(kind) {
+            Some(kind) => {
             let request = crate::pulse::PulseRequest {
                 kind,
                 output,
@@ -583,7 +585,9 @@ helpers! {
                 near_point: near_point != 0,
                 direction,
             };
-            mem.pulse_output(instance, true, &request);
+                i32::from(mem.pulse_output(instance, true, &request))
+            }
+            None => 0,
         }
     }
 

@@ -153,7 +153,9 @@ impl Memory {
         let slot = n - FIRST_WIDE_COUNTER as usize;
         let before = self.wide_counter_value[slot];
         if wiring.reset.is_some_and(|x| self.x[x as usize] != 0) {
-            self.set_high_speed_value(counter, before, 0);
+            // A reset is no count: like a value the program writes, it is
+            // not compared (DHSCS/DHSCR/DHSZ act on counting only).
+            self.wide_counter_value[slot] = 0;
             return;
         }
         if !any_edges || wiring.start.is_some_and(|x| self.x[x as usize] == 0) {
@@ -234,6 +236,7 @@ impl Memory {
     }
 
     fn write_zone(&mut self, destination: Place, low: i32, high: i32, value: i32) {
+        let high = high.max(low); // a reversed zone is the single value `low`, as in ZCP
         let results = [value < low, low <= value && value <= high, value > high];
         for (unit, on) in (0..).zip(results) {
             destination

@@ -83,7 +83,7 @@ pub struct Memory {
     /// FOR/NEXT repetitions in the current scan (the loop watchdog).
     pub loop_repetitions: u32,
 
-    // ---- the machine around the program (machine.rs) ----
+    // ---- the machine around the program (hsc.rs, pulse.rs, calendar.rs) ----
     /// Rising edges a host reported for X0-X7 since the previous input
     /// refresh, for the high-speed counters (`ladder_add_pulses`).
     pub pulses_pending: [u32; HSC_INPUTS as usize],
@@ -106,7 +106,7 @@ pub struct Memory {
     pub calendar_ms: u32,
     /// `CALENDAR_FOUR_DIGIT_YEAR`: D8018 shows four digits.
     pub calendar_flags: u32,
-    /// Keeps the buffer memory 8-byte aligned.
+    /// Padding, kept 0, so that the layout has no implicit holes.
     pub reserved: u32,
 
     // ---- special-function units (last: the largest area) ----
@@ -115,8 +115,8 @@ pub struct Memory {
 }
 
 /// What an instruction that keeps state between scans remembers: a phase
-/// and three numbers, whose meaning each instruction documents
-/// (`machine.rs`).
+/// and three numbers, whose meaning each instruction documents (hsc.rs,
+/// pulse.rs and the compiled/ helpers).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Zeroable, Pod)]
 #[repr(C)]
 pub struct InstanceState {
@@ -227,22 +227,24 @@ impl Memory {
         }
     }
 
-    /// 32-bit value of the pair (index+1, index): low word at `index`.
+    /// 32-bit value of the pair (index+1, index): low word at `index`. A
+    /// pair never crosses the end of its run (a buffer memory's unit).
     pub fn word_pair(&self, area: WordArea, index: u32) -> Option<i32> {
-        let low = self.word(area, index)?;
-        let high = self.word(area, index.checked_add(1)?)?;
-        Some(join_words(low, high))
+        let high_index = Self::pair_high(area, index)?;
+        Some(join_words(self.word(area, index)?, self.word(area, high_index)?))
     }
 
     pub fn set_word_pair(&mut self, area: WordArea, index: u32, value: i32) -> bool {
-        let Some(high_index) = index.checked_add(1) else {
+        let Some(high_index) = Self::pair_high(area, index) else {
             return false;
         };
-        if high_index >= area.count() {
-            return false;
-        }
         let (low, high) = split_words(value);
         self.set_word(area, index, low) && self.set_word(area, high_index, high)
+    }
+
+    fn pair_high(area: WordArea, index: u32) -> Option<u32> {
+        let high_index = index.checked_add(1)?;
+        (index < area.count() && high_index < area.reach(index).1).then_some(high_index)
     }
 
     /// Current value of counter C200–C255 (`counter` is the device number).

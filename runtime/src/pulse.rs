@@ -41,7 +41,8 @@ pub const M_ZERO_RETURN_FORWARD: u32 = 8342;
 pub const D_PULSE_COUNT: u32 = 8140;
 /// D8136: the pulses of Y0 and Y1 together (a pair).
 pub const D_PULSE_TOTAL: u32 = 8136;
-/// D8345: DSZR's creep speed; D8346 (pair) its zero-return speed.
+/// D8345: DSZR's creep speed for Y0; D8346 (pair) its zero-return speed;
+/// Y1-Y3 have their own every 10 (D8355/D8356, ...).
 pub const D_CREEP_SPEED: u32 = 8345;
 pub const D_ZERO_RETURN_SPEED: u32 = 8346;
 /// FX3U's defaults when the registers hold 0.
@@ -100,6 +101,20 @@ pub struct PulseRequest {
     pub direction: u32,
 }
 
+impl PulseRequest {
+    /// Operands with which the instruction can move: a frequency above 0
+    /// (PLSV: any, its sign is the direction) and PLSR's pulse count and
+    /// ramp time not below 1 and 0.
+    pub fn can_start(&self) -> bool {
+        match self.kind {
+            PulseKind::Plsv | PulseKind::Dszr => true,
+            PulseKind::Plsy | PulseKind::Drvi | PulseKind::Drva => self.frequency > 0,
+            PulseKind::Zrn => self.frequency > 0 && self.creep > 0,
+            PulseKind::Plsr => self.frequency > 0 && self.amount > 0 && self.ramp_ms >= 0,
+        }
+    }
+}
+
 /// A packed place value that names no place.
 pub const NO_PLACE: u32 = 0;
 
@@ -136,6 +151,9 @@ impl Memory {
         let index = instance as usize;
         if request.output > 3 || index >= self.instance.len() {
             return false;
+        }
+        if power && self.instance[index].phase == IDLE && !request.can_start() {
+            return false; // it would never move nor complete
         }
         let owner = instance + 1;
         let output = request.output as usize;
@@ -242,7 +260,7 @@ impl Memory {
             PulseKind::Zrn | PulseKind::Dszr => {
                 let forward = self.m[(M_ZERO_RETURN_FORWARD + 10 * output as u32) as usize] != 0;
                 let (speed, creep) = match request.kind {
-                    PulseKind::Dszr => self.zero_return_speeds(),
+                    PulseKind::Dszr => self.zero_return_speeds(output as u32),
                     PulseKind::Zrn
                     | PulseKind::Plsy
                     | PulseKind::Plsr
@@ -280,9 +298,9 @@ impl Memory {
         state
     }
 
-    fn zero_return_speeds(&self) -> (i32, i32) {
-        let speed = self.pair(D_ZERO_RETURN_SPEED);
-        let creep = i32::from(self.d[D_CREEP_SPEED as usize]);
+    fn zero_return_speeds(&self, output: u32) -> (i32, i32) {
+        let speed = self.pair(D_ZERO_RETURN_SPEED + 10 * output);
+        let creep = i32::from(self.d[(D_CREEP_SPEED + 10 * output) as usize]);
         (
             if speed == 0 { DEFAULT_ZERO_RETURN_SPEED } else { speed },
             if creep == 0 { DEFAULT_CREEP_SPEED } else { creep },

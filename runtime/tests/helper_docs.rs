@@ -10,7 +10,13 @@ const TABLE_HEADER: &str = "| C prototype | does |\n|---|---|\n";
 
 fn row(helper: Helper) -> String {
     let decl = helper.decl();
-    format!("| `{}` | {} |", decl.c_prototype(), decl.doc.trim())
+    let doc: Vec<&str> = decl
+        .doc
+        .lines()
+        .map(str::trim)
+        .filter(|line| !line.is_empty())
+        .collect();
+    format!("| `{}` | {} |", decl.c_prototype(), doc.join(" "))
 }
 
 fn table() -> String {

@@ -19,9 +19,10 @@ pub fn c_compiler() -> Result<String, String> {
     }
 }
 
-/// The runtime static library: `$LADDERC_RUNTIME_LIB`, else next to this
-/// executable as cargo builds it (`libladder_runtime.a`, or the newest
-/// `deps/libladder_runtime-*.a`).
+/// The runtime static library: `$LADDERC_RUNTIME_LIB`, else the newest
+/// next to this executable as cargo builds it (`libladder_runtime.a` or
+/// `deps/libladder_runtime-*.a`: `cargo test` rebuilds only the latter, so
+/// an older `libladder_runtime.a` from a `cargo build` must not win).
 pub fn runtime_library() -> Result<PathBuf, String> {
     if let Some(path) = std::env::var_os("LADDERC_RUNTIME_LIB") {
         let path = PathBuf::from(path);
@@ -37,12 +38,6 @@ pub fn runtime_library() -> Result<PathBuf, String> {
     if let Some(parent) = dir.parent() {
         places.extend([parent.to_path_buf(), parent.join("deps")]);
     }
-    for place in &places {
-        let exact = place.join("libladder_runtime.a");
-        if exact.is_file() {
-            return Ok(exact);
-        }
-    }
     let newest = places
         .iter()
         .filter_map(|place| std::fs::read_dir(place).ok())
@@ -50,7 +45,7 @@ pub fn runtime_library() -> Result<PathBuf, String> {
         .filter_map(Result::ok)
         .filter(|entry| {
             let name = entry.file_name().to_string_lossy().into_owned();
-            name.starts_with("libladder_runtime-") && name.ends_with(".a")
+            name == "libladder_runtime.a" || (name.starts_with("libladder_runtime-") && name.ends_with(".a"))
         })
         .filter_map(|entry| Some((entry.metadata().ok()?.modified().ok()?, entry.path())))
         .max();

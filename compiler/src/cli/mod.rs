@@ -33,6 +33,7 @@ mod check;
 mod explain;
 mod import;
 mod output;
+mod render;
 mod report;
 mod run;
 mod serve;
@@ -79,6 +80,8 @@ pub enum Command {
     Build(build::BuildArgs),
     /// Run a program for some scans and print watched devices after each.
     Run(run::RunArgs),
+    /// Draw the program as a ladder diagram (SVG, or an HTML page).
+    Render(render::RenderArgs),
     /// Run scenario files (folders are searched for *.scn).
     Test(test::TestArgs),
     /// Explain a diagnostic code such as E0010 (without one: list every code).
@@ -148,6 +151,7 @@ pub fn main_with_args(args: impl IntoIterator<Item = std::ffi::OsString>) -> u8 
         Command::Build(args) => build::run(&args, shown),
         Command::Run(args) => run::run(&args, shown),
         Command::Test(args) => test::run(&args),
+        Command::Render(args) => render::run(&args, shown),
         Command::Explain { code } => explain::run(code.as_deref()),
         Command::Completions { shell } => {
             use clap::CommandFactory as _;

@@ -188,9 +188,11 @@ because the block's state gating or the region's MC would be skipped.";
 "Each edge instruction (LDP, PLS, MOVP, ...) owns one previous-scan slot,
 and a program has 16384 of them.";
 
-    TooManyJobs = "E0031", Error, "too many sort instructions",
-"A program holds at most 64 SORT, SORT2 and DSORT2 instructions: each keeps
-its progress in the device image between scans.";
+    TooManyJobs = "E0031", Error, "too many instructions that keep state between scans",
+"The device image has room for 64 sorts (SORT, SORT2, DSORT2) and 256 other
+instructions that keep their state between scans (HOUR, TTMR, STMR, RAMP,
+SEGL, DHSCS, DHSCR, DHSZ, the pulse and positioning outputs, PWM, PID): each
+keeps its progress there from one scan to the next.";
 
     UnsupportedFx = "E0032", Error, "FX instruction not supported",
 "The instruction exists on Mitsubishi FX PLCs but ladderc does not implement

@@ -945,7 +945,7 @@ app_instructions! {
     /// PLSV S D1 D2: variable speed output.
     Plsv: "PLSV" "DPLSV" no_pulse HighSpeed state
         (s: Source(ANY_VALUE), d1: BitDestination(Devices::of(DeviceClass::Y)), d2: BitDestination(RESULT_BITS))
-        reads [] writes []
+        reads [] writes [EXECUTION_COMPLETE]
         "pulses at the signed frequency S on D1 (Y0-Y3) while driven; D2 the direction";
     /// DRVI S1 S2 D1 D2: relative positioning.
     Drvi: "DRVI" "DDRVI" no_pulse HighSpeed state
@@ -966,7 +966,7 @@ app_instructions! {
     Dszr: "DSZR" _ no_pulse HighSpeed state
         (s1: BitSource(ANY_BIT), s2: BitSource(Devices::of(DeviceClass::X)), d1: BitDestination(Devices::of(DeviceClass::Y)), d2: BitDestination(RESULT_BITS))
         reads [] writes [EXECUTION_COMPLETE]
-        "returns to zero at the speeds of D8346 and D8345 until the near point S1 is released (address 0)";
+        "returns to zero at the speeds of its output (Y0: D8346, D8345; Y1: D8356, D8355; ...) until the near point S1 is released (address 0)";
     /// PWM S1 S2 D: pulse width modulation.
     Pwm: "PWM" _ no_pulse HighSpeed state
         (s1: Source(ANY_VALUE), s2: Source(ANY_VALUE), d: BitDestination(Devices::of(DeviceClass::Y)))
@@ -974,12 +974,12 @@ app_instructions! {
         "D (Y0-Y3) is ON for S1 ms of every S2 ms while driven";
     /// FROM m1 m2 D n: reads buffer memory.
     From: "FROM" "DFROM" pulse Module on
-        (m1: Count(COUNT), m2: Source(COUNT), d: BlockDestination(WRITABLE_WORD), n: Count(COUNT))
+        (m1: Source(COUNT), m2: Source(COUNT), d: BlockDestination(WRITABLE_WORD), n: Source(COUNT))
         reads [] writes []
         "n units from buffer word m2 of unit m1 (U0-U7) to D";
     /// TO m1 m2 S n: writes buffer memory.
     To: "TO" "DTO" pulse Module on
-        (m1: Count(COUNT), m2: Source(COUNT), s: Source(ANY_VALUE), n: Count(COUNT))
+        (m1: Source(COUNT), m2: Source(COUNT), s: Source(ANY_VALUE), n: Source(COUNT))
         reads [] writes []
         "n units from S (a constant: n times) to buffer word m2 of unit m1 (U0-U7)";
     /// PID S1 S2 S3 D: PID control.

@@ -7,28 +7,35 @@ use std::sync::OnceLock;
 
 /// FX3U instructions (base names, without the D prefix and P suffix of
 /// their forms) that ladderc does not implement.
+#[rustfmt::skip]
 const UNSUPPORTED_FX: &[&str] = &[
-    // Program flow and interrupts.
-    "IRET", "EI", "DI", "WDT",  // Moves and conversions.
-    "SMOV", // Rotation and shift.
-    "RCR", "RCL", "WSFR", "WSFL", "SFWR", "SFRD",
-    // Floating point conversion.
-    // High-speed processing.
-    "REF", "REFF", "MTR", "HSCT", // Handy instructions.
-    "IST", "ROTC", // External I/O.
-    "TKY", "HKY", "DSW", "ARWS", "ASC", "PR", // Serial devices.
-    "RS", "RS2", "VRRD", "VRSC", // Floating point.
-    "ESTR", "EVAL", // Index register stack.
-    "ZPUSH", "ZPOP", // Positioning.
-    "DVIT", "TBL", "ABS", // Real-time clock.
-    // Gray code, analog modules, others.
-    "GRY", "GBIN", "RD3A", "WR3A", "EXTR", "COMRD", "RND", "DUTY", "HCMOV", // Character strings.
+    // Interrupts and the watchdog: no interrupts in the model.
+    "IRET", "EI", "DI", "WDT",
+    // Digit shifts, rotations with carry, word shifts and FIFO tables.
+    "SMOV", "RCR", "RCL", "WSFR", "WSFL", "SFWR", "SFRD",
+    // I/O refresh and hardware timing: no hardware behind the program.
+    "REF", "REFF", "MTR", "HSCT", "DUTY", "HCMOV",
+    // Handy instructions for particular machines.
+    "IST", "ROTC",
+    // External I/O devices (keypads, switches, printers).
+    "TKY", "HKY", "DSW", "ARWS", "ASC", "PR",
+    // Serial communication and the volume/analog expansion boards.
+    "RS", "RS2", "VRRD", "VRSC", "RD3A", "WR3A",
+    // Floating point to and from character strings.
+    "ESTR", "EVAL",
+    // Index register stack.
+    "ZPUSH", "ZPOP",
+    // Positioning beyond the pulse outputs: absolute encoder, tables.
+    "DVIT", "TBL", "ABS",
+    // Gray code, extended ROM, communication, random numbers.
+    "GRY", "GBIN", "EXTR", "COMRD", "RND",
+    // Character strings.
     "BINDA", "DABIN", "STR", "VAL", "LEN", "RIGHT", "LEFT", "MIDR", "MIDW", "INSTR",
-    // Data operation, data tables.
+    // Data operation and data tables.
     "FDEL", "FINS", "SFR", "SFL", "LIMIT", "BAND", "ZONE", "SCL", "SCL2",
-    // Inverter communication, buffer memory, file registers.
-    "IVCK", "IVDR", "IVRD", "IVWR", "IVBWR", "ADPRW", "RBFM", "WBFM", "LOADR", "SAVER", "INITR", "LOGR", "RWER",
-    "INITER",
+    // Inverter communication, buffer memory blocks, file registers.
+    "IVCK", "IVDR", "IVRD", "IVWR", "IVBWR", "ADPRW", "RBFM", "WBFM",
+    "LOADR", "SAVER", "INITR", "LOGR", "RWER", "INITER",
 ];
 
 /// Is `mnemonic` (any case) a form of an FX instruction ladderc does not

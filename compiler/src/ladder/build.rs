@@ -11,6 +11,7 @@ use ladder_runtime::Width;
 pub fn build(program: &CheckedProgram, source: &SourceFile) -> Ladder {
     let steps = steps(program, source);
     let comments = comment_lines(source);
+    let notes = notes(source);
     let element = |index: usize| {
         let instruction = &program.instructions[index];
         Element {
@@ -18,6 +19,7 @@ pub fn build(program: &CheckedProgram, source: &SourceFile) -> Ladder {
             span: instruction.span,
             line: instruction.line,
             step: steps[index],
+            note: notes.get(&instruction.line).cloned(),
         }
     };
     let mut rungs = Vec::new();
@@ -427,8 +429,9 @@ fn step_size(op: &Op) -> u32 {
     }
 }
 
-/// Comment lines of the source: `//` or `;` lines of IL, line statements
-/// of an export's comment rows. (line, text).
+/// Comment lines of the source: `//` or `;` lines of IL and the title of
+/// a `NETWORK n // title` line, line statements of an export's comment
+/// rows. (line, text).
 fn comment_lines(source: &SourceFile) -> Vec<(u32, String)> {
     if crate::syntax::export::is_export(&source.text) {
         return crate::syntax::export::comment_rows(source);
@@ -439,9 +442,42 @@ fn comment_lines(source: &SourceFile) -> Vec<(u32, String)> {
         .enumerate()
         .filter_map(|(index, line)| {
             let trimmed = line.trim_start_matches('\u{feff}').trim();
-            let text = trimmed.strip_prefix("//").or_else(|| trimmed.strip_prefix(';'))?;
+            let text = match trimmed.strip_prefix("//").or_else(|| trimmed.strip_prefix(';')) {
+                Some(text) => text,
+                None if starts_with_word(trimmed, "NETWORK") => trailing_comment(trimmed)?,
+                None => return None,
+            };
             Some((index as u32 + 1, text.trim().to_string()))
         })
         .filter(|(_, text)| !text.is_empty())
+        .collect()
+}
+
+fn starts_with_word(line: &str, word: &str) -> bool {
+    line.get(..word.len())
+        .is_some_and(|start| start.eq_ignore_ascii_case(word))
+        && line[word.len()..].chars().next().is_none_or(char::is_whitespace)
+}
+
+/// The `// comment` after an instruction on its line.
+fn trailing_comment(line: &str) -> Option<&str> {
+    line.find("//").map(|at| &line[at + 2..])
+}
+
+/// The comment after the instruction of each source line (IL only: an
+/// export keeps its notes in a column of its own), by line.
+fn notes(source: &SourceFile) -> std::collections::HashMap<u32, String> {
+    if crate::syntax::export::is_export(&source.text) {
+        return Default::default();
+    }
+    source
+        .text
+        .lines()
+        .enumerate()
+        .filter_map(|(index, line)| {
+            let note = trailing_comment(line.trim())?.trim();
+            let instruction = !line.trim().starts_with("//") && !starts_with_word(line.trim(), "NETWORK");
+            (instruction && !note.is_empty()).then(|| (index as u32 + 1, note.to_string()))
+        })
         .collect()
 }

@@ -18,9 +18,9 @@
 
 mod build;
 mod il;
+pub mod layout;
 mod names;
-// pub mod layout;
-// pub mod svg;
+pub mod svg;
 
 pub use build::build;
 pub use il::to_il;
@@ -110,6 +110,8 @@ pub struct Element {
     pub span: Span,
     pub line: u32,
     pub step: u32,
+    /// The comment after the instruction on its source line.
+    pub note: Option<String>,
 }
 
 impl Element {

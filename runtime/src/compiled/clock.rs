@@ -81,6 +81,7 @@ pub fn time_zone(mem: &mut Memory, low: Place, high: Place, data: Place, destina
     ) else {
         return false;
     };
+    let high = high.max(low); // a reversed zone is the single time `low`
     let bits = [time < low, (low..=high).contains(&time), time > high].map(i64::from);
     write_words(mem, destination, &bits);
     true

@@ -35,7 +35,12 @@ pub fn real_function(function: u32, x: u32) -> i32 {
     if !in_domain {
         return OUT_OF_RANGE;
     }
-    checked(function.apply(f64::from(x)))
+    let exact = function.apply(f64::from(x));
+    if function == RealFunction::Exp && exact == 0.0 {
+        // e^x is never 0: below about e^-745 double precision underflows too.
+        return OUT_OF_RANGE;
+    }
+    checked(exact)
 }
 
 /// Text of a few dozen bytes on the stack (no allocation on firmware).

@@ -114,6 +114,8 @@ pub fn zone(step: &mut Step, s1: &WordRef, s2: &WordRef, s: &WordRef, d: &BitRef
     let [Some(low), Some(high), Some(time)] = places.map(|p| day_second(step.three(p))) else {
         return Err(OperationError::DataOutOfRange);
     };
+    // A reversed zone counts as the single time S1, as in ZCP.
+    let high = high.max(low);
     step.write_bits(d, [time < low, low <= time && time <= high, time > high]);
     Ok(())
 }

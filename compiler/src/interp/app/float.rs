@@ -126,7 +126,9 @@ fn function(f: RealFunction, x: f32, valid: impl FnOnce(f32) -> bool) -> Result<
     }
     let y = f.apply(f64::from(x));
     let single = y as f32;
-    if !single.is_finite() || (y != 0.0 && y.abs() < f64::from(f32::MIN_POSITIVE)) {
+    // e^x is never 0: an exact 0 from DEXP is an underflow of the double.
+    let underflow = y.abs() < f64::from(f32::MIN_POSITIVE) && (y != 0.0 || f == RealFunction::Exp);
+    if !single.is_finite() || underflow {
         return Err(OperationError::DataOutOfRange);
     }
     Ok((single, []))
@@ -181,7 +183,11 @@ pub fn compare(step: &mut Step, sources: &[&WordRef], d: &BitRef) -> Outcome {
         .collect::<Result<Vec<f32>, _>>()?;
     let results = match values[..] {
         [a, b] => [a > b, a == b, a < b],
-        [low, high, s] => [s < low, low <= s && s <= high, s > high],
+        // A reversed zone counts as the single value S1, as in ZCP.
+        [low, high, s] => {
+            let high = if low > high { low } else { high };
+            [s < low, low <= s && s <= high, s > high]
+        }
         _ => return Ok(()),
     };
     if let Some(d) = d {

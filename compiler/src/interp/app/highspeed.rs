@@ -209,8 +209,11 @@ pub fn pulse(step: &mut Step, run: &Execution, operands: &PulseOperands) -> Outc
             .is_some_and(|p| step.read_at(p, Width::Single) != 0),
         direction: direction.flatten().and_then(|p| p.pack()).unwrap_or(NO_PLACE),
     };
-    step.mem.pulse_output(run.job, true, &request);
-    Ok(())
+    if step.mem.pulse_output(run.job, true, &request) {
+        Ok(())
+    } else {
+        Err(OperationError::DataOutOfRange) // operands it cannot start with
+    }
 }
 
 /// PWM S1 S2 D (every scan): D (Y0-Y3) ON for S1 ms of every S2 ms while

@@ -22,9 +22,10 @@ fn buffer(unit: i64, first: i64, words: i64) -> Option<Place> {
 /// program's devices. n 1-32767.
 pub fn transfer(step: &mut Step, m1: &WordRef, m2: &WordRef, other: &WordRef, n: &WordRef, from: bool) -> Outcome {
     let width = step.width;
-    let unit = step.count_value(m1)?;
+    // DFROM/DTO read m1, m2 and n as pairs, as every operand of a D form.
+    let unit = step.source_value(m1)?;
     let first = step.source_value(m2)?;
-    let n = step.count_value(n)?;
+    let n = step.source_value(n)?;
     let Some(buffer) = buffer(unit, first, n * i64::from(width.words())) else {
         return Err(OperationError::DataOutOfRange);
     };

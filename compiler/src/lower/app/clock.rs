@@ -18,20 +18,6 @@ impl Step<'_, '_> {
         let units = self.run_of(units);
         self.resolve(word, Width::Single, units, read)
     }
-
-    /// A helper's I32 answer; 4084H unless it is not 0.
-    fn require_ok(&mut self, answer: Value) {
-        let zero = self.b().constant(Type::I32, 0);
-        let ok = self.b().compare(CompareOp::Ne, answer, zero);
-        self.require(ok, OperationError::DataOutOfRange);
-    }
-
-    fn helper(&mut self, helper: Helper, args: Vec<Value>) -> Value {
-        match self.b().call(helper, args) {
-            Some(answer) => answer,
-            None => self.b().constant(Type::I32, 0),
-        }
-    }
 }
 
 /// TRD D: year, month, day, hour, minute, second, day of week.

@@ -217,6 +217,9 @@ pub fn compare(step: &mut Step, sources: &[&WordRef], d: &BitRef) {
             b.float_compare(CompareOp::Lt, a, c),
         ],
         [low, high, s] => {
+            // A reversed zone counts as the single value S1, as in ZCP.
+            let reversed = b.float_compare(CompareOp::Gt, low, high);
+            let high = b.select(reversed, low, high);
             let below = b.float_compare(CompareOp::Lt, s, low);
             let from_low = b.float_compare(CompareOp::Le, low, s);
             let to_high = b.float_compare(CompareOp::Le, s, high);

@@ -150,7 +150,8 @@ pub fn pulse(step: &mut Step, run: &Execution, operands: &PulseOperands) {
         Some(operand) => step.l.place(&operand),
         None => step.b().constant(Type::I32, i64::from(NO_PLACE)),
     });
-    step.b().call(Helper::PulseOutput, args);
+    let started = step.helper(Helper::PulseOutput, args);
+    step.require_ok(started);
 }
 
 /// PWM S1 S2 D every scan.

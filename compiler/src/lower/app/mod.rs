@@ -285,6 +285,21 @@ impl Step<'_, '_> {
 
     /// A value at the instruction's width that decides how many units the
     /// other operands cover, resolved on its own (like `count_value`).
+    /// A helper's I32 answer; 4084H unless it is not 0.
+    pub fn require_ok(&mut self, answer: Value) {
+        let zero = self.b().constant(Type::I32, 0);
+        let ok = self.b().compare(CompareOp::Ne, answer, zero);
+        self.require(ok, OperationError::DataOutOfRange);
+    }
+
+    /// A helper's I32 answer (0 for a helper without one).
+    pub fn helper(&mut self, helper: ladder_runtime::helpers::Helper, args: Vec<Value>) -> Value {
+        match self.b().call(helper, args) {
+            Some(answer) => answer,
+            None => self.b().constant(Type::I32, 0),
+        }
+    }
+
     pub fn source_value(&mut self, word: &WordRef) -> Value {
         let operand = self.source(word);
         self.commit();

@@ -13,9 +13,10 @@ use ladder_runtime::{OperationError, WordArea};
 /// FROM m1 m2 D n (`from`) or TO m1 m2 S n.
 pub fn transfer(step: &mut Step, m1: &WordRef, m2: &WordRef, other: &WordRef, n: &WordRef, from: bool) {
     let width = step.width;
-    let unit = step.count_value(m1);
+    // DFROM/DTO read m1, m2 and n as pairs, as every operand of a D form.
+    let unit = step.source_value(m1);
     let first = step.source_value(m2);
-    let n = step.count_value(n);
+    let n = step.source_value(n);
     let b = step.b();
     let (zero, one) = (b.constant(Type::I64, 0), b.constant(Type::I64, 1));
     let units = b.constant(Type::I64, i64::from(BUFFER_UNITS));
