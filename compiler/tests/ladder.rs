@@ -126,7 +126,7 @@ proptest! {
 /// cell, and every cell connected to the left rail by wires and cells.
 fn drawing_faults(name: &str, text: &str) -> Result<(), String> {
     use ladderc::ladder::layout::{layout, Symbol, Wire};
-    use std::collections::{BTreeSet, HashMap};
+    use std::collections::HashMap;
     let source = SourceFile::new(name, text);
     let (Some(program), _) = compile_source(&source) else {
         return Ok(());
@@ -172,7 +172,6 @@ fn drawing_faults(name: &str, text: &str) -> Result<(), String> {
         for row in 0..laid.rows {
             join(&mut parent, (0, row), (0, 0));
         }
-        let mut points: BTreeSet<(u32, u32)> = BTreeSet::new();
         for wire in &laid.wires {
             match *wire {
                 Wire::Horizontal { row, from, to } => {
@@ -204,7 +203,21 @@ fn drawing_faults(name: &str, text: &str) -> Result<(), String> {
                 (cell.column, cell.row),
                 (cell.column + cell.width, cell.row),
             );
-            points.insert((cell.column, cell.row));
+        }
+        // A wrapped rung: each outgoing mark goes on at its incoming one.
+        for out in laid.connectors.iter().filter(|c| c.outgoing) {
+            let back: Vec<_> = laid
+                .connectors
+                .iter()
+                .filter(|c| !c.outgoing && c.number == out.number)
+                .collect();
+            if back.len() != 1 || out.column + 1 > laid.columns || back[0].row <= out.row {
+                return fault(format!("connector {} has {} ends below it", out.number, back.len()));
+            }
+            join(&mut parent, (out.column, out.row), (back[0].column + 1, back[0].row));
+        }
+        if laid.columns > ladderc::ladder::layout::DEFAULT_COLUMNS {
+            return fault(format!("{} columns: not wrapped", laid.columns));
         }
         let rail = find(&mut parent, (0, 0));
         for cell in &laid.cells {

@@ -57,10 +57,9 @@ pub fn run(args: &RenderArgs, shown: Shown) -> u8 {
             Some(_) | None => Format::Svg,
         });
     let diagram = ladder::build(&program, &source);
-    let drawing = svg::render(&diagram, &program);
     let document = match format {
-        Format::Svg => drawing,
-        Format::Html => page(&diagram.name, &source.name, diagram.rungs.len(), &drawing),
+        Format::Svg => svg::render(&diagram, &program),
+        Format::Html => page(&diagram, &program, &source.name),
     };
     match target {
         None => {
@@ -81,18 +80,37 @@ fn extension(path: &Path) -> Option<String> {
     path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase())
 }
 
-/// A page that shows the drawing (scrolls sideways when it is wide).
-fn page(name: &str, file: &str, rungs: usize, drawing: &str) -> String {
-    let drawing = drawing.trim_start_matches(|c| c != '<');
+/// A page with a rung index beside the rungs, one SVG each.
+fn page(diagram: &ladder::Ladder, program: &crate::program::CheckedProgram, file: &str) -> String {
+    use std::fmt::Write as _;
+    let mut index = String::new();
+    let mut rungs = String::new();
+    for (number, rung) in diagram.rungs.iter().enumerate() {
+        let laid = ladder::layout::layout(rung, program);
+        let _ = write!(
+            index,
+            "<li><a href=\"#rung-{number}\"><span class=\"step\">{}</span> {}</a></li>",
+            rung.step,
+            escape(svg::caption(rung, &laid).as_str())
+        );
+        rungs.push_str(&svg::rung_document(number, rung, &laid));
+    }
     format!(
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\
          <title>{title} — ladder</title>\
-         <style>body{{margin:0;font-family:system-ui,sans-serif}}\
-         header{{padding:8px 16px;border-bottom:1px solid #ccc;background:#f6f6f6}}\
-         main{{overflow:auto}}</style></head>\
-         <body><header><strong>{title}</strong> · {file} · {rungs} rungs</header>\
-         <main>{drawing}</main></body></html>\n",
-        title = escape(name),
+         <style>{style}\
+         body{{margin:0;font-family:system-ui,sans-serif;display:grid;grid-template-columns:260px 1fr;height:100vh}}\
+         nav{{overflow:auto;border-right:1px solid #ccc;background:#f6f6f6;font-size:13px}}\
+         nav h1{{font-size:15px;margin:10px 12px}} nav p{{margin:0 12px 8px;color:#555}}\
+         nav ol{{list-style:none;margin:0;padding:0}} nav a{{display:block;padding:2px 12px;color:#123;\
+         text-decoration:none;white-space:nowrap;overflow:hidden;text-overflow:ellipsis}}\
+         nav a:hover{{background:#e2e8f0}} nav .step{{display:inline-block;width:44px;color:#666;text-align:right;\
+         margin-right:6px}} main{{overflow:auto}} main svg{{display:block}}</style></head>\
+         <body><nav><h1>{title}</h1><p>{file} · {count} rungs</p><ol>{index}</ol></nav>\
+         <main>{rungs}</main></body></html>\n",
+        style = svg::STYLE,
+        title = escape(diagram.name.as_str()),
         file = escape(file),
+        count = diagram.rungs.len(),
     )
 }

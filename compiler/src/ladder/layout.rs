@@ -11,9 +11,9 @@ use super::{Body, Element, Node, Rung, Tail, TailItem};
 use crate::isa::Role;
 use crate::program::{CheckedProgram, Contact, Op, Output};
 
-/// Contact columns before the outputs, as many as GX Works2 shows; a rung
-/// that needs more is drawn wider.
-pub const DEFAULT_COLUMNS: u32 = 11;
+/// Columns from rail to rail, as GX Works2 shows them (eleven contacts and
+/// the output); a rung that needs more is wrapped onto bands below.
+pub const DEFAULT_COLUMNS: u32 = 12;
 
 /// One rung on the grid.
 #[derive(Clone, Debug, PartialEq)]
@@ -25,6 +25,19 @@ pub struct RungLayout {
     pub wires: Vec<Wire>,
     /// A jump target (`P0`), drawn in the margin left of the rail.
     pub label: Option<String>,
+    /// Where a wrapped rung goes on in the band below.
+    pub connectors: Vec<Connector>,
+}
+
+/// A continuation mark of a wrapped rung: the wire that leaves one band at
+/// the mark `number` (`outgoing`) comes back at the start of the next band
+/// at the mark with the same number. The mark takes one cell.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Connector {
+    pub column: u32,
+    pub row: u32,
+    pub number: u32,
+    pub outgoing: bool,
 }
 
 /// One element of the program in its place.
@@ -134,13 +147,15 @@ pub fn layout(rung: &Rung, program: &CheckedProgram) -> RungLayout {
             });
         }
     }
-    RungLayout {
+    let laid = RungLayout {
         columns,
         rows: grid.bottom,
         cells: grid.cells,
         wires: grid.wires,
         label,
-    }
+        connectors: Vec::new(),
+    };
+    super::wrap::wrap(laid, DEFAULT_COLUMNS)
 }
 
 /// An output cell placed provisionally: fed at column edge `from`.

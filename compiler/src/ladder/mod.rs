@@ -21,6 +21,7 @@ mod il;
 pub mod layout;
 mod names;
 pub mod svg;
+mod wrap;
 
 pub use build::build;
 pub use il::to_il;

@@ -15,7 +15,7 @@ use quick_xml::escape::escape;
 use std::fmt::Write;
 
 /// A cell's width and a row's height, in pixels.
-pub const CELL: u32 = 92;
+pub const CELL: u32 = 80;
 pub const ROW: u32 = 58;
 /// Where the left rail is (the step numbers go left of it).
 pub const MARGIN: u32 = 64;
@@ -67,6 +67,52 @@ pub fn render(ladder: &Ladder, program: &CheckedProgram) -> String {
         escape(ladder.name.as_str())
     );
     out
+}
+
+/// Rung number `index` as an SVG document of its own (for pages that show
+/// rungs one by one; the page supplies `STYLE`).
+pub fn rung_document(index: usize, rung: &Rung, laid: &RungLayout) -> String {
+    let width = MARGIN + laid.columns * CELL + 24;
+    let mut body = String::new();
+    let height = rung_svg(&mut body, index, rung, laid, GAP / 2) + GAP;
+    format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"ladder\" id=\"rung-{index}\" width=\"{width}\" \
+         height=\"{height}\" viewBox=\"0 0 {width} {height}\">{body}</svg>"
+    )
+}
+
+/// A line that says what a rung is for: its first comment, else what it
+/// drives (`OUT Y000, SET M0, MOV ...`).
+pub fn caption(rung: &Rung, laid: &RungLayout) -> String {
+    if let Some(comment) = rung.comments.last() {
+        return comment.clone();
+    }
+    if let Some(label) = &laid.label {
+        return label.clone();
+    }
+    let outputs: Vec<String> = laid
+        .cells
+        .iter()
+        .filter(|c| c.column + c.width == laid.columns)
+        .filter_map(|c| match &c.symbol {
+            Symbol::Coil { device, .. } => Some(format!("OUT {device}")),
+            Symbol::Box { mnemonic, operands } => Some(match operands.last() {
+                Some(last) => format!("{mnemonic} {last}"),
+                None => mnemonic.clone(),
+            }),
+            Symbol::Contact { .. }
+            | Symbol::Compare { .. }
+            | Symbol::Constant(_)
+            | Symbol::Invert
+            | Symbol::ResultEdge { .. } => None,
+        })
+        .collect();
+    let shown = outputs.iter().take(3).cloned().collect::<Vec<_>>().join(", ");
+    if outputs.len() > 3 {
+        format!("{shown}, …")
+    } else {
+        shown
+    }
 }
 
 /// The END every program ends with, after the last rung.
@@ -163,8 +209,35 @@ pub fn rung_svg(out: &mut String, index: usize, rung: &Rung, laid: &RungLayout, 
     for cell in &laid.cells {
         cell_svg(out, cell, x(cell.column), wire_y(cell.row));
     }
+    for connector in &laid.connectors {
+        connector_svg(out, connector, x(connector.column), wire_y(connector.row));
+    }
     out.push_str("</g>");
     height
+}
+
+/// A continuation mark of a wrapped rung: `⇒n` where the wire leaves a
+/// band, `n⇒` where it comes back.
+fn connector_svg(out: &mut String, connector: &super::layout::Connector, left: u32, wire: u32) {
+    let middle = left + CELL / 2;
+    let (circle, line_from, line_to, head) = if connector.outgoing {
+        (middle + 12, left, middle, middle)
+    } else {
+        (middle - 12, middle - 2, left + CELL, left + CELL)
+    };
+    let _ = write!(
+        out,
+        "<g class=\"connector\"><line class=\"wire\" x1=\"{line_from}\" y1=\"{wire}\" x2=\"{line_to}\" y2=\"{wire}\"/>\
+         <path class=\"sym\" d=\"M{} {}L{head} {wire}L{} {}\"/>\
+         <circle class=\"sym\" cx=\"{circle}\" cy=\"{wire}\" r=\"10\"/>\
+         <text class=\"op\" x=\"{circle}\" y=\"{}\" text-anchor=\"middle\">{}</text></g>",
+        head - 6,
+        wire - 5,
+        head - 6,
+        wire + 5,
+        wire + 4,
+        connector.number
+    );
 }
 
 /// One element: `left` is its cell's left edge, `wire` the wire's height.
