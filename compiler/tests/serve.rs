@@ -26,9 +26,13 @@ struct Server {
 
 impl Server {
     fn start(extra: &[&str]) -> Server {
+        Server::start_program(PROGRAM, extra)
+    }
+
+    fn start_program(text: &str, extra: &[&str]) -> Server {
         let dir = tempfile::tempdir().unwrap();
         let program = dir.path().join("plc.il");
-        std::fs::write(&program, PROGRAM).unwrap();
+        std::fs::write(&program, text).unwrap();
         let mut child = Command::new(env!("CARGO_BIN_EXE_ladderc"))
             .args(["serve", program.to_str().unwrap(), "--modbus", "127.0.0.1:0"])
             // 10 ms scans unless the test asks for another period.
@@ -286,70 +290,303 @@ fn values_are_pushed_as_server_sent_events() {
     server.stop();
 }
 
-#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn the_monitor_page_shows_a_modbus_write_in_a_real_browser() {
-    let test = "the_monitor_page_shows_a_modbus_write_in_a_real_browser";
-    if let Err(why) = tools_ensure_chromium() {
-        eprintln!("SKIPPED {test}: {why}");
-        println!("SKIPPED {test}: {why}");
-        return;
+/// A program for the debugger: D0 counts scans, Y0 follows X0, S0 is the
+/// active step while M0 is OFF.
+const COUNTING: &str = "LD M8000\nINC D0\nLD X0\nOUT Y0\nLD M8002\nSET S0\nSTL S0\nLD M0\nSET S1\nSTLE\n";
+
+impl Server {
+    /// `program` served with `--http` and a Modbus port, 20 ms scans.
+    fn start_with(program: &str) -> Server {
+        Server::start_program(program, &["--http", "127.0.0.1:0", "--scan-ms", "20"])
     }
-    let server = Server::start(&["--http", "127.0.0.1:0"]);
-    let page = format!("http://{}/?poll=50&watch=D5,Y0", server.web.unwrap());
-    let cell = |dom: &str| {
-        dom.split(r#"id="value-D5""#)
-            .nth(1)
-            .and_then(|rest| rest.split_once('>'))
-            .and_then(|(_, rest)| rest.split_once('<'))
-            .map(|(value, _)| value.to_string())
-    };
+}
+
+fn scan_of(web: SocketAddr) -> u64 {
+    json(&http(web, "GET", "/api/devices?watch=D0", "").1)["scan"]
+        .as_u64()
+        .unwrap()
+}
+
+#[test]
+fn stop_pause_step_and_breakpoints_through_the_api() {
+    let server = Server::start_with(COUNTING);
+    let web = server.web.unwrap();
+    let control = |action: &str| json(&http(web, "POST", "/api/control", &format!(r#"{{"action": "{action}"}}"#)).1);
+    // STOP: Y OFF, no scans, writes still apply.
+    http(web, "POST", "/api/set", r#"{"device": "X0", "value": 1}"#);
+    std::thread::sleep(Duration::from_millis(100));
     assert_eq!(
-        cell(&browse(&page, &["--dump-dom"])).as_deref(),
-        Some("0"),
-        "before the write"
+        json(&http(web, "GET", "/api/devices?watch=Y0", "").1)["devices"]["Y0"],
+        1
     );
-    let mut ctx = tcp::connect(server.address).await.unwrap();
-    ctx.write_single_coil(20002, true).await.unwrap().unwrap();
-    settle().await;
+    assert_eq!(control("stop")["mode"], "stop");
+    std::thread::sleep(Duration::from_millis(100));
+    let stopped = json(&http(web, "GET", "/api/devices?watch=Y0,D0", "").1);
+    assert_eq!(stopped["devices"]["Y0"], 0, "STOP turns the outputs off: {stopped}");
+    http(web, "POST", "/api/set", r#"{"device": "D5", "value": 77}"#);
+    std::thread::sleep(Duration::from_millis(150));
+    let later = json(&http(web, "GET", "/api/devices?watch=D0,D5", "").1);
+    assert_eq!(later["scan"], stopped["scan"], "no scan in STOP");
+    assert_eq!(later["devices"]["D5"], 77, "a write applies in STOP");
+    control("run");
+    std::thread::sleep(Duration::from_millis(150));
+    assert!(scan_of(web) > stopped["scan"].as_u64().unwrap());
+    // Pause, then steps of exactly the scans asked for.
+    control("pause");
+    std::thread::sleep(Duration::from_millis(100));
+    let paused = scan_of(web);
+    std::thread::sleep(Duration::from_millis(100));
+    assert_eq!(scan_of(web), paused, "paused");
+    for (scans, expected) in [(1, paused + 1), (3, paused + 4)] {
+        http(
+            web,
+            "POST",
+            "/api/control",
+            &format!(r#"{{"action": "step", "scans": {scans}}}"#),
+        );
+        std::thread::sleep(Duration::from_millis(300));
+        assert_eq!(scan_of(web), expected);
+    }
+    // A breakpoint pauses at the end of the scan where it turns true.
+    let d0 = json(&http(web, "GET", "/api/devices?watch=D0", "").1)["devices"]["D0"]
+        .as_i64()
+        .unwrap();
+    let target = d0 + 10;
+    let (status, body) = http(
+        web,
+        "POST",
+        "/api/breakpoints",
+        &format!(r#"{{"condition": "D0 > {target}"}}"#),
+    );
+    assert_eq!(status, 200, "{body}");
+    control("resume");
+    std::thread::sleep(Duration::from_millis(700));
+    let state = json(&http(web, "GET", "/api/devices?watch=D0", "").1);
+    assert_eq!(state["control"]["paused"], true, "{state}");
     assert_eq!(
-        cell(&browse(&page, &["--dump-dom"])).as_deref(),
-        Some("123"),
-        "after X2 through Modbus"
+        state["devices"]["D0"],
+        target + 1,
+        "paused at the first scan where D0 > {target}: {state}"
     );
-    let shot = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("monitor.png");
-    let _ = std::fs::remove_file(&shot);
-    browse(
-        &page.replace("poll=50", "poll=0"),
-        &[
-            &format!("--screenshot={}", shot.display()),
-            "--window-size=1000,800",
-            "--timeout=1500",
-        ],
+    assert_eq!(state["control"]["hit"]["scan"], state["scan"], "{state}");
+    for (body, expected) in [
+        (r#"{"condition": "D0 >"}"#, 400),
+        (r#"{"condition": "Q0 == 1"}"#, 400),
+        (r#"{"condition": "M5 rises"}"#, 200),
+    ] {
+        let (status, answer) = http(web, "POST", "/api/breakpoints", body);
+        assert_eq!(status, expected, "{body}: {answer}");
+    }
+    assert_eq!(http(web, "DELETE", "/api/breakpoints?id=999", "").0, 404);
+    let (status, body) = http(web, "DELETE", "/api/breakpoints", "");
+    assert_eq!(status, 200);
+    assert_eq!(json(&body)["breakpoints"].as_array().map(Vec::len), Some(0));
+    assert_eq!(http(web, "POST", "/api/control", r#"{"action": "jump"}"#).0, 400);
+    assert_eq!(
+        http(web, "POST", "/api/control", r#"{"action": "step", "scans": 0}"#).0,
+        400
     );
-    assert!(
-        std::fs::metadata(&shot).map(|m| m.len() > 1000).unwrap_or(false),
-        "a screenshot at {}",
-        shot.display()
-    );
+    control("resume");
     server.stop();
 }
 
-/// Headless Chromium on `url`; its standard output.
-fn browse(url: &str, args: &[&str]) -> String {
-    let virtual_time = args.iter().any(|a| a.starts_with("--dump-dom"));
-    let mut command = Command::new("chromium");
-    command.args(["--headless", "--no-sandbox", "--disable-gpu"]);
-    let profile = std::env::temp_dir().join(format!("ladderc-chromium-{}", std::process::id()));
-    command.arg(format!("--user-data-dir={}", profile.display()));
-    if virtual_time {
-        command.arg("--virtual-time-budget=1500");
+#[test]
+fn the_page_review_holds() {
+    let server = Server::start_with(COUNTING);
+    let web = server.web.unwrap();
+    // Ranges, formats, 32-bit and float as `run --watch` takes them; T5 is T5.
+    http(web, "POST", "/api/set", r#"{"device": "D10", "value": 255}"#);
+    assert_eq!(
+        http(web, "POST", "/api/set", r#"{"device": "D20:32", "value": 100000}"#).0,
+        200
+    );
+    std::thread::sleep(Duration::from_millis(100));
+    let (status, body) = http(
+        web,
+        "GET",
+        "/api/devices?watch=Y0..Y2,T5,D10:hex,D10:bin,D20:32,D20:float",
+        "",
+    );
+    assert_eq!(status, 200, "{body}");
+    let value = json(&body);
+    assert_eq!(
+        value["names"],
+        json(r#"["Y0","Y1","Y2","T5","D10:hex","D10:bin","D20:32","D20:float"]"#)
+    );
+    assert_eq!(value["text"]["D10:hex"], "H00FF");
+    assert_eq!(value["text"]["D10:bin"], "0000000011111111");
+    assert_eq!(value["devices"]["D20:32"], 100000, "not -31072: {body}");
+    // An invalid name and too many devices are errors, not empty tables.
+    let (status, body) = http(web, "GET", "/api/devices?watch=D0,Q7", "");
+    assert_eq!(status, 400, "{body}");
+    assert!(json(&body)["error"].as_str().unwrap().contains("Q7"), "{body}");
+    let (status, body) = http(web, "GET", "/api/devices?watch=M0..M300", "");
+    assert_eq!(status, 400);
+    assert!(json(&body)["error"].as_str().unwrap().contains("256"), "{body}");
+    // Forces: listed, one unforced with an empty value box, or all at once.
+    for device in ["X0", "M7", "Y3"] {
+        http(
+            web,
+            "POST",
+            "/api/force",
+            &format!(r#"{{"device": "{device}", "value": 1}}"#),
+        );
     }
-    let output = command.args(args).arg(url).output().expect("chromium runs");
-    String::from_utf8_lossy(&output.stdout).into_owned()
+    std::thread::sleep(Duration::from_millis(100));
+    let forces = json(&http(web, "GET", "/api/forces", "").1);
+    assert_eq!(forces["forces"].as_array().map(Vec::len), Some(3), "{forces}");
+    let (status, body) = http(web, "POST", "/api/unforce", r#"{"device": "M7", "value": ""}"#);
+    assert_eq!(status, 200, "{body}");
+    std::thread::sleep(Duration::from_millis(100));
+    assert_eq!(
+        json(&http(web, "GET", "/api/forces", "").1)["forces"]
+            .as_array()
+            .map(Vec::len),
+        Some(2)
+    );
+    assert_eq!(json(&http(web, "POST", "/api/unforce-all", "{}").1)["unforced"], 2);
+    std::thread::sleep(Duration::from_millis(100));
+    assert_eq!(json(&http(web, "GET", "/api/forces", "").1)["forces"], json("[]"));
+    // Statistics reset.
+    let (status, _) = http(web, "POST", "/api/stats/reset", "{}");
+    assert_eq!(status, 200);
+    assert!(json(&http(web, "GET", "/api/stats", "").1)["scans"].as_u64().unwrap() < 10);
+    // 413 in JSON, for a program too.
+    let huge = "LD X0\n".repeat(2_000_000);
+    let (status, body) = http(web, "POST", "/api/program", &huge);
+    assert_eq!(status, 413);
+    assert!(json(&body)["error"].is_string(), "{body}");
+    // The ladder and the states of its elements: Y0 ON after X0 ON.
+    let (status, fragment) = http(web, "GET", "/api/ladder", "");
+    assert_eq!(status, 200);
+    assert!(
+        fragment.contains("id=\"rung-0\"") && fragment.contains("INC"),
+        "{fragment}"
+    );
+    http(web, "POST", "/api/set", r#"{"device": "X0", "value": 1}"#);
+    std::thread::sleep(Duration::from_millis(100));
+    let (status, body) = http(web, "GET", "/api/ladder/state?rungs=0,1,3", "");
+    assert_eq!(status, 200, "{body}");
+    let elements = json(&body)["elements"].as_array().unwrap().clone();
+    // [instruction, on, forced, values]: LD X0 is instruction 2, OUT Y0 3.
+    let on = |index: u64| elements.iter().find(|e| e[0] == index).map(|e| e[1].clone());
+    assert_eq!(on(2), Some(json("1")), "{body}");
+    assert_eq!(on(3), Some(json("1")), "{body}");
+    assert_eq!(http(web, "GET", "/api/ladder/state?rungs=999", "").0, 400);
+    server.stop();
 }
 
-fn tools_ensure_chromium() -> Result<(), String> {
-    common::tools::ensure("chromium", &["--version"], &["chromium"])
+#[test]
+fn the_trend_gets_every_scan() {
+    use std::io::{BufRead, Write};
+    let server = Server::start_with(COUNTING);
+    let mut stream = std::net::TcpStream::connect(server.web.unwrap()).unwrap();
+    stream.set_read_timeout(Some(Duration::from_secs(10))).unwrap();
+    write!(stream, "GET /api/events?watch=D0 HTTP/1.1\r\nHost: test\r\n\r\n").unwrap();
+    let events: Vec<serde_json::Value> = BufReader::new(stream)
+        .lines()
+        .map_while(Result::ok)
+        .filter_map(|line| line.strip_prefix("data: ").map(json))
+        .take(6)
+        .collect();
+    // Every scan once, in order, across pushes: D0 counts scans, so the
+    // samples' values are consecutive too.
+    let samples: Vec<(u64, i64)> = events
+        .iter()
+        .flat_map(|e| e["samples"].as_array().cloned().unwrap_or_default())
+        .map(|s| (s[0].as_u64().unwrap(), s[2].as_i64().unwrap()))
+        .collect();
+    assert!(samples.len() > 10, "{samples:?}");
+    for pair in samples.windows(2) {
+        assert_eq!(pair[1].0, pair[0].0 + 1, "a scan missing: {samples:?}");
+        assert_eq!(pair[1].1, pair[0].1 + 1, "{samples:?}");
+    }
+    server.stop();
+}
+
+#[test]
+fn the_monitor_page_is_a_live_ladder_in_a_real_browser() {
+    let test = "the_monitor_page_is_a_live_ladder_in_a_real_browser";
+    let server = Server::start_with(COUNTING);
+    let web = server.web.unwrap();
+    let mut browser = match common::browser::Browser::open(&format!("http://{web}/?watch=Y0,D0,X0"), 1500, 900) {
+        Ok(browser) => browser,
+        Err(why) => {
+            eprintln!("SKIPPED {test}: {why}");
+            println!("SKIPPED {test}: {why}");
+            server.stop();
+            return;
+        }
+    };
+    let shots = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("monitor");
+    std::fs::create_dir_all(&shots).unwrap();
+    let wait = Duration::from_secs(10);
+    // It sees the ladder: the rungs, with LD X0 (instruction 2) open.
+    assert!(browser.wait_for("document.querySelectorAll('#ladder svg.ladder').length >= 4", wait));
+    let contact = r#"document.querySelector('#ladder g.cell[data-e="2"]')"#;
+    assert!(browser.wait_for(&format!("{contact} && !{contact}.classList.contains('on')"), wait));
+    // The active step S0 (STL S0 is instruction 6) is highlighted.
+    assert!(browser.wait_for(
+        r#"document.querySelector('#ladder g.cell[data-e="6"]').classList.contains('on')"#,
+        wait
+    ));
+    // A Modbus write of X0 closes the contact on the page.
+    let runtime = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .unwrap();
+    runtime.block_on(async {
+        let mut ctx = tcp::connect(server.address).await.unwrap();
+        ctx.write_single_coil(20000, true).await.unwrap().unwrap();
+    });
+    assert!(
+        browser.wait_for(&format!("{contact}.classList.contains('on')"), wait),
+        "the contact of X0 turns ON after the Modbus write"
+    );
+    browser.screenshot(&shots.join("1-contact-on.png"));
+    // A breakpoint typed into the page pauses the scans.
+    let d0 = json(&http(web, "GET", "/api/devices?watch=D0", "").1)["devices"]["D0"]
+        .as_i64()
+        .unwrap();
+    browser.eval(&format!(
+        "document.getElementById('condition').value = 'D0 >= {}'; document.getElementById('break-form').requestSubmit(); true",
+        d0 + 20
+    ));
+    assert!(browser.wait_for("document.getElementById('mode').textContent === 'PAUSED'", wait));
+    assert!(browser.wait_for("document.getElementById('hit').textContent.includes('at scan')", wait));
+    let shown_scan = "Number(document.getElementById('scan').textContent)";
+    std::thread::sleep(Duration::from_millis(300));
+    let paused_at = browser.eval(shown_scan).as_u64().unwrap();
+    std::thread::sleep(Duration::from_millis(400));
+    assert_eq!(
+        browser.eval(shown_scan).as_u64().unwrap(),
+        paused_at,
+        "paused: the scan count stands"
+    );
+    assert_eq!(
+        json(&http(web, "GET", "/api/devices?watch=D0", "").1)["devices"]["D0"],
+        d0 + 20,
+        "paused at the scan where D0 reached the condition"
+    );
+    browser.screenshot(&shots.join("2-breakpoint.png"));
+    // Step: exactly one scan more.
+    browser.eval("document.getElementById('step-count').value = '1'; document.getElementById('step').click(); true");
+    assert!(browser.wait_for(&format!("{shown_scan} === {}", paused_at + 1), wait));
+    std::thread::sleep(Duration::from_millis(400));
+    assert_eq!(
+        browser.eval(shown_scan).as_u64().unwrap(),
+        paused_at + 1,
+        "one step, one scan"
+    );
+    browser.screenshot(&shots.join("3-step.png"));
+    browser.eval("document.getElementById('resume').click(); true");
+    assert!(browser.wait_for("document.getElementById('mode').textContent === 'RUN'", wait));
+    for shot in ["1-contact-on.png", "2-breakpoint.png", "3-step.png"] {
+        let size = std::fs::metadata(shots.join(shot)).map(|m| m.len()).unwrap_or(0);
+        assert!(size > 10_000, "{shot}: {size} bytes");
+    }
+    println!("screenshots in {}", shots.display());
+    server.stop();
 }
 
 #[test]

@@ -85,6 +85,8 @@ pub const HSC_INPUTS: u32 = 8;
 pub const PULSE_OUTPUTS: u32 = 4;
 /// Largest unit count of BMOV/FMOV (more is operation error 4084H).
 pub const MAX_BLOCK_UNITS: u32 = 512;
+/// The most units FROM and TO move at once (a unit's whole buffer memory).
+pub const MAX_TRANSFER_UNITS: u32 = 32_767;
 /// Most bits SFTR/SFTL shift (n1 above is operation error 4084H).
 pub const MAX_SHIFT_BITS: u32 = 1024;
 /// Number of previous-scan slots available to edge instructions of one program.

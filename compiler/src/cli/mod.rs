@@ -38,7 +38,7 @@ mod report;
 mod run;
 mod serve;
 pub mod test;
-mod watch;
+pub(crate) mod watch;
 
 use crate::diagnostics::Shown;
 use crate::scenario::EngineKind;

@@ -6,7 +6,7 @@
 
 #![deny(clippy::wildcard_enum_match_arm)]
 
-mod access;
+pub(crate) mod access;
 mod app;
 
 use crate::isa::Sense;

@@ -19,6 +19,7 @@
 mod build;
 mod il;
 pub mod layout;
+pub mod monitor;
 mod names;
 pub mod svg;
 mod wrap;

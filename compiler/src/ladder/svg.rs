@@ -404,7 +404,7 @@ fn cell_svg(out: &mut String, cell: &Cell, left: u32, wire: u32) {
             text(out, "device", middle, top - 5, device);
             match preset {
                 Some(preset) => {
-                    text(out, "preset", middle + 30, top - 5, preset);
+                    text(out, "preset", middle - 30, wire + 4, preset);
                     value_slot(out, 0, middle);
                 }
                 None => value_slot(out, 0, middle),

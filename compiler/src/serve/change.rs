@@ -23,6 +23,8 @@ pub struct Loaded {
     pub instances: Vec<(u32, String)>,
     /// The program already compiled to native code, off the scan thread.
     pub native: Option<crate::codegen::JitProgram>,
+    /// Its drawing for the monitor page.
+    pub view: std::sync::Arc<super::view::LadderView>,
 }
 
 impl Loaded {
@@ -57,6 +59,7 @@ impl Loaded {
             }
         }
         Loaded {
+            view: std::sync::Arc::new(super::view::LadderView::new(&program, source)),
             program,
             slots,
             instances,

@@ -5,7 +5,7 @@
 
 use super::shared::{HostWrite, Shared};
 use crate::host_device::{parse_device, parse_value, HostDevice};
-use crate::waveform::device_name;
+use crate::waveform::Signal;
 use axum::extract::{DefaultBodyLimit, Query, State};
 use axum::http::StatusCode;
 use axum::response::sse::{Event, KeepAlive, Sse};
@@ -24,11 +24,13 @@ const BODY_LIMIT: usize = 64 * 1024;
 const PROGRAM_LIMIT: usize = 8 * 1024 * 1024;
 /// How often the event stream sends the watched devices.
 const PUSH_PERIOD: Duration = Duration::from_millis(100);
+/// The most devices one request may watch.
+pub const MOST_WATCHED: usize = 256;
 
 #[derive(Clone)]
-struct App {
-    shared: Arc<Shared>,
-    read_only: bool,
+pub struct App {
+    pub shared: Arc<Shared>,
+    pub read_only: bool,
     /// Programs run as native code: online change compiles them here.
     native: bool,
 }
@@ -42,6 +44,21 @@ pub fn router(shared: Arc<Shared>, read_only: bool, native: bool) -> Router {
         .route("/api/set", post(set))
         .route("/api/force", post(force))
         .route("/api/unforce", post(unforce))
+        .route("/api/forces", get(forces))
+        .route("/api/unforce-all", post(unforce_all))
+        .route("/api/stats/reset", post(reset_stats))
+        .route("/api/ladder", get(super::debug::ladder))
+        .route("/api/ladder/state", get(super::debug::ladder_state))
+        .route(
+            "/api/control",
+            get(super::debug::control).post(super::debug::set_control),
+        )
+        .route(
+            "/api/breakpoints",
+            get(super::debug::breakpoints)
+                .post(super::debug::add_breakpoint)
+                .delete(super::debug::remove_breakpoints),
+        )
         .layer(DefaultBodyLimit::max(BODY_LIMIT))
         .route(
             "/api/program",
@@ -55,73 +72,216 @@ pub fn router(shared: Arc<Shared>, read_only: bool, native: bool) -> Router {
 }
 
 /// A JSON error with its HTTP status.
-fn error(status: StatusCode, message: impl Into<String>) -> Response {
+pub fn error(status: StatusCode, message: impl Into<String>) -> Response {
     (status, Json(json!({ "error": message.into() }))).into_response()
 }
 
 #[derive(serde::Deserialize)]
 struct Watch {
-    /// Devices, comma-separated (`Y0,Y1,D0,TN0`).
+    /// Devices as `ladderc run --watch` takes them, comma-separated
+    /// (`Y0..Y7,D10:32,D20:float`), each optionally shown `:hex` or `:bin`.
     watch: Option<String>,
 }
 
-/// The devices a request names (default: Y0-Y7).
-fn watched(watch: &Watch) -> Result<Vec<(String, HostDevice)>, String> {
-    let list = watch.watch.clone().unwrap_or_else(|| "Y0,Y1,Y2,Y3,Y4,Y5,Y6,Y7".into());
-    list.split(',')
-        .map(str::trim)
-        .filter(|name| !name.is_empty())
-        .take(256)
-        .map(|name| parse_device(name, false).map(|device| (device_name(device), device)))
-        .collect()
+/// How a watched value is shown.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Format {
+    Dec,
+    Hex,
+    Bin,
 }
 
-/// The watched devices, the scan count and the operation error, as JSON.
-/// The values are copied out under the image's lock and the JSON built
-/// after it is released, so a reader holds up the scan thread's publishing
-/// as little as possible.
-fn snapshot(shared: &Shared, watched: &[(String, HostDevice)]) -> Value {
-    let (values, scan, error) = {
+/// One watched device: its name as the request wrote it, the device, and
+/// how to show it.
+struct Watched {
+    name: String,
+    signal: Signal,
+    format: Format,
+}
+
+/// The devices a request names (default: Y0-Y7): at most `MOST_WATCHED`.
+fn watched(watch: &Watch) -> Result<Vec<Watched>, String> {
+    let list = watch.watch.clone().unwrap_or_else(|| "Y0..Y7".into());
+    let mut out = Vec::new();
+    for entry in list.split(',').map(str::trim).filter(|e| !e.is_empty()) {
+        let lower = entry.to_ascii_lowercase();
+        let (bare, format) = match () {
+            () if lower.ends_with(":hex") => (&entry[..entry.len() - 4], Format::Hex),
+            () if lower.ends_with(":bin") => (&entry[..entry.len() - 4], Format::Bin),
+            () if lower.ends_with(":dec") => (&entry[..entry.len() - 4], Format::Dec),
+            () => (entry, Format::Dec),
+        };
+        for signal in crate::cli::watch::parse_watch(bare)? {
+            let suffix = match format {
+                Format::Dec => "",
+                Format::Hex => ":hex",
+                Format::Bin => ":bin",
+            };
+            out.push(Watched {
+                name: format!("{}{suffix}", signal.name),
+                signal,
+                format,
+            });
+            if out.len() > MOST_WATCHED {
+                return Err(format!("at most {MOST_WATCHED} devices can be watched at once"));
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// A value as the page shows it, and as JSON: a number (a real number for
+/// `:float`), and its text in the requested format.
+fn value_of(watched: &Watched, raw: i32) -> (Value, String) {
+    if watched.signal.real {
+        let real = f32::from_bits(raw as u32);
+        return (json!(real), format!("{real:?}"));
+    }
+    let bits = watched.signal.device.bits();
+    let unsigned = if bits == 16 {
+        u64::from(raw as u16)
+    } else {
+        u64::from(raw as u32)
+    };
+    let text = match (watched.format, bits) {
+        (_, 1) | (Format::Dec, _) => raw.to_string(),
+        (Format::Hex, 16) => format!("H{unsigned:04X}"),
+        (Format::Hex, _) => format!("H{unsigned:08X}"),
+        (Format::Bin, 16) => format!("{unsigned:016b}"),
+        (Format::Bin, _) => format!("{unsigned:032b}"),
+    };
+    (json!(raw), text)
+}
+
+/// The watched devices, the scan count, the operation error, the switch
+/// and the forced devices, as JSON. The values are copied out under the
+/// image's lock and the JSON built after it is released, so a reader holds
+/// up the scan thread's publishing as little as possible.
+fn snapshot(shared: &Shared, watched: &[Watched]) -> Value {
+    let (values, scan, error, forced) = {
         let image: &Memory = &shared.image();
         let values: Vec<i32> = watched
             .iter()
-            .map(|(_, device)| image.read_device(device.device, device.width).unwrap_or(0))
+            .map(|w| {
+                image
+                    .read_device(w.signal.device.device, w.signal.device.width)
+                    .unwrap_or(0)
+            })
             .collect();
         let error = (image.m[M_OPERATION_ERROR as usize] != 0)
             .then(|| (image.d[D_ERROR_CODE as usize] as u16, image.d[D_ERROR_LINE as usize]));
-        (values, image.scan_count, error)
+        (values, image.scan_count, error, super::view::forces(image))
     };
-    let devices: serde_json::Map<String, Value> = watched
-        .iter()
-        .zip(values)
-        .map(|((name, _), value)| (name.clone(), Value::from(value)))
-        .collect();
+    let mut devices = serde_json::Map::new();
+    let mut text = serde_json::Map::new();
+    for (w, raw) in watched.iter().zip(values) {
+        let (value, shown) = value_of(w, raw);
+        devices.insert(w.name.clone(), value);
+        text.insert(w.name.clone(), Value::from(shown));
+    }
+    let names: Vec<&str> = watched.iter().map(|w| w.name.as_str()).collect();
     let error = error.map(|(code, line)| json!({ "code": format!("{code:04X}H"), "line": line }));
-    json!({ "scan": scan, "devices": devices, "error": error })
+    let forced: Vec<Value> = forced
+        .into_iter()
+        .map(|(name, on)| json!({ "device": name, "value": u8::from(on) }))
+        .collect();
+    json!({
+        "scan": scan,
+        "names": names,
+        "devices": devices,
+        "text": text,
+        "error": error,
+        "forced": forced,
+        "control": super::debug::control_json(shared),
+    })
 }
 
 async fn page() -> Html<&'static str> {
     Html(include_str!("monitor.html"))
 }
 
-async fn devices(State(app): State<App>, Query(watch): Query<Watch>) -> Response {
+async fn devices(
+    State(app): State<App>,
+    watch: Result<Query<Watch>, axum::extract::rejection::QueryRejection>,
+) -> Response {
+    let Ok(Query(watch)) = watch else {
+        return error(StatusCode::BAD_REQUEST, "the query is not `watch=DEVICES`");
+    };
     match watched(&watch) {
         Ok(watched) => Json(snapshot(&app.shared, &watched)).into_response(),
         Err(message) => error(StatusCode::BAD_REQUEST, message),
     }
 }
 
-async fn events(State(app): State<App>, Query(watch): Query<Watch>) -> Response {
+/// Pushes the watched devices every `PUSH_PERIOD`, with the values they
+/// had after every scan since the previous push (`samples`: `[scan, ms,
+/// values...]`), so that a trend misses no scan.
+async fn events(
+    State(app): State<App>,
+    watch: Result<Query<Watch>, axum::extract::rejection::QueryRejection>,
+) -> Response {
+    let Ok(Query(watch)) = watch else {
+        return error(StatusCode::BAD_REQUEST, "the query is not `watch=DEVICES`");
+    };
     let watched = match watched(&watch) {
         Ok(watched) => watched,
         Err(message) => return error(StatusCode::BAD_REQUEST, message),
     };
+    let recorder = app.shared.record(watched.iter().map(|w| w.signal.device).collect());
     let ticks = tokio_stream::wrappers::IntervalStream::new(tokio::time::interval(PUSH_PERIOD));
     let stream = futures_util::StreamExt::map(ticks, move |_| {
-        let value = snapshot(&app.shared, &watched);
+        let mut value = snapshot(&app.shared, &watched);
+        let (samples, lost) = recorder.take();
+        let samples: Vec<Value> = samples
+            .into_iter()
+            .map(|s| {
+                let mut row = vec![json!(s.scan), json!(s.time_ms)];
+                row.extend(s.values.iter().zip(&watched).map(|(&raw, w)| value_of(w, raw).0));
+                Value::Array(row)
+            })
+            .collect();
+        value["samples"] = Value::Array(samples);
+        value["lost"] = json!(lost);
         Ok::<_, std::convert::Infallible>(Event::default().data(value.to_string()))
     });
     Sse::new(stream).keep_alive(KeepAlive::default()).into_response()
+}
+
+async fn reset_stats(State(app): State<App>) -> Response {
+    if app.read_only {
+        return error(StatusCode::FORBIDDEN, "the server is read-only");
+    }
+    app.shared
+        .update_stats(|stats| *stats = super::shared::Stats::default());
+    Json(json!({ "reset": true })).into_response()
+}
+
+async fn forces(State(app): State<App>) -> Json<Value> {
+    let forced = super::view::forces(&app.shared.image());
+    let list: Vec<Value> = forced
+        .into_iter()
+        .map(|(name, on)| json!({ "device": name, "value": u8::from(on) }))
+        .collect();
+    Json(json!({ "forces": list }))
+}
+
+/// Unforces every forced device (at the next scan).
+async fn unforce_all(State(app): State<App>) -> Response {
+    if app.read_only {
+        return error(StatusCode::FORBIDDEN, "the server is read-only");
+    }
+    let forced = super::view::forces(&app.shared.image());
+    let mut writes = Vec::new();
+    for (name, _) in &forced {
+        if let Ok(device) = parse_device(name, false) {
+            if let Ok((area, index)) = forceable(device) {
+                writes.push(HostWrite::Unforce(area, index));
+            }
+        }
+    }
+    let count = writes.len();
+    app.shared.queue(writes);
+    Json(json!({ "unforced": count })).into_response()
 }
 
 async fn stats(State(app): State<App>) -> Json<Value> {
@@ -146,9 +306,15 @@ struct Write {
 
 /// The device of a write request and its value (as text or number).
 fn parse_write(body: &Write) -> Result<(HostDevice, Option<i32>), String> {
-    let device = parse_device(body.device.trim(), false)?;
+    // `D20:32` names the pair, as in the watch list.
+    let name = body.device.trim();
+    let device = match name.strip_suffix(":32") {
+        Some(bare) => parse_device(bare, true)?,
+        None => parse_device(name, false)?,
+    };
     let value = match &body.value {
-        None => None,
+        None | Some(Value::Null) => None,
+        Some(Value::String(text)) if text.trim().is_empty() => None,
         Some(Value::Number(n)) => Some(parse_value(&n.to_string(), device)?),
         Some(Value::String(text)) => Some(parse_value(text, device)?),
         Some(Value::Bool(on)) => Some(i32::from(*on)),
@@ -221,10 +387,14 @@ async fn unforce(
 /// with its diagnostics) and the running program goes on. Otherwise it
 /// replaces the running one between two scans, and the answer comes once
 /// it runs.
-async fn program(State(app): State<App>, text: String) -> Response {
+async fn program(State(app): State<App>, text: Result<String, axum::extract::rejection::StringRejection>) -> Response {
     if app.read_only {
         return error(StatusCode::FORBIDDEN, "the server is read-only");
     }
+    let text = match text {
+        Ok(text) => text,
+        Err(rejection) => return error(rejection.status(), rejection.body_text()),
+    };
     let native = app.native;
     let compiled = tokio::task::spawn_blocking(move || {
         let source = crate::source::SourceFile::new("<upload>", text);

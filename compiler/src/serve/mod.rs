@@ -5,9 +5,12 @@
 //! stops it cleanly and prints the scan statistics.
 
 mod change;
+mod control;
+mod debug;
 mod http;
 mod modbus;
 mod shared;
+mod view;
 
 use shared::{HostWrite, Shared, Stats};
 
@@ -243,6 +246,7 @@ fn scan_loop(
             if let Some(image) = image.take() {
                 engine.load_image(&image);
             }
+            shared.set_view(std::sync::Arc::clone(&loaded.view));
             if !started {
                 started = true;
                 let _ = ready.send(Ok(()));
@@ -259,8 +263,20 @@ fn scan_loop(
     }
 }
 
+/// What the scan thread does when a scan is due, by the RUN/STOP switch
+/// and the debugger.
+enum Due {
+    /// A scan reporting the elapsed time (running) or the period (a step).
+    Scan { step: bool },
+    /// STOP: writes apply, no scan; `entering` turns every Y OFF.
+    Stopped { entering: bool },
+    /// Paused: nothing until a step (writes wait for it).
+    Paused,
+}
+
 /// Scans until stopped (None) or offered a new program (between two scans).
 fn run(engine: &mut dyn Engine, clock: &mut Clock, shared: &Shared) -> Option<change::Loaded> {
+    let mut was_stopped = false;
     while !shared.stopping() {
         // Waits in short steps: a stop or a new program is taken within
         // a few milliseconds whatever the period.
@@ -277,9 +293,50 @@ fn run(engine: &mut dyn Engine, clock: &mut Clock, shared: &Shared) -> Option<ch
             }
             std::thread::sleep((clock.due - now).min(Duration::from_millis(5)));
         }
+        let due = {
+            let mut control = shared.control();
+            if control.stopped {
+                Due::Stopped { entering: !was_stopped }
+            } else if control.paused && control.steps == 0 {
+                Due::Paused
+            } else {
+                let step = control.paused;
+                if step {
+                    control.steps -= 1;
+                }
+                Due::Scan { step }
+            }
+        };
         let began = Instant::now();
+        match due {
+            Due::Stopped { entering } => {
+                was_stopped = true;
+                for write in shared.take_writes() {
+                    apply(engine, write);
+                }
+                if entering {
+                    all_outputs_off(engine);
+                }
+                if let Some(image) = engine.image() {
+                    shared.publish(image);
+                }
+                idle(clock, began);
+                continue;
+            }
+            Due::Paused => {
+                idle(clock, began);
+                continue;
+            }
+            Due::Scan { .. } => was_stopped = false,
+        }
+        let Due::Scan { step } = due else { continue };
         let late = began.saturating_duration_since(clock.due);
-        let elapsed = began - clock.previous + clock.carried;
+        let elapsed = if step {
+            clock.carried = Duration::ZERO;
+            clock.period
+        } else {
+            began - clock.previous + clock.carried
+        };
         clock.previous = began;
         let elapsed_ms = elapsed.as_millis().min(u128::from(u32::MAX)) as u32;
         clock.carried = elapsed - Duration::from_millis(u64::from(elapsed_ms));
@@ -292,6 +349,8 @@ fn run(engine: &mut dyn Engine, clock: &mut Clock, shared: &Shared) -> Option<ch
         }
         if let Some(image) = engine.image() {
             shared.publish(image);
+            shared.sample(image);
+            shared.control().after_scan(image, u64::from(image.scan_count));
         }
         let took = began.elapsed();
         clock.due += clock.period;
@@ -311,6 +370,27 @@ fn run(engine: &mut dyn Engine, clock: &mut Clock, shared: &Shared) -> Option<ch
         });
     }
     None
+}
+
+/// A period without a scan (stopped or paused): the next scan is due a
+/// period later and reports one period, not the time it waited.
+fn idle(clock: &mut Clock, now: Instant) {
+    clock.due = now + clock.period;
+    clock.previous = now + clock.period;
+    clock.carried = Duration::ZERO;
+}
+
+/// STOP: every output OFF, as an FX turns its outputs off in STOP.
+fn all_outputs_off(engine: &mut dyn Engine) {
+    for n in 0..BitArea::Y.count() {
+        let _ = engine.write(
+            HostDevice {
+                device: Device::Bit(BitArea::Y, n),
+                width: Width::Single,
+            },
+            0,
+        );
+    }
 }
 
 /// A client's write as a host write (the same call a firmware host makes).

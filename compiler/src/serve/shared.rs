@@ -1,11 +1,46 @@
 //! What the scan thread and the servers share: the image as the latest scan
 //! left it (servers read this copy, never the live image), the host writes
-//! waiting for the next scan, the scan statistics, and the stop flag.
+//! waiting for the next scan, the scan statistics, the RUN/STOP switch and
+//! breakpoints, the drawing of the running program, the recorders of the
+//! trend, and the stop flag.
 
+use super::control::Control;
+use super::view::LadderView;
+use crate::host_device::HostDevice;
 use ladder_runtime::Memory;
+use std::collections::VecDeque;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Mutex, MutexGuard};
-use std::time::Duration;
+use std::sync::{Arc, Mutex, MutexGuard, Weak};
+use std::time::{Duration, Instant};
+
+/// Samples a recorder keeps for its client at most (older ones are lost
+/// and counted).
+const RECORDER_CAPACITY: usize = 8192;
+
+/// The values of some devices after every scan, for one client's trend:
+/// the scan thread appends, the client takes them, so a pulse that lasts
+/// one scan is never lost between two pushes.
+pub struct Recorder {
+    pub devices: Vec<HostDevice>,
+    samples: Mutex<VecDeque<Sample>>,
+    lost: std::sync::atomic::AtomicU64,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sample {
+    pub scan: u64,
+    /// Milliseconds since the server started.
+    pub time_ms: u64,
+    pub values: Vec<i32>,
+}
+
+impl Recorder {
+    /// The samples since the last call, and how many were lost since.
+    pub fn take(&self) -> (Vec<Sample>, u64) {
+        let samples = std::mem::take(&mut *lock(&self.samples)).into();
+        (samples, self.lost.swap(0, Ordering::Relaxed))
+    }
+}
 
 /// A write from a client, applied as a host write before the next scan.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -54,6 +89,10 @@ pub struct Shared {
     writes: Mutex<Vec<HostWrite>>,
     stats: Mutex<Stats>,
     stop: AtomicBool,
+    control: Mutex<Control>,
+    view: Mutex<Option<Arc<LadderView>>>,
+    recorders: Mutex<Vec<Weak<Recorder>>>,
+    started: Instant,
 }
 
 impl Default for Shared {
@@ -65,6 +104,10 @@ impl Default for Shared {
             writes: Mutex::new(Vec::new()),
             stats: Mutex::new(Stats::default()),
             stop: AtomicBool::new(false),
+            control: Mutex::new(Control::default()),
+            view: Mutex::new(None),
+            recorders: Mutex::new(Vec::new()),
+            started: Instant::now(),
         }
     }
 }
@@ -121,6 +164,56 @@ impl Shared {
 
     pub fn swaps(&self) -> u64 {
         self.swaps.load(Ordering::Relaxed)
+    }
+
+    pub fn control(&self) -> MutexGuard<'_, Control> {
+        lock(&self.control)
+    }
+
+    /// The drawing of the running program.
+    pub fn view(&self) -> Option<Arc<LadderView>> {
+        lock(&self.view).clone()
+    }
+
+    pub fn set_view(&self, view: Arc<LadderView>) {
+        *lock(&self.view) = Some(view);
+    }
+
+    /// A recorder of `devices` after every scan from now on, until the
+    /// returned handle is dropped.
+    pub fn record(&self, devices: Vec<HostDevice>) -> Arc<Recorder> {
+        let recorder = Arc::new(Recorder {
+            devices,
+            samples: Mutex::new(VecDeque::new()),
+            lost: std::sync::atomic::AtomicU64::new(0),
+        });
+        let mut recorders = lock(&self.recorders);
+        recorders.retain(|r| r.strong_count() > 0);
+        recorders.push(Arc::downgrade(&recorder));
+        recorder
+    }
+
+    /// Appends the values `image` holds after a scan to every recorder.
+    pub fn sample(&self, image: &Memory) {
+        let time_ms = self.started.elapsed().as_millis() as u64;
+        let recorders = lock(&self.recorders);
+        for recorder in recorders.iter().filter_map(Weak::upgrade) {
+            let values = recorder
+                .devices
+                .iter()
+                .map(|d| image.read_device(d.device, d.width).unwrap_or(0))
+                .collect();
+            let mut samples = lock(&recorder.samples);
+            if samples.len() >= RECORDER_CAPACITY {
+                samples.pop_front();
+                recorder.lost.fetch_add(1, Ordering::Relaxed);
+            }
+            samples.push_back(Sample {
+                scan: u64::from(image.scan_count),
+                time_ms,
+                values,
+            });
+        }
     }
 
     pub fn stop(&self) {

@@ -16,7 +16,7 @@ mod real;
 
 pub use real::{decimal_to_real, real_function, real_to_decimal};
 
-use crate::device::{BitArea, WordArea, MAX_BLOCK_UNITS, MAX_SHIFT_BITS};
+use crate::device::{BitArea, WordArea, MAX_BLOCK_UNITS, MAX_SHIFT_BITS, MAX_TRANSFER_UNITS};
 use crate::host::Width;
 use crate::memory::Memory;
 use crate::place::Place;
@@ -26,7 +26,8 @@ use crate::place::Place;
 /// direction that reads each before it is overwritten; digit groups of
 /// different sizes in one area go through a buffer of at most 1 KiB.
 pub fn block_move(mem: &mut Memory, source: Place, destination: Place, n: u32, width: Width, fill: bool) {
-    let n = n.min(MAX_BLOCK_UNITS);
+    // BMOV/FMOV move at most 512 units, FROM/TO a whole buffer memory.
+    let n = n.min(MAX_TRANSFER_UNITS);
     if fill {
         let value = i64::from(source.read(mem, width));
         for unit in 0..n {
@@ -39,8 +40,10 @@ pub fn block_move(mem: &mut Memory, source: Place, destination: Place, n: u32, w
         (Place::WideCounter(s), Place::WideCounter(d)) => d > s,
         (Place::Digits(a, s, k), Place::Digits(b, d, l)) if a == b && k == l => d > s,
         (Place::Digits(a, ..), Place::Digits(b, ..)) if a == b => {
-            // Units of different sizes over the same bits: read them all
-            // first (BMOV is 16-bit, so they fit in i16).
+            // Units of different sizes over the same bits (BMOV only, at
+            // most 512 units): read them all first (BMOV is 16-bit, so
+            // they fit in i16).
+            let n = n.min(MAX_BLOCK_UNITS);
             let mut values = [0i16; MAX_BLOCK_UNITS as usize];
             for (unit, value) in (0..n).zip(values.iter_mut()) {
                 *value = source.nth(unit, width).read(mem, width) as i16;

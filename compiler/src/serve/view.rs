@@ -1,0 +1,75 @@
+//! The ladder the monitor page shows: drawn once per program (when it is
+//! loaded, off the scan thread), then coloured from the published image
+//! for the rungs the page has on screen only.
+
+use crate::ladder::{self, monitor::element_state, svg};
+use crate::program::CheckedProgram;
+use crate::source::SourceFile;
+use ladder_runtime::{BitArea, Memory};
+use serde_json::{json, Value};
+
+pub struct LadderView {
+    pub program: CheckedProgram,
+    /// One `<svg>` per rung (`id="rung-N"`), with the drawing's style.
+    pub fragment: String,
+    /// The elements (instruction indices) of each rung.
+    pub rungs: Vec<Vec<usize>>,
+}
+
+impl LadderView {
+    pub fn new(program: &CheckedProgram, source: &SourceFile) -> LadderView {
+        let diagram = ladder::build(program, source);
+        let mut fragment = format!("<style>{}</style>", svg::STYLE);
+        let mut rungs = Vec::with_capacity(diagram.rungs.len());
+        for (index, rung) in diagram.rungs.iter().enumerate() {
+            let laid = ladder::layout::layout(rung, program);
+            fragment.push_str(&svg::rung_document(index, rung, &laid));
+            rungs.push(laid.cells.iter().map(|c| c.element.index).collect());
+        }
+        LadderView {
+            program: program.clone(),
+            fragment,
+            rungs,
+        }
+    }
+
+    /// The states of the elements of `rungs` in `image`: `[index, on, forced,
+    /// [values]]` with `on` 1, 0 or null.
+    pub fn states(&self, rungs: &[usize], image: &Memory) -> Value {
+        let elements: Vec<Value> = rungs
+            .iter()
+            .filter_map(|&rung| self.rungs.get(rung))
+            .flatten()
+            .map(|&index| {
+                let state = element_state(&self.program, index, image);
+                json!([index, state.on.map(u8::from), u8::from(state.forced), state.values])
+            })
+            .collect();
+        Value::Array(elements)
+    }
+}
+
+/// Every forced device of `image`: (name, value).
+pub fn forces(image: &Memory) -> Vec<(String, bool)> {
+    let mut out = Vec::new();
+    for area in [
+        BitArea::X,
+        BitArea::Y,
+        BitArea::M,
+        BitArea::TimerContact,
+        BitArea::CounterContact,
+    ] {
+        for index in 0..area.count() {
+            if let Some(on) = image.forced(area, index) {
+                let name = match area {
+                    BitArea::X | BitArea::Y => format!("{}{index:o}", area.prefix()),
+                    BitArea::TimerContact => format!("T{index}"),
+                    BitArea::CounterContact => format!("C{index}"),
+                    BitArea::M | BitArea::S | BitArea::Sm => format!("{}{index}", area.prefix()),
+                };
+                out.push((name, on));
+            }
+        }
+    }
+    out
+}
