@@ -21,6 +21,11 @@ pub fn parse(file: &SourceFile) -> (ParsedProgram, Diagnostics) {
         .filter(|d| d.severity() == crate::diagnostics::Severity::Error)
         .count();
     if errors >= 3 {
+        if let Some(foreign) = super::export::tabular(&file.text).and(super::export::foreign_cpu_in(file)) {
+            let mut one = Diagnostics::default();
+            one.push(foreign);
+            return (ParsedProgram::default(), one);
+        }
         if let Some(line) = super::export::tabular(&file.text) {
             let start = file.line_starts().get(line).copied().unwrap_or(0);
             let end = file.text[start..].find('\n').map_or(file.text.len(), |n| start + n);

@@ -108,18 +108,45 @@ fn foreign_cpu(header: &[Row]) -> Option<Diagnostic> {
     rows.flat_map(|row| &row.fields)
         .find_map(|field| match cpu_family(&field.text)? {
             Cpu::Fx => None,
-            Cpu::Other(family) => Some(
-                Diagnostic::new(
-                    Code::NotAnFxProgram,
-                    field.span,
-                    format!("this is an export of a {family} program, not of an FX program"),
-                )
-                .with_label(format!("the PLC information names a {family} CPU"))
-                .with_note(
-                    "ladderc compiles programs of Mitsubishi FX PLCs (FX1S, FX1N, FX2N, FX3U, FX3G and compatibles)",
-                ),
-            ),
+            Cpu::Other(family) => Some(not_fx(field.span, family)),
         })
+}
+
+fn not_fx(span: Span, family: &str) -> Diagnostic {
+    Diagnostic::new(
+        Code::NotAnFxProgram,
+        span,
+        format!("this is an export of a {family} program, not of an FX program"),
+    )
+    .with_label(format!("the PLC information names a {family} CPU"))
+    .with_note("ladderc compiles programs of Mitsubishi FX PLCs (FX1S, FX1N, FX2N, FX3U, FX3G and compatibles)")
+}
+
+/// For a file of fields that is no export ladderc reads: the error that
+/// its first lines name another CPU family (`PLC Information:` of a
+/// MELSEC-L export re-saved without quotes), if they do.
+pub fn foreign_cpu_in(file: &SourceFile) -> Option<Diagnostic> {
+    let mut lines = Vec::new();
+    let mut at = 0;
+    for line in file.text.split_inclusive('\n').take(4) {
+        lines.push((at, line));
+        at += line.len();
+    }
+    // The PLC information after the program's name, the name last (as in
+    // a quoted export).
+    let order = lines.iter().skip(1).chain(lines.first());
+    order.into_iter().find_map(|&(line_start, line)| {
+        let mut start = line_start;
+        for field in line.split(['\t', ',']) {
+            let text = field.trim_matches(|c: char| c.is_whitespace() || c == '"' || c == '\u{feff}');
+            if let Some(Cpu::Other(family)) = cpu_family(text) {
+                let begin = start + field.find(text).unwrap_or(0);
+                return Some(not_fx(Span::new(begin, begin + text.len()), family));
+            }
+            start += field.len() + 1;
+        }
+        None
+    })
 }
 
 /// Reads an export as a program.
