@@ -72,6 +72,8 @@ pub struct Recorder {
     signals: Vec<Signal>,
     /// (time in ms, value of every signal), times increasing.
     samples: Vec<(u64, Vec<i32>)>,
+    /// The time of the latest sample, kept or not: the end of the run.
+    end_ms: u64,
 }
 
 impl Recorder {
@@ -79,7 +81,22 @@ impl Recorder {
         Recorder {
             signals,
             samples: Vec::new(),
+            end_ms: 0,
         }
+    }
+
+    pub fn signals(&self) -> &[Signal] {
+        &self.signals
+    }
+
+    /// (time in ms, value of every signal) where something changed.
+    pub fn samples(&self) -> &[(u64, Vec<i32>)] {
+        &self.samples
+    }
+
+    /// The time the run ended at.
+    pub fn end_ms(&self) -> u64 {
+        self.end_ms
     }
 
     /// Reads every signal at `time_ms`; kept only when something changed,
@@ -90,6 +107,7 @@ impl Recorder {
         for signal in &self.signals {
             values.push(engine.read(signal.device)?);
         }
+        self.end_ms = self.end_ms.max(time_ms);
         let changed = self.samples.last().is_none_or(|(_, previous)| *previous != values);
         // The first sample (the values before the first scan) stays.
         let replaces_last = self.samples.len() > 1 && self.samples.last().is_some_and(|(last, _)| *last == time_ms);
@@ -151,6 +169,11 @@ impl Recorder {
                 writer.end()?;
             }
             previous = Some(values);
+        }
+        // The run's end, so that a viewer shows all of it and not only up
+        // to the last change.
+        if self.samples.last().is_some_and(|(last, _)| *last < self.end_ms) {
+            writer.timestamp(self.end_ms)?;
         }
         Ok(std::mem::take(writer.writer()))
     }

@@ -155,6 +155,19 @@ fn parse_vcd(path: &Path) -> (Vec<Signal>, Vec<Change>) {
     (signals, changes)
 }
 
+/// The last timestamp of a VCD file: where a viewer's time axis ends.
+fn last_timestamp(path: &Path) -> u64 {
+    let mut parser = vcd::Parser::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+    parser.parse_header().unwrap();
+    parser
+        .filter_map(|command| match command.unwrap() {
+            vcd::Command::Timestamp(t) => Some(t),
+            _ => None,
+        })
+        .max()
+        .unwrap_or(0)
+}
+
 fn check_with_gtkwave(test: &str, vcd: &Path) {
     match tools::ensure("vcd2fst", &["--help"], &["gtkwave"]) {
         Ok(()) => {
@@ -203,6 +216,11 @@ fn run_writes_a_waveform_gtkwave_reads() {
         !changes.iter().any(|(t, name, _)| *t == 200 && name == "Y0"),
         "only changes are written"
     );
+    assert_eq!(
+        last_timestamp(&vcd),
+        400,
+        "the waveform ends where the run ended (4 scans of 100 ms)"
+    );
     check_with_gtkwave("run_writes_a_waveform_gtkwave_reads", &vcd);
 }
 
@@ -248,6 +266,40 @@ fn test_reports_junit_and_waveforms_of_failures() {
         "{signals:?}"
     );
     check_junit(&std::fs::read_to_string(&junit).unwrap());
+}
+
+#[test]
+fn test_html_shows_the_ladder_and_waveform_at_a_failure() {
+    let dir = scratch("html");
+    std::fs::write(dir.path().join("flasher.il"), FLASHER).unwrap();
+    std::fs::write(
+        dir.path().join("bad.scn"),
+        "program flasher.il\nscan-ms 100\nset X0 1\nscan 3\nexpect Y0 0\n",
+    )
+    .unwrap();
+    std::fs::write(dir.path().join("good.scn"), "program flasher.il\nscan\nexpect Y0 0\n").unwrap();
+    let pages = dir.path().join("pages");
+    let output = ladderc(&[
+        "test",
+        dir.path().to_str().unwrap(),
+        "--engine",
+        "interp",
+        "--html",
+        pages.to_str().unwrap(),
+    ]);
+    assert_eq!(output.status.code(), Some(1));
+    let written: Vec<_> = std::fs::read_dir(&pages).unwrap().map(|e| e.unwrap().path()).collect();
+    assert_eq!(written.len(), 1, "a page for the failing scenario only: {written:?}");
+    assert!(written[0].to_string_lossy().ends_with("bad.interp.html"), "{written:?}");
+    let page = std::fs::read_to_string(&written[0]).unwrap();
+    assert!(page.contains("line 5: expected Y0 = 0, got 1"), "the failure");
+    assert!(page.contains("(after scan 3, 300 ms)"), "when");
+    // The ladder as the engine left it: LD X0 (instruction 0) closed, the
+    // coil of Y0 ON, T0's current value under its coil.
+    assert!(page.contains(r#"<g class="cell contact on" data-e="0">"#), "X0 closed");
+    assert!(page.contains(r#"<g class="cell coil on" data-e="5">"#), "Y0 ON");
+    assert!(page.contains("class=\"wave\""), "a waveform");
+    assert!(page.contains(">X0<") && page.contains(">Y0<"), "its signals");
 }
 
 /// The structure JUnit consumers require: `testsuites` of `testsuite`

@@ -33,6 +33,11 @@ pub struct TestArgs {
     /// With --vcd: a waveform for every scenario, passed ones too.
     #[arg(long, requires = "vcd")]
     pub vcd_all: bool,
+    /// Write a page per failing scenario and engine into this folder
+    /// (`NAME.ENGINE.html`): the ladder at each failed expectation, with the
+    /// values the engine left, and the waveform of the devices it touches.
+    #[arg(long, value_name = "DIR")]
+    pub html: Option<PathBuf>,
     /// Show what `print` directives print.
     #[arg(short, long)]
     pub verbose: bool,
@@ -83,18 +88,19 @@ pub fn run_with(out: &mut dyn Write, args: &TestArgs, engines: &[EngineKind]) ->
         say_err!("error: no scenario files (*.scn) in {}", shown.join(", "));
         return status::UNUSABLE;
     }
-    if let Some(dir) = &args.vcd {
+    for dir in [&args.vcd, &args.html].into_iter().flatten() {
         if let Err(error) = std::fs::create_dir_all(dir) {
             say_err!("error: cannot create {}: {error}", dir.display());
             return status::UNUSABLE;
         }
     }
     let options = RunOptions {
-        waveforms: match (&args.vcd, args.vcd_all) {
-            (None, _) => Waveforms::None,
-            (Some(_), false) => Waveforms::Failing,
-            (Some(_), true) => Waveforms::All,
+        waveforms: match (&args.vcd, args.vcd_all, &args.html) {
+            (None, _, None) => Waveforms::None,
+            (Some(_), true, _) => Waveforms::All,
+            (Some(_), false, _) | (None, _, Some(_)) => Waveforms::Failing,
         },
+        snapshots: args.html.is_some(),
     };
     // Outputs must not be any scenario or program file: checked before the
     // run, so a refused output costs no time and destroys nothing.
@@ -146,6 +152,12 @@ pub fn run_with(out: &mut dyn Write, args: &TestArgs, engines: &[EngineKind]) ->
     }
     if let Some(dir) = &args.vcd {
         if let Err(error) = write_waveforms(dir, &results, &inputs) {
+            say_err!("error: {error}");
+            unusable = true;
+        }
+    }
+    if let Some(dir) = &args.html {
+        if let Err(error) = write_pages(dir, &results, &inputs) {
             say_err!("error: {error}");
             unusable = true;
         }
@@ -277,26 +289,64 @@ fn load(file: &Path) -> Result<(Scenario, crate::source::SourceFile), String> {
     Ok((scenario, source))
 }
 
+/// The file stem for a scenario's outputs: its path with `__` for folder
+/// separators.
+fn stem_of(path: &Path) -> String {
+    path.with_extension("")
+        .to_string_lossy()
+        .replace(['/', '\\'], "__")
+        .trim_start_matches(['_', '.'])
+        .to_string()
+}
+
+/// `base`, or `base-2`, `base-3`, ... when taken.
+fn unique(taken: &mut std::collections::HashSet<String>, base: String) -> String {
+    (1..)
+        .map(|n| if n == 1 { base.clone() } else { format!("{base}-{n}") })
+        .find(|name| taken.insert(name.clone()))
+        .unwrap_or(base)
+}
+
+/// `DIR/NAME.ENGINE.html` for every engine run with a failed expectation.
+fn write_pages(dir: &Path, results: &[FileResult], inputs: &[&Path]) -> Result<(), String> {
+    let mut taken = std::collections::HashSet::new();
+    for result in results {
+        let Some(outcome) = &result.outcome else { continue };
+        let failing: Vec<&crate::scenario::EngineRun> = outcome
+            .engines
+            .iter()
+            .filter(|run| outcome.failures.iter().any(|f| f.engine == run.kind.name()))
+            .collect();
+        if failing.is_empty() {
+            continue;
+        }
+        // The program again (it compiled for the run).
+        let Ok((_, source)) = load(&result.path) else { continue };
+        let (Some(program), _) = crate::check::compile_source(&source) else {
+            continue;
+        };
+        for run in failing {
+            let name = unique(&mut taken, format!("{}.{}", stem_of(&result.path), run.kind.name()));
+            let path = dir.join(format!("{name}.html"));
+            let page = super::html_report::page(&result.path.display().to_string(), run, &program, &source);
+            let target = output::prepare(&path, inputs).map_err(|e| e.to_string())?;
+            output::write_atomically(&target, page.as_bytes())
+                .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        }
+    }
+    Ok(())
+}
+
 /// `DIR/NAME.ENGINE.vcd` for every kept waveform, NAME the scenario's path
 /// (`__` for its folder separators); a name taken twice gets `-2`, `-3`.
 fn write_waveforms(dir: &Path, results: &[FileResult], inputs: &[&Path]) -> Result<(), String> {
     let mut taken = std::collections::HashSet::new();
     for result in results {
         let Some(outcome) = &result.outcome else { continue };
-        let stem = result
-            .path
-            .with_extension("")
-            .to_string_lossy()
-            .replace(['/', '\\'], "__")
-            .trim_start_matches(['_', '.'])
-            .to_string();
+        let stem = stem_of(&result.path);
         for engine in &outcome.engines {
             let Some(waveform) = &engine.waveform else { continue };
-            let base = format!("{stem}.{}", engine.kind.name());
-            let name = (1..)
-                .map(|n| if n == 1 { base.clone() } else { format!("{base}-{n}") })
-                .find(|name| taken.insert(name.clone()))
-                .unwrap_or(base);
+            let name = unique(&mut taken, format!("{stem}.{}", engine.kind.name()));
             let path = dir.join(format!("{name}.vcd"));
             let bytes = waveform
                 .to_vcd()

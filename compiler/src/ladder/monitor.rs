@@ -73,24 +73,26 @@ pub fn element_state(program: &CheckedProgram, index: usize, mem: &Memory) -> El
                 forced: mem.forced(BitArea::CounterContact, *counter).is_some(),
                 values: vec![counter_value(mem, *counter)],
             },
+            // A box is not ON or OFF (its rung's power is not kept): the
+            // value of the bit it drives stands under it.
             Output::Set { target: b, .. } | Output::Pulse { target: b, .. } => ElementState {
-                on: bit(b),
+                on: None,
                 forced: forced(mem, b),
-                values: Vec::new(),
+                values: vec![bit(b).map_or("?".into(), |on| u8::from(on).to_string())],
             },
             Output::Reset { target, .. } => match target {
                 ResetTarget::Bit(b) => ElementState {
-                    on: bit(b),
+                    on: None,
                     forced: forced(mem, b),
-                    values: Vec::new(),
+                    values: vec![bit(b).map_or("?".into(), |on| u8::from(on).to_string())],
                 },
                 ResetTarget::Timer(n) => ElementState {
-                    on: mem.timer_contact.get(*n as usize).map(|&on| on != 0),
+                    on: None,
                     forced: false,
                     values: vec![mem.timer_value.get(*n as usize).map_or("?".into(), |v| v.to_string())],
                 },
                 ResetTarget::Counter(n) => ElementState {
-                    on: mem.counter_contact.get(*n as usize).map(|&on| on != 0),
+                    on: None,
                     forced: false,
                     values: vec![counter_value(mem, *n)],
                 },
@@ -104,14 +106,17 @@ pub fn element_state(program: &CheckedProgram, index: usize, mem: &Memory) -> El
                 },
             },
             Output::StateJump { state } => ElementState {
-                on: mem.s.get(*state as usize).map(|&on| on != 0),
+                values: vec![mem.s.get(*state as usize).map_or("?".into(), |v| v.to_string())],
                 ..ElementState::default()
             },
             Output::MasterControl { relay, .. } => ElementState {
-                on: bit(relay),
+                on: None,
                 forced: forced(mem, relay),
-                // The level's operand N has no value; the relay's is shown as ON.
-                values: Vec::new(),
+                // Under the level N nothing; under the relay its value.
+                values: vec![
+                    String::new(),
+                    bit(relay).map_or("?".into(), |on| u8::from(on).to_string()),
+                ],
             },
             Output::App(app) => {
                 let declared = app.args.op().spec().operands;

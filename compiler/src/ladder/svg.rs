@@ -9,6 +9,7 @@
 //! the value slots (`<text class="value" data-slot="k">`).
 
 use super::layout::{layout, Cell, ContactKind, RungLayout, Symbol, Wire};
+use super::monitor::{element_state, ElementState};
 use super::{Ladder, Rung};
 use crate::program::CheckedProgram;
 use quick_xml::escape::escape;
@@ -45,15 +46,30 @@ pub const STYLE: &str = "\
 .ladder rect.band{fill:none}\
 ";
 
+/// What each element shows (by instruction index), for a drawing of a
+/// program's state; `None` draws the program alone.
+pub type States<'a> = Option<&'a dyn Fn(usize) -> ElementState>;
+
 /// The whole ladder of `program` as one SVG document.
 pub fn render(ladder: &Ladder, program: &CheckedProgram) -> String {
+    render_states(ladder, program, None)
+}
+
+/// The ladder with the values `image` holds: closed contacts and ON coils
+/// marked, values under the operands (what the monitor shows, on paper).
+pub fn render_image(ladder: &Ladder, program: &CheckedProgram, image: &ladder_runtime::Memory) -> String {
+    let states = |index: usize| element_state(program, index, image);
+    render_states(ladder, program, Some(&states))
+}
+
+fn render_states(ladder: &Ladder, program: &CheckedProgram, states: States) -> String {
     let layouts: Vec<RungLayout> = ladder.rungs.iter().map(|r| layout(r, program)).collect();
     let columns = layouts.iter().map(|l| l.columns).max().unwrap_or(0);
     let width = MARGIN + columns * CELL + 24;
     let mut body = String::new();
     let mut y = GAP;
     for (index, (rung, laid)) in ladder.rungs.iter().zip(&layouts).enumerate() {
-        y += rung_svg(&mut body, index, rung, laid, y);
+        y += rung_svg(&mut body, index, rung, laid, y, states);
         y += GAP;
     }
     y += end_svg(&mut body, ladder, y, columns.max(super::layout::DEFAULT_COLUMNS));
@@ -74,7 +90,7 @@ pub fn render(ladder: &Ladder, program: &CheckedProgram) -> String {
 pub fn rung_document(index: usize, rung: &Rung, laid: &RungLayout) -> String {
     let width = MARGIN + laid.columns * CELL + 24;
     let mut body = String::new();
-    let height = rung_svg(&mut body, index, rung, laid, GAP / 2) + GAP;
+    let height = rung_svg(&mut body, index, rung, laid, GAP / 2, None) + GAP;
     format!(
         "<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"ladder\" id=\"rung-{index}\" width=\"{width}\" \
          height=\"{height}\" viewBox=\"0 0 {width} {height}\">{body}</svg>"
@@ -146,7 +162,7 @@ pub fn rung_height(rung: &Rung, laid: &RungLayout) -> u32 {
 }
 
 /// Draws rung number `index` with its top at `top`; returns its height.
-pub fn rung_svg(out: &mut String, index: usize, rung: &Rung, laid: &RungLayout, top: u32) -> u32 {
+pub fn rung_svg(out: &mut String, index: usize, rung: &Rung, laid: &RungLayout, top: u32, states: States) -> u32 {
     let height = rung_height(rung, laid);
     let _ = write!(
         out,
@@ -207,7 +223,8 @@ pub fn rung_svg(out: &mut String, index: usize, rung: &Rung, laid: &RungLayout, 
         );
     }
     for cell in &laid.cells {
-        cell_svg(out, cell, x(cell.column), wire_y(cell.row));
+        let state = states.map(|f| f(cell.element.index));
+        cell_svg(out, cell, x(cell.column), wire_y(cell.row), state.as_ref());
     }
     for connector in &laid.connectors {
         connector_svg(out, connector, x(connector.column), wire_y(connector.row));
@@ -241,7 +258,7 @@ fn connector_svg(out: &mut String, connector: &super::layout::Connector, left: u
 }
 
 /// One element: `left` is its cell's left edge, `wire` the wire's height.
-fn cell_svg(out: &mut String, cell: &Cell, left: u32, wire: u32) {
+fn cell_svg(out: &mut String, cell: &Cell, left: u32, wire: u32, state: Option<&ElementState>) {
     let width = cell.width * CELL;
     let right = left + width;
     let middle = left + width / 2;
@@ -257,9 +274,17 @@ fn cell_svg(out: &mut String, cell: &Cell, left: u32, wire: u32) {
         .as_deref()
         .map(|n| format!(": {}", escape(n)))
         .unwrap_or_default();
+    let marks = match state {
+        Some(state) => format!(
+            "{}{}",
+            if state.on == Some(true) { " on" } else { "" },
+            if state.forced { " forced" } else { "" }
+        ),
+        None => String::new(),
+    };
     let _ = write!(
         out,
-        "<g class=\"cell {kind}\" data-e=\"{}\"><title>line {}, step {}{note}</title>",
+        "<g class=\"cell {kind}{marks}\" data-e=\"{}\"><title>line {}, step {}{note}</title>",
         cell.element.index, cell.element.line, cell.element.step
     );
     let text = |out: &mut String, class: &str, x: u32, y: u32, content: &str| {
@@ -270,9 +295,12 @@ fn cell_svg(out: &mut String, cell: &Cell, left: u32, wire: u32) {
         );
     };
     let value_slot = |out: &mut String, slot: usize, x: u32| {
+        let value = state
+            .and_then(|s| s.values.get(slot))
+            .map_or(String::new(), |v| escape(v.as_str()).into_owned());
         let _ = write!(
             out,
-            "<text class=\"value\" data-slot=\"{slot}\" x=\"{x}\" y=\"{}\" text-anchor=\"middle\"></text>",
+            "<text class=\"value\" data-slot=\"{slot}\" x=\"{x}\" y=\"{}\" text-anchor=\"middle\">{value}</text>",
             wire + 24
         );
     };
@@ -404,7 +432,13 @@ fn cell_svg(out: &mut String, cell: &Cell, left: u32, wire: u32) {
             text(out, "device", middle, top - 5, device);
             match preset {
                 Some(preset) => {
-                    text(out, "preset", middle - 30, wire + 4, preset);
+                    let _ = write!(
+                        out,
+                        "<text class=\"preset\" x=\"{}\" y=\"{}\" text-anchor=\"end\">{}</text>",
+                        middle - 14,
+                        wire + 22,
+                        escape(preset.as_str())
+                    );
                     value_slot(out, 0, middle);
                 }
                 None => value_slot(out, 0, middle),

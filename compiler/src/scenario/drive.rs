@@ -19,6 +19,9 @@ pub trait Observer {
     fn scanned(&mut self, engine: &mut dyn Engine, scan: u64, time_ms: u64) -> Result<(), String>;
     /// A `print` directive at scenario `line`: the devices and their values.
     fn printed(&mut self, line: u32, scan: u64, values: Vec<(String, HostDevice, i32)>);
+    /// An expectation at scenario `line` failed after (scans, time in ms),
+    /// with the engine as it is then.
+    fn failed(&mut self, _engine: &mut dyn Engine, _line: u32, _after: (u64, u64), _message: &str) {}
 }
 
 /// M8067, D8067 and D8069: the operation error flag, its code and line.
@@ -120,6 +123,9 @@ pub fn drive(steps: &[Step], engine: &mut dyn Engine, observer: &mut dyn Observe
         if let Err(fault) = result {
             failures.push((step.line, format!("engine fault: {fault}")));
             break;
+        }
+        if let Some((line, message)) = failures.last().filter(|(line, _)| *line == step.line) {
+            observer.failed(engine, *line, (scans, time_ms), message);
         }
     }
     failures

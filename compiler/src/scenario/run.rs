@@ -27,6 +27,33 @@ pub enum Waveforms {
 #[derive(Clone, Copy, Debug, Default)]
 pub struct RunOptions {
     pub waveforms: Waveforms,
+    /// Keep the image at each failed expectation (for the HTML report).
+    pub snapshots: bool,
+}
+
+/// The most images one engine run keeps for the report.
+const MOST_SNAPSHOTS: usize = 8;
+
+/// The image as an engine left it when an expectation failed.
+#[derive(Clone)]
+pub struct Snapshot {
+    pub line: u32,
+    /// After this many scans, at this time.
+    pub scan: u64,
+    pub time_ms: u64,
+    pub message: String,
+    pub image: Box<ladder_runtime::Memory>,
+}
+
+impl std::fmt::Debug for Snapshot {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Snapshot")
+            .field("line", &self.line)
+            .field("scan", &self.scan)
+            .field("time_ms", &self.time_ms)
+            .field("message", &self.message)
+            .finish_non_exhaustive()
+    }
 }
 
 /// What one engine did with a scenario.
@@ -37,6 +64,8 @@ pub struct EngineRun {
     pub printed: Vec<String>,
     /// The waveform, when the options keep it for this run.
     pub waveform: Option<Recorder>,
+    /// The image at each failed expectation, when the options ask for them.
+    pub snapshots: Vec<Snapshot>,
 }
 
 /// One failed expectation (or a scenario that could not run).
@@ -200,6 +229,7 @@ pub fn run_scenario(
         kind,
         printed: Vec::new(),
         recorder: signals.clone().map(Recorder::new),
+        snapshots: options.snapshots.then(Vec::new),
     };
     for &kind in engines {
         match instantiate(kind, &program) {
@@ -217,6 +247,7 @@ pub fn run_scenario(
                     waveform: observer
                         .recorder
                         .filter(|_| failed || options.waveforms == Waveforms::All),
+                    snapshots: observer.snapshots.unwrap_or_default(),
                 });
             }
             Err(EngineError::Unavailable(reason)) => outcome.skipped.push((kind, reason)),
@@ -235,6 +266,7 @@ struct ScenarioObserver {
     kind: EngineKind,
     printed: Vec<String>,
     recorder: Option<Recorder>,
+    snapshots: Option<Vec<Snapshot>>,
 }
 
 impl Observer for ScenarioObserver {
@@ -262,6 +294,22 @@ impl Observer for ScenarioObserver {
             self.kind.name(),
             shown.join(", ")
         ));
+    }
+
+    fn failed(&mut self, engine: &mut dyn Engine, line: u32, (scan, time_ms): (u64, u64), message: &str) {
+        let Some(snapshots) = &mut self.snapshots else { return };
+        if snapshots.len() >= MOST_SNAPSHOTS {
+            return;
+        }
+        if let Some(image) = engine.image() {
+            snapshots.push(Snapshot {
+                line,
+                scan,
+                time_ms,
+                message: message.to_string(),
+                image: Box::new(*image),
+            });
+        }
     }
 }
 
