@@ -315,3 +315,19 @@ fn render_draws_programs_and_destroys_nothing() {
         .unwrap()
         .starts_with("// start"));
 }
+
+#[test]
+fn an_empty_program_is_a_warning() {
+    let dir = temp_dir("empty");
+    std::fs::write(dir.join("empty.il"), "").unwrap();
+    std::fs::write(dir.join("comments.il"), "// LD X0\n// OUT Y0\n").unwrap();
+    for file in ["empty.il", "comments.il"] {
+        let output = ladderc(&["check", file], &dir);
+        assert_eq!(output.status.code(), Some(0), "a warning, not an error");
+        let stderr = text(&output.stderr);
+        assert!(
+            stderr.contains("warning[W0004]") && stderr.contains(&format!("{file}:1:1")),
+            "{stderr}"
+        );
+    }
+}

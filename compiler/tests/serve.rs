@@ -737,3 +737,56 @@ fn a_long_period_does_not_delay_stopping() {
         started.elapsed()
     );
 }
+
+#[test]
+fn a_program_that_drives_nothing_is_not_swapped_in() {
+    let server = Server::start_with(COUNTING);
+    let web = server.web.unwrap();
+    let running = json(&http(web, "GET", "/api/program", "").1);
+    assert_eq!(running["text"], COUNTING);
+    assert_eq!(running["sha256"].as_str().map(str::len), Some(64), "{running}");
+    for body in ["", "// LD X0\n// OUT Y0\n", "\n\n"] {
+        let (status, answer) = http(web, "POST", "/api/program", body);
+        assert_eq!(status, 422, "{body:?}: {answer}");
+        assert!(json(&answer)["error"].as_str().unwrap().contains("W0004"), "{answer}");
+    }
+    let before = scan_of(web);
+    std::thread::sleep(Duration::from_millis(150));
+    assert!(scan_of(web) > before, "the running program goes on");
+    assert_eq!(
+        json(&http(web, "GET", "/api/program", "").1)["sha256"],
+        running["sha256"]
+    );
+    // Meant: an explicit flag.
+    let (status, answer) = http(web, "POST", "/api/program?allow_empty=1", "// nothing yet\n");
+    assert_eq!(status, 200, "{answer}");
+    let now = json(&http(web, "GET", "/api/program", "").1);
+    assert_ne!(now["sha256"], running["sha256"]);
+    assert_eq!(now["changes"], 1);
+    server.stop();
+}
+
+#[test]
+fn uploads_are_read_as_files_are() {
+    use std::io::{Read, Write};
+    let server = Server::start_with(COUNTING);
+    let web = server.web.unwrap();
+    // UTF-16 with a byte-order mark, as a Windows editor saves it.
+    let text = "LD X0\r\nOUT Y1\r\n";
+    let mut body = vec![0xFF, 0xFE];
+    body.extend(text.encode_utf16().flat_map(u16::to_le_bytes));
+    let mut stream = std::net::TcpStream::connect(web).unwrap();
+    stream.set_read_timeout(Some(Duration::from_secs(20))).unwrap();
+    write!(
+        stream,
+        "POST /api/program HTTP/1.1\r\nHost: test\r\nContent-Length: {}\r\nConnection: close\r\n\r\n",
+        body.len()
+    )
+    .unwrap();
+    stream.write_all(&body).unwrap();
+    let mut response = String::new();
+    let _ = stream.read_to_string(&mut response);
+    assert!(response.starts_with("HTTP/1.1 200"), "{response}");
+    assert_eq!(json(&http(web, "GET", "/api/program", "").1)["text"], text);
+    server.stop();
+}

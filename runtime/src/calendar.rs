@@ -64,6 +64,21 @@ pub struct CalendarTime {
     pub weekday: u32,
 }
 
+impl CalendarTime {
+    /// A time to set (the day of the week follows from the date).
+    pub const fn at(year: u32, month: u32, day: u32, hour: u32, minute: u32, second: u32) -> CalendarTime {
+        CalendarTime {
+            year,
+            month,
+            day,
+            hour,
+            minute,
+            second,
+            weekday: 0,
+        }
+    }
+}
+
 const fn is_leap(year: u32) -> bool {
     (year.is_multiple_of(4) && !year.is_multiple_of(100)) || year.is_multiple_of(400)
 }
@@ -289,15 +304,7 @@ mod tests {
     use super::*;
 
     fn time(year: u32, month: u32, day: u32, hour: u32, minute: u32, second: u32) -> CalendarTime {
-        CalendarTime {
-            year,
-            month,
-            day,
-            hour,
-            minute,
-            second,
-            weekday: 0,
-        }
+        CalendarTime::at(year, month, day, hour, minute, second)
     }
 
     #[test]

@@ -411,15 +411,7 @@ pub unsafe extern "C" fn ladder_set_clock(
     let Some(mem) = (unsafe { image_mut(mem) }) else {
         return LadderStatus::BadArgument;
     };
-    let time = crate::calendar::CalendarTime {
-        year,
-        month,
-        day,
-        hour,
-        minute,
-        second,
-        weekday: 0,
-    };
+    let time = crate::calendar::CalendarTime::at(year, month, day, hour, minute, second);
     if mem.set_calendar(time) {
         LadderStatus::Ok
     } else {

@@ -1,5 +1,5 @@
-//! Warnings: double coils outside STL blocks, and writes to special relays
-//! that the runtime rewrites every scan.
+//! Warnings: double coils outside STL blocks, writes to special relays
+//! that the runtime rewrites every scan, and a program that drives nothing.
 
 use crate::diagnostics::{Code, Diagnostic, Diagnostics};
 use crate::program::{BitRef, Op, Output};
@@ -20,14 +20,19 @@ enum CoilKey {
 pub struct Lints {
     first_coil: HashMap<CoilKey, Span>,
     findings: Vec<Diagnostic>,
+    /// The first instruction, and whether any writes a device.
+    first: Option<Span>,
+    drives: bool,
 }
 
 impl Lints {
     /// Looks at one emitted instruction.
     pub fn observe(&mut self, op: &Op, span: Span, in_stl_block: bool) {
+        self.first.get_or_insert(span);
         let Op::Output(output) = op else {
             return;
         };
+        self.drives = true;
         let coil = match output {
             Output::Coil(bit) => is_fixed(bit).then_some(CoilKey::Bit(*bit)),
             Output::Timer { timer, .. } => Some(CoilKey::Timer(*timer)),
@@ -77,6 +82,20 @@ impl Lints {
     }
 
     pub fn finish(&mut self, diagnostics: &mut Diagnostics) {
+        // After an error the program is not complete anyway (E0017 says
+        // the same of a rung without an output).
+        if !self.drives && !diagnostics.iter().any(|d| d.is_error()) {
+            let (span, message, label) = match self.first {
+                None => (Span::new(0, 0), "the program is empty", "no instruction in the file"),
+                Some(first) => (
+                    first,
+                    "the program drives nothing",
+                    "no instruction of the program writes a device",
+                ),
+            };
+            self.findings
+                .push(Diagnostic::new(Code::DrivesNothing, span, message).with_label(label));
+        }
         for finding in self.findings.drain(..) {
             diagnostics.push(finding);
         }

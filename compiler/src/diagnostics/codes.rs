@@ -307,6 +307,17 @@ Each OUT takes effect when it executes, so the last one executed wins at
 the output refresh; this is usually a mistake. Inside STL blocks, the same
 coil in several states is normal and not reported.";
 
+    DrivesNothing = "W0004", Warning, "a program that drives nothing",
+"The program is empty, or none of its instructions writes a device (no OUT,
+SET, RST, no application instruction): it cannot do anything. A file cut
+short by an editor or a failed copy looks like this. `ladderc serve` refuses
+such a program for online change unless the upload says it is meant
+(`POST /api/program?allow_empty=1`).
+
+    // a file that holds only comments
+    // LD X0
+    // OUT Y0";
+
     SystemRelayWrite = "W0003", Warning, "write to a special relay the runtime rewrites",
 "SM0-SM3, M8000-M8003, the clock relays M8011-M8014, M8150, M8151 and M8160
 are set by the runtime at the start of every scan; writing them lasts only

@@ -25,6 +25,48 @@ pub struct Loaded {
     pub native: Option<crate::codegen::JitProgram>,
     /// Its drawing for the monitor page.
     pub view: std::sync::Arc<super::view::LadderView>,
+    /// Which program it is (`GET /api/program`, the log of online changes).
+    pub identity: std::sync::Arc<Identity>,
+}
+
+/// A program's identity: its file name, the SHA-256 of its text, the text,
+/// and when it was loaded.
+pub struct Identity {
+    pub name: String,
+    pub sha256: String,
+    pub text: String,
+    /// Seconds since 1970-01-01 UTC.
+    pub loaded_at: u64,
+}
+
+impl Identity {
+    pub fn of(source: &SourceFile) -> Identity {
+        use sha2::Digest as _;
+        let digest = sha2::Sha256::digest(source.text.as_bytes());
+        Identity {
+            name: source.name.clone(),
+            sha256: digest.iter().map(|b| format!("{b:02x}")).collect(),
+            text: source.text.clone(),
+            loaded_at: std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .map_or(0, |d| d.as_secs()),
+        }
+    }
+
+    /// `2026-11-23 21:40:05 UTC`.
+    pub fn loaded_at_text(&self) -> String {
+        // The runtime's calendar counts from 1980-01-01.
+        const FROM_1970_TO_1980: u64 = 315_532_800;
+        let seconds = self
+            .loaded_at
+            .saturating_sub(FROM_1970_TO_1980)
+            .min(u64::from(u32::MAX)) as u32;
+        let t = ladder_runtime::calendar::CalendarTime::from_seconds(seconds);
+        format!(
+            "{:04}-{:02}-{:02} {:02}:{:02}:{:02} UTC",
+            t.year, t.month, t.day, t.hour, t.minute, t.second
+        )
+    }
 }
 
 impl Loaded {
@@ -60,6 +102,7 @@ impl Loaded {
         }
         Loaded {
             view: std::sync::Arc::new(super::view::LadderView::new(&program, source)),
+            identity: std::sync::Arc::new(Identity::of(source)),
             program,
             slots,
             instances,

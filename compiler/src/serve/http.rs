@@ -62,7 +62,9 @@ pub fn router(shared: Arc<Shared>, read_only: bool, native: bool) -> Router {
         .layer(DefaultBodyLimit::max(BODY_LIMIT))
         .route(
             "/api/program",
-            post(program).layer(DefaultBodyLimit::max(PROGRAM_LIMIT)),
+            post(program)
+                .get(running_program)
+                .layer(DefaultBodyLimit::max(PROGRAM_LIMIT)),
         )
         .with_state(App {
             shared,
@@ -387,37 +389,67 @@ async fn unforce(
 /// with its diagnostics) and the running program goes on. Otherwise it
 /// replaces the running one between two scans, and the answer comes once
 /// it runs.
-async fn program(State(app): State<App>, text: Result<String, axum::extract::rejection::StringRejection>) -> Response {
+/// The running program: its name, SHA-256, when it was loaded, its text.
+async fn running_program(State(app): State<App>) -> Response {
+    match app.shared.identity() {
+        Some(identity) => Json(json!({
+            "name": identity.name,
+            "sha256": identity.sha256,
+            "loaded_at": identity.loaded_at_text(),
+            "text": identity.text,
+            "changes": app.shared.swaps(),
+        }))
+        .into_response(),
+        None => error(StatusCode::SERVICE_UNAVAILABLE, "no program runs yet"),
+    }
+}
+
+#[derive(serde::Deserialize)]
+struct Upload {
+    /// `allow_empty=1`: a program that drives nothing is meant.
+    allow_empty: Option<String>,
+}
+
+async fn program(
+    State(app): State<App>,
+    query: Result<Query<Upload>, axum::extract::rejection::QueryRejection>,
+    body: Result<axum::body::Bytes, axum::extract::rejection::BytesRejection>,
+) -> Response {
     if app.read_only {
         return error(StatusCode::FORBIDDEN, "the server is read-only");
     }
-    let text = match text {
-        Ok(text) => text,
+    let allow_empty = matches!(query, Ok(Query(Upload { allow_empty: Some(ref v) })) if v == "1" || v == "true");
+    let bytes = match body {
+        Ok(bytes) => bytes,
         Err(rejection) => return error(rejection.status(), rejection.body_text()),
     };
     let native = app.native;
     let compiled = tokio::task::spawn_blocking(move || {
-        let source = crate::source::SourceFile::new("<upload>", text);
+        // Decoded as the command line reads files (a byte-order mark, UTF-16).
+        let source = crate::source::SourceFile::from_bytes("<upload>", &bytes);
         let (program, diagnostics) = crate::check::compile_source(&source);
+        let shown = || crate::diagnostics::render_all(&source, &diagnostics, crate::diagnostics::Shown::default());
         match program {
-            Some(program) => super::change::Loaded::new(program, &source).precompile(native),
-            None => Err(crate::diagnostics::render_all(
-                &source,
-                &diagnostics,
-                crate::diagnostics::Shown::default(),
+            Some(_) if !allow_empty && super::drives_nothing(&diagnostics) => Err((
+                "the program drives nothing (W0004); the running one goes on (`?allow_empty=1` if it is meant)",
+                shown(),
             )),
+            Some(program) => super::change::Loaded::new(program, &source)
+                .precompile(native)
+                .map_err(|e| ("the program cannot be compiled to native code", e)),
+            None => Err(("the program does not compile; the running one goes on", shown())),
         }
     })
     .await;
     let loaded = match compiled {
         Ok(Ok(loaded)) => loaded,
-        Ok(Err(diagnostics)) => return (
-            StatusCode::UNPROCESSABLE_ENTITY,
-            Json(
-                json!({ "error": "the program does not compile; the running one goes on", "diagnostics": diagnostics }),
-            ),
-        )
-            .into_response(),
+        Ok(Err((message, diagnostics))) => {
+            return (
+                StatusCode::UNPROCESSABLE_ENTITY,
+                Json(json!({ "error": message, "diagnostics": diagnostics })),
+            )
+                .into_response()
+        }
         Err(_) => return error(StatusCode::INTERNAL_SERVER_ERROR, "compiling failed"),
     };
     let before = app.shared.swaps();

@@ -139,6 +139,15 @@ fn watch_file(path: &std::path::Path, shared: &Shared, native: bool) {
         };
         let (program, diagnostics) = crate::check::compile_source(&source);
         let shown = crate::diagnostics::render_all(&source, &diagnostics, crate::diagnostics::Shown::default());
+        if program.is_some() && drives_nothing(&diagnostics) {
+            use std::io::Write as _;
+            let _ = writeln!(
+                std::io::stderr(),
+                "{shown}{}: drives nothing (W0004); the running program goes on",
+                path.display()
+            );
+            continue;
+        }
         match program {
             Some(program) => match change::Loaded::new(program, &source).precompile(native) {
                 Ok(loaded) => {
@@ -161,6 +170,14 @@ fn watch_file(path: &std::path::Path, shared: &Shared, native: bool) {
             }
         }
     }
+}
+
+/// An empty program, or one that writes no device (W0004): refused for
+/// online change unless the upload says it is meant.
+pub(crate) fn drives_nothing(diagnostics: &[crate::diagnostics::Diagnostic]) -> bool {
+    diagnostics
+        .iter()
+        .any(|d| d.code == crate::diagnostics::Code::DrivesNothing)
 }
 
 /// A line on standard output for whoever started the server (tests read the
@@ -247,6 +264,18 @@ fn scan_loop(
                 engine.load_image(&image);
             }
             shared.set_view(std::sync::Arc::clone(&loaded.view));
+            shared.set_identity(std::sync::Arc::clone(&loaded.identity));
+            if shared.swaps() > 0 || engine.image().is_some_and(|m| m.scan_count > 0) {
+                // Every online change in the log: which program, from when.
+                let identity = &loaded.identity;
+                announce(&format!(
+                    "online change: {} (sha256 {}) loaded {}, running from scan {}",
+                    identity.name,
+                    identity.sha256,
+                    identity.loaded_at_text(),
+                    engine.image().map_or(0, |m| m.scan_count) + 1
+                ));
+            }
             if !started {
                 started = true;
                 let _ = ready.send(Ok(()));

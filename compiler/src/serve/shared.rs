@@ -91,6 +91,7 @@ pub struct Shared {
     stop: AtomicBool,
     control: Mutex<Control>,
     view: Mutex<Option<Arc<LadderView>>>,
+    identity: Mutex<Option<Arc<super::change::Identity>>>,
     recorders: Mutex<Vec<Weak<Recorder>>>,
     started: Instant,
 }
@@ -106,6 +107,7 @@ impl Default for Shared {
             stop: AtomicBool::new(false),
             control: Mutex::new(Control::default()),
             view: Mutex::new(None),
+            identity: Mutex::new(None),
             recorders: Mutex::new(Vec::new()),
             started: Instant::now(),
         }
@@ -177,6 +179,15 @@ impl Shared {
 
     pub fn set_view(&self, view: Arc<LadderView>) {
         *lock(&self.view) = Some(view);
+    }
+
+    /// The running program's identity.
+    pub fn identity(&self) -> Option<Arc<super::change::Identity>> {
+        lock(&self.identity).clone()
+    }
+
+    pub fn set_identity(&self, identity: Arc<super::change::Identity>) {
+        *lock(&self.identity) = Some(identity);
     }
 
     /// A recorder of `devices` after every scan from now on, until the

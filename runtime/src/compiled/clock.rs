@@ -49,16 +49,7 @@ pub fn set_clock(mem: &mut Memory, source: Place) -> bool {
     else {
         return false;
     };
-    (0..=6).contains(&weekday)
-        && mem.set_calendar(CalendarTime {
-            year,
-            month,
-            day,
-            hour,
-            minute,
-            second,
-            weekday: 0,
-        })
+    (0..=6).contains(&weekday) && mem.set_calendar(CalendarTime::at(year, month, day, hour, minute, second))
 }
 
 /// TCMP: the time `limit` against the 3 words at `data`; three bits to

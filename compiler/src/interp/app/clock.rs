@@ -73,15 +73,9 @@ pub fn write(step: &mut Step, s: &WordRef) -> Outcome {
         field(4),
         field(5),
     ) {
-        (Some(year), Some(month), Some(day), Some(hour), Some(minute), Some(second)) => CalendarTime {
-            year,
-            month,
-            day,
-            hour,
-            minute,
-            second,
-            weekday: 0,
-        },
+        (Some(year), Some(month), Some(day), Some(hour), Some(minute), Some(second)) => {
+            CalendarTime::at(year, month, day, hour, minute, second)
+        }
         _ => return Err(OperationError::DataOutOfRange),
     };
     if !(0..=6).contains(&value(6)) || !step.mem.set_calendar(time) {
