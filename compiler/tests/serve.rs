@@ -7,82 +7,13 @@
 
 mod common;
 
-use std::io::{BufRead, BufReader};
+use common::server::{http, json, Server};
+
+use std::io::BufReader;
 use std::net::SocketAddr;
-use std::process::{Child, Command, Stdio};
+use std::process::Command;
 use std::time::Duration;
 use tokio_modbus::prelude::*;
-
-/// Seal-in on X0/X1 to Y0, a timer, D5 = 123 while X2, M10 follows X3.
-const PROGRAM: &str = "LD X0\nOR Y0\nANI X1\nOUT Y0\nLD Y0\nOUT T0 K5\nLD X2\nMOV K123 D5\nLD X3\nOUT M10\n";
-
-struct Server {
-    child: Child,
-    address: SocketAddr,
-    /// The HTTP address, when started with `--http`.
-    web: Option<SocketAddr>,
-    _dir: tempfile::TempDir,
-}
-
-impl Server {
-    fn start(extra: &[&str]) -> Server {
-        Server::start_program(PROGRAM, extra)
-    }
-
-    fn start_program(text: &str, extra: &[&str]) -> Server {
-        let dir = tempfile::tempdir().unwrap();
-        let program = dir.path().join("plc.il");
-        std::fs::write(&program, text).unwrap();
-        let mut child = Command::new(env!("CARGO_BIN_EXE_ladderc"))
-            .args(["serve", program.to_str().unwrap(), "--modbus", "127.0.0.1:0"])
-            // 10 ms scans unless the test asks for another period.
-            .args(if extra.contains(&"--scan-ms") {
-                &[][..]
-            } else {
-                &["--scan-ms", "10"][..]
-            })
-            .args(extra)
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .expect("ladderc serve starts");
-        let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
-        let first = lines.next().expect("a line").expect("text");
-        let address = first
-            .strip_prefix("modbus listening on ")
-            .unwrap_or_else(|| panic!("{first}"))
-            .parse()
-            .unwrap();
-        let web = extra.contains(&"--http").then(|| {
-            let line = lines.next().expect("a line").expect("text");
-            line.strip_prefix("http listening on ")
-                .unwrap_or_else(|| panic!("{line}"))
-                .parse()
-                .unwrap()
-        });
-        Server {
-            child,
-            address,
-            web,
-            _dir: dir,
-        }
-    }
-
-    /// SIGTERM, then the exit status and what it printed on stderr.
-    fn stop(mut self) -> (Option<i32>, String) {
-        Command::new("kill")
-            .args(["-TERM", &self.child.id().to_string()])
-            .status()
-            .unwrap();
-        let output = std::mem::replace(&mut self.child, Command::new("true").spawn().unwrap())
-            .wait_with_output()
-            .unwrap();
-        (
-            output.status.code(),
-            String::from_utf8_lossy(&output.stderr).into_owned(),
-        )
-    }
-}
 
 async fn settle() {
     // Several scan periods: a write applies before the next scan, the image
@@ -198,32 +129,6 @@ fn a_non_loopback_address_needs_an_explicit_flag() {
         .unwrap();
     assert_eq!(output.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&output.stderr).contains("--allow-remote"));
-}
-
-/// One HTTP/1.1 request on a fresh connection: (status, body).
-fn http(address: SocketAddr, method: &str, path: &str, body: &str) -> (u16, String) {
-    use std::io::{Read, Write};
-    let mut stream = std::net::TcpStream::connect(address).unwrap();
-    stream.set_read_timeout(Some(Duration::from_secs(10))).unwrap();
-    write!(
-        stream,
-        "{method} {path} HTTP/1.1\r\nHost: test\r\nContent-Type: application/json\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
-        body.len()
-    )
-    .unwrap();
-    let mut response = String::new();
-    let _ = stream.read_to_string(&mut response);
-    let status = response
-        .split_whitespace()
-        .nth(1)
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(0);
-    let body = response.split_once("\r\n\r\n").map_or("", |(_, b)| b).to_string();
-    (status, body)
-}
-
-fn json(body: &str) -> serde_json::Value {
-    serde_json::from_str(body).unwrap_or_else(|e| panic!("{e}: {body}"))
 }
 
 #[test]
@@ -648,7 +553,7 @@ fn online_change_swaps_programs_under_load_and_keeps_memory() {
 fn a_changed_program_file_is_swapped_in() {
     let server = Server::start(&["--http", "127.0.0.1:0", "--watch-file"]);
     let web = server.web.unwrap();
-    let program = server._dir.path().join("plc.il");
+    let program = server.dir.path().join("plc.il");
     std::thread::sleep(Duration::from_millis(50));
     // A version that does not compile changes nothing.
     std::fs::write(&program, "LD X0\nOUTT Y0\n").unwrap();

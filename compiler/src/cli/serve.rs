@@ -55,6 +55,23 @@ pub struct ServeArgs {
     /// Engine that runs the program.
     #[arg(long, value_enum, default_value_t = ServeEngine::Jit)]
     engine: ServeEngine,
+    /// Keep the latched devices in this file: restored at start, written
+    /// every --retain-ms and at stop (atomically, with a checksum). A file
+    /// that cannot be read stops the server; it is never overwritten.
+    #[arg(long, value_name = "FILE")]
+    retain: Option<PathBuf>,
+    /// How often the retain file is written, in milliseconds.
+    #[arg(long, default_value_t = 1000, value_name = "MS")]
+    retain_ms: u32,
+    /// The latched ranges, as the FX parameters set them (default: FX3U's
+    /// M500-M7679, S500-S4095, T246-T255, C100-C199, C220-C255,
+    /// D200-D7999 and all of R), e.g. `M500-M1023,D200-D511`, or `none`.
+    #[arg(long, value_name = "RANGES")]
+    latch: Option<String>,
+    /// Run the scan thread at real-time priority (SCHED_FIFO) with the
+    /// process's memory locked; says so and goes on where not permitted.
+    #[arg(long)]
+    realtime: bool,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -76,6 +93,22 @@ pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
         say_err!("error: --scan-ms is 1 to 60000");
         return status::UNUSABLE;
     }
+    let ranges = match args.latch.as_deref().map(crate::serve::retain::parse_latch_list) {
+        None => crate::serve::retain::fx3u_defaults(),
+        Some(Ok(ranges)) => ranges,
+        Some(Err(message)) => {
+            say_err!("error: --latch: {message}");
+            return status::UNUSABLE;
+        }
+    };
+    if args.latch.is_some() && args.retain.is_none() {
+        say_err!("error: --latch names the devices --retain FILE keeps; add --retain");
+        return status::UNUSABLE;
+    }
+    if !(10..=3_600_000).contains(&args.retain_ms) {
+        say_err!("error: --retain-ms is 10 to 3600000");
+        return status::UNUSABLE;
+    }
     let source = match super::read_program(&args.program) {
         Ok(source) => source,
         Err(message) => {
@@ -94,6 +127,12 @@ pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
         http: args.http,
         read_only: args.read_only,
         watch_file: args.watch_file.then(|| args.program.clone()),
+        retain: args
+            .retain
+            .clone()
+            .map(|path| crate::serve::retain::RetainFile { path, ranges }),
+        retain_interval: Duration::from_millis(u64::from(args.retain_ms)),
+        realtime: args.realtime,
         engine: match args.engine {
             ServeEngine::Interp => EngineKind::Interp,
             ServeEngine::Jit => EngineKind::Jit,

@@ -136,6 +136,12 @@ impl Condition {
 }
 
 impl Control {
+    /// A step was asked for while paused: it runs without waiting for the
+    /// period.
+    pub fn step_waiting(&self) -> bool {
+        self.paused && self.steps > 0 && !self.stopped
+    }
+
     pub fn add_breakpoint(&mut self, text: &str) -> Result<u32, String> {
         if self.breakpoints.len() >= MOST_BREAKPOINTS {
             return Err(format!("at most {MOST_BREAKPOINTS} breakpoints"));

@@ -149,6 +149,8 @@ pub async fn set_control(
             }
         }
     }
+    // A step or a resume is taken at once, not at the next period.
+    app.shared.wake();
     Json(control_json(&app.shared)).into_response()
 }
 

@@ -253,8 +253,7 @@ async fn reset_stats(State(app): State<App>) -> Response {
     if app.read_only {
         return error(StatusCode::FORBIDDEN, "the server is read-only");
     }
-    app.shared
-        .update_stats(|stats| *stats = super::shared::Stats::default());
+    app.shared.reset_stats();
     Json(json!({ "reset": true })).into_response()
 }
 
@@ -288,7 +287,13 @@ async fn unforce_all(State(app): State<App>) -> Response {
 
 async fn stats(State(app): State<App>) -> Json<Value> {
     let stats = app.shared.stats();
+    let window = app.shared.jitter_percentiles();
     let micros = |d: Duration| d.as_secs_f64() * 1e6;
+    let average_jitter = if stats.scans == 0 {
+        Duration::ZERO
+    } else {
+        stats.jitter_total.div_f64(stats.scans as f64)
+    };
     Json(json!({
         "scans": stats.scans,
         "last_us": micros(stats.last),
@@ -296,6 +301,13 @@ async fn stats(State(app): State<App>) -> Json<Value> {
         "average_us": micros(stats.average()),
         "max_us": micros(stats.max),
         "jitter_us": micros(stats.jitter),
+        "jitter_average_us": micros(average_jitter),
+        "jitter_window": {
+            "scans": window.samples,
+            "p50_us": micros(window.p50),
+            "p99_us": micros(window.p99),
+            "max_us": micros(window.max),
+        },
         "overruns": stats.overruns,
     }))
 }

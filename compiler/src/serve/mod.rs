@@ -9,6 +9,8 @@ mod control;
 mod debug;
 mod http;
 mod modbus;
+mod realtime;
+pub mod retain;
 mod shared;
 mod view;
 
@@ -32,6 +34,12 @@ pub struct ServeOptions {
     pub engine: EngineKind,
     /// Online change when this program file changes on disk.
     pub watch_file: Option<std::path::PathBuf>,
+    /// Latched devices kept in this file (`--retain`).
+    pub retain: Option<retain::RetainFile>,
+    /// How often the retain file is written (and once more at stop).
+    pub retain_interval: Duration,
+    /// SCHED_FIFO and locked memory for the scan thread (`--realtime`).
+    pub realtime: bool,
 }
 
 /// Runs the program until Ctrl-C or SIGTERM; `Err` is a message for an
@@ -43,6 +51,31 @@ pub fn serve(
 ) -> Result<Stats, String> {
     let loaded = change::Loaded::new(program, source);
     let shared = Arc::new(Shared::default());
+    // A retain file that cannot be read stops everything before a scan.
+    let restored = match &options.retain {
+        Some(file) => match file.load()? {
+            retain::Restored::Fresh => {
+                announce(&format!(
+                    "retain: {} does not exist yet; the latched devices start cleared",
+                    file.path.display()
+                ));
+                Vec::new()
+            }
+            retain::Restored::Values(records) => {
+                announce(&format!(
+                    "retain: restored {} from {}",
+                    records
+                        .iter()
+                        .map(|(range, _)| range.to_string())
+                        .collect::<Vec<_>>()
+                        .join(", "),
+                    file.path.display()
+                ));
+                records
+            }
+        },
+        None => Vec::new(),
+    };
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
         .enable_all()
@@ -54,13 +87,24 @@ pub fn serve(
     let (ready, started) = std::sync::mpsc::channel();
     let scanner = {
         let shared = Arc::clone(&shared);
-        let (period, kind) = (options.period, options.engine);
-        std::thread::spawn(move || scan_loop(loaded, kind, period, &shared, &ready))
+        let (period, kind, realtime) = (options.period, options.engine, options.realtime);
+        std::thread::spawn(move || {
+            for line in realtime::prepare_scan_thread(realtime) {
+                announce(&line);
+            }
+            scan_loop(loaded, kind, period, &restored, &shared, &ready)
+        })
     };
     started
         .recv()
         .map_err(|_| "the scan thread ended before it started".to_string())??;
     announce(&format!("scanning every {} ms", options.period.as_millis()));
+    let saver = options.retain.as_ref().map(|file| {
+        let shared = Arc::clone(&shared);
+        let file = file.clone();
+        let interval = options.retain_interval;
+        std::thread::spawn(move || keep_retained(&file, interval, &shared))
+    });
     if let Some(path) = options.watch_file.clone() {
         let shared = Arc::clone(&shared);
         let native = options.engine == EngineKind::Jit;
@@ -98,6 +142,10 @@ pub fn serve(
     });
     shared.stop();
     scanner.join().map_err(|_| "the scan thread failed".to_string())?;
+    // The saver writes once more after the last scan.
+    if let Some(saver) = saver {
+        saver.join().map_err(|_| "the retain thread failed".to_string())?;
+    }
     Ok(shared.stats())
 }
 
@@ -118,6 +166,58 @@ fn listen(
     let bound = listener.local_addr().map_err(|e| e.to_string())?;
     announce(&format!("{what} listening on {bound}"));
     Ok(Some(listener))
+}
+
+/// `--retain`: writes the latched devices of the published image every
+/// `interval` and once more when the server stops. Nothing is written
+/// before the first scan has published an image (the restored values would
+/// otherwise be overwritten by an empty image); a failed write is reported
+/// once and tried again at the next interval.
+fn keep_retained(file: &retain::RetainFile, interval: Duration, shared: &Shared) {
+    let mut last_error = None;
+    // What the file holds: an unchanged image is not written again (a
+    // controller's flash wears with every write).
+    let mut written: Option<Vec<u8>> = None;
+    let mut next = Instant::now() + interval;
+    loop {
+        let stopping = shared.wait_stop_until(next);
+        next += interval;
+        if !shared.published() {
+            if stopping {
+                return;
+            }
+            continue;
+        }
+        let image = Box::new(**shared.image());
+        let bytes = retain::encode(&image, &file.ranges);
+        if written.as_ref() == Some(&bytes) {
+            if stopping {
+                return;
+            }
+            continue;
+        }
+        let result = file.write(&bytes).map_err(|e| e.to_string());
+        if result.is_ok() {
+            written = Some(bytes);
+        }
+        if let Err(error) = &result {
+            if last_error.as_ref() != Some(error) {
+                use std::io::Write as _;
+                let _ = writeln!(
+                    std::io::stderr(),
+                    "retain: cannot write {}: {error}",
+                    file.path.display()
+                );
+            }
+        }
+        last_error = result.err();
+        if stopping {
+            if last_error.is_none() {
+                announce(&format!("retain: saved to {}", file.path.display()));
+            }
+            return;
+        }
+    }
 }
 
 /// `--watch-file`: when the program file changes, compiles it and offers it
@@ -230,6 +330,7 @@ fn scan_loop(
     first: change::Loaded,
     kind: EngineKind,
     period: Duration,
+    restored: &[(retain::LatchRange, Vec<i32>)],
     shared: &Shared,
     ready: &std::sync::mpsc::Sender<Result<(), String>>,
 ) {
@@ -262,6 +363,14 @@ fn scan_loop(
             };
             if let Some(image) = image.take() {
                 engine.load_image(&image);
+            } else if !restored.is_empty() {
+                // Power on with the battery-backed devices as they were.
+                if let Some(first) = engine.image() {
+                    let mut first = Box::new(*first);
+                    retain::apply(&mut first, restored);
+                    engine.load_image(&first);
+                    shared.publish(&first);
+                }
             }
             shared.set_view(std::sync::Arc::clone(&loaded.view));
             shared.set_identity(std::sync::Arc::clone(&loaded.identity));
@@ -307,20 +416,20 @@ enum Due {
 fn run(engine: &mut dyn Engine, clock: &mut Clock, shared: &Shared) -> Option<change::Loaded> {
     let mut was_stopped = false;
     while !shared.stopping() {
-        // Waits in short steps: a stop or a new program is taken within
-        // a few milliseconds whatever the period.
+        // Sleeps until the absolute deadline of the next scan; a stop, a
+        // program offered or a control change wakes it at once.
         loop {
+            let generation = shared.generation();
             if shared.stopping() {
                 return None;
             }
             if let Some(next) = shared.take_program() {
                 return Some(next);
             }
-            let now = Instant::now();
-            if now >= clock.due {
+            if Instant::now() >= clock.due || shared.control().step_waiting() {
                 break;
             }
-            std::thread::sleep((clock.due - now).min(Duration::from_millis(5)));
+            shared.sleep_until(clock.due, generation);
         }
         let due = {
             let mut control = shared.control();
@@ -395,8 +504,12 @@ fn run(engine: &mut dyn Engine, clock: &mut Clock, shared: &Shared) -> Option<ch
             stats.max = stats.max.max(took);
             stats.total += took;
             stats.jitter = stats.jitter.max(late);
+            stats.jitter_total += late;
             stats.overruns += u64::from(overrun);
         });
+        if !step {
+            shared.record_latency(late);
+        }
     }
     None
 }

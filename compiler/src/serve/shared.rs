@@ -10,7 +10,7 @@ use crate::host_device::HostDevice;
 use ladder_runtime::Memory;
 use std::collections::VecDeque;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, Mutex, MutexGuard, Weak};
+use std::sync::{Arc, Condvar, Mutex, MutexGuard, Weak};
 use std::time::{Duration, Instant};
 
 /// Samples a recorder keeps for its client at most (older ones are lost
@@ -56,7 +56,11 @@ pub enum HostWrite {
     Unforce(ladder_runtime::BitArea, u32),
 }
 
-/// Scan timing since the start.
+/// Wake-up latencies the statistics keep for their percentiles: the
+/// latest minute at a 10 ms period.
+pub const JITTER_WINDOW: usize = 6000;
+
+/// Scan timing since the start (or the latest reset).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Stats {
     pub scans: u64,
@@ -68,6 +72,51 @@ pub struct Stats {
     pub jitter: Duration,
     /// Scans that started after the next one was due.
     pub overruns: u64,
+    /// The sum of every scan's wake-up latency (for the average).
+    pub jitter_total: Duration,
+}
+
+/// The wake-up latencies of the latest scans, for p50/p99.
+#[derive(Default)]
+pub struct JitterWindow {
+    latencies: VecDeque<Duration>,
+}
+
+/// Percentiles of the window: p50, p99 and max.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Percentiles {
+    pub samples: usize,
+    pub p50: Duration,
+    pub p99: Duration,
+    pub max: Duration,
+}
+
+impl JitterWindow {
+    pub fn push(&mut self, latency: Duration) {
+        if self.latencies.len() >= JITTER_WINDOW {
+            self.latencies.pop_front();
+        }
+        self.latencies.push_back(latency);
+    }
+
+    pub fn percentiles(&self) -> Percentiles {
+        let mut sorted: Vec<Duration> = self.latencies.iter().copied().collect();
+        sorted.sort_unstable();
+        let at = |fraction: f64| {
+            // Nearest rank: the smallest value with `fraction` of them at or below it.
+            let rank = ((fraction * sorted.len() as f64).ceil() as usize).clamp(1, sorted.len());
+            sorted[rank - 1]
+        };
+        if sorted.is_empty() {
+            return Percentiles::default();
+        }
+        Percentiles {
+            samples: sorted.len(),
+            p50: at(0.50),
+            p99: at(0.99),
+            max: sorted[sorted.len() - 1],
+        }
+    }
 }
 
 impl Stats {
@@ -94,6 +143,13 @@ pub struct Shared {
     identity: Mutex<Option<Arc<super::change::Identity>>>,
     recorders: Mutex<Vec<Weak<Recorder>>>,
     started: Instant,
+    /// Some scan has published its image.
+    published: AtomicBool,
+    /// Bumped (and the condition signalled) when the scan thread should
+    /// look again at once: a stop, a program offered, a control change.
+    wake: Mutex<u64>,
+    woken: Condvar,
+    jitter: Mutex<JitterWindow>,
 }
 
 impl Default for Shared {
@@ -110,6 +166,10 @@ impl Default for Shared {
             identity: Mutex::new(None),
             recorders: Mutex::new(Vec::new()),
             started: Instant::now(),
+            published: AtomicBool::new(false),
+            wake: Mutex::new(0),
+            woken: Condvar::new(),
+            jitter: Mutex::new(JitterWindow::default()),
         }
     }
 }
@@ -127,6 +187,12 @@ impl Shared {
 
     pub fn publish(&self, image: &Memory) {
         **lock(&self.image) = *image;
+        self.published.store(true, Ordering::Release);
+    }
+
+    /// Whether any image was published yet.
+    pub fn published(&self) -> bool {
+        self.published.load(Ordering::Acquire)
     }
 
     pub fn queue(&self, writes: Vec<HostWrite>) {
@@ -145,6 +211,59 @@ impl Shared {
         update(&mut lock(&self.stats));
     }
 
+    /// Counts one scan's wake-up latency in the window.
+    pub fn record_latency(&self, latency: Duration) {
+        lock(&self.jitter).push(latency);
+    }
+
+    pub fn jitter_percentiles(&self) -> Percentiles {
+        lock(&self.jitter).percentiles()
+    }
+
+    /// Starts the statistics and the window afresh.
+    pub fn reset_stats(&self) {
+        *lock(&self.stats) = Stats::default();
+        *lock(&self.jitter) = JitterWindow::default();
+    }
+
+    /// The wake-up generation: pass it to `sleep_until`.
+    pub fn generation(&self) -> u64 {
+        *lock(&self.wake)
+    }
+
+    /// Tells the scan thread (and the retain thread) to look again now.
+    pub fn wake(&self) {
+        *lock(&self.wake) += 1;
+        self.woken.notify_all();
+    }
+
+    /// Sleeps until `deadline`, or until woken after `generation` was read
+    /// (a wake between reading it and sleeping is not lost).
+    pub fn sleep_until(&self, deadline: Instant, generation: u64) {
+        let mut current = lock(&self.wake);
+        while *current == generation {
+            let now = Instant::now();
+            if now >= deadline {
+                return;
+            }
+            current = match self.woken.wait_timeout(current, deadline - now) {
+                Ok((guard, _)) => guard,
+                Err(poisoned) => poisoned.into_inner().0,
+            };
+        }
+    }
+
+    /// Sleeps until `deadline` or a stop; true when stopping.
+    pub fn wait_stop_until(&self, deadline: Instant) -> bool {
+        loop {
+            let generation = self.generation();
+            if self.stopping() || Instant::now() >= deadline {
+                return self.stopping();
+            }
+            self.sleep_until(deadline, generation);
+        }
+    }
+
     /// Hands a compiled program to the scan thread; false (and nothing
     /// changes) while another one is still waiting to be swapped in.
     pub fn offer(&self, program: super::change::Loaded) -> bool {
@@ -153,6 +272,8 @@ impl Shared {
             return false;
         }
         *pending = Some(program);
+        drop(pending);
+        self.wake();
         true
     }
 
@@ -229,6 +350,7 @@ impl Shared {
 
     pub fn stop(&self) {
         self.stop.store(true, Ordering::Relaxed);
+        self.wake();
     }
 
     pub fn stopping(&self) -> bool {

@@ -10,6 +10,7 @@ pub mod browser;
 pub mod differential;
 pub mod fx;
 pub mod image;
+pub mod server;
 pub mod stimulus;
 pub mod tools;
 pub mod vocabulary;

@@ -1,0 +1,129 @@
+//! A `ladderc serve` process for tests: started on loopback with an
+//! ephemeral Modbus port (and HTTP when asked), its addresses read from the
+//! lines it prints, stopped with SIGTERM (or killed); and a bare HTTP/1.1
+//! client.
+
+use std::io::{BufRead, BufReader};
+use std::net::SocketAddr;
+use std::process::{Child, Command, Stdio};
+use std::time::Duration;
+
+/// Seal-in on X0/X1 to Y0, a timer, D5 = 123 while X2, M10 follows X3.
+pub const PROGRAM: &str = "LD X0\nOR Y0\nANI X1\nOUT Y0\nLD Y0\nOUT T0 K5\nLD X2\nMOV K123 D5\nLD X3\nOUT M10\n";
+
+pub struct Server {
+    pub child: Child,
+    pub address: SocketAddr,
+    /// The HTTP address, when started with `--http`.
+    pub web: Option<SocketAddr>,
+    /// The directory of the program file (plc.il).
+    pub dir: tempfile::TempDir,
+}
+
+impl Server {
+    pub fn start(extra: &[&str]) -> Server {
+        Server::start_program(PROGRAM, extra)
+    }
+
+    pub fn start_program(text: &str, extra: &[&str]) -> Server {
+        let dir = tempfile::tempdir().unwrap();
+        let program = dir.path().join("plc.il");
+        std::fs::write(&program, text).unwrap();
+        let mut child = Command::new(env!("CARGO_BIN_EXE_ladderc"))
+            .args(["serve", program.to_str().unwrap(), "--modbus", "127.0.0.1:0"])
+            // 10 ms scans unless the test asks for another period.
+            .args(if extra.contains(&"--scan-ms") {
+                &[][..]
+            } else {
+                &["--scan-ms", "10"][..]
+            })
+            .args(extra)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("ladderc serve starts");
+        let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
+        // The first line that names an address of each kind (retain and
+        // realtime lines may come before them).
+        let mut find = |prefix: &str| -> SocketAddr {
+            for line in lines.by_ref() {
+                let line = line.expect("text");
+                if let Some(address) = line.strip_prefix(prefix) {
+                    return address.parse().unwrap();
+                }
+                assert!(
+                    line.starts_with("retain: ") || line.starts_with("realtime: "),
+                    "unexpected line before `{prefix}`: {line}"
+                );
+            }
+            let output = child_output(&mut child);
+            panic!("no `{prefix}` line; the server said: {output}")
+        };
+        let address = find("modbus listening on ");
+        let web = extra.contains(&"--http").then(|| find("http listening on "));
+        Server {
+            child,
+            address,
+            web,
+            dir,
+        }
+    }
+
+    /// SIGKILL, as a crash or a power cut ends it: nothing runs after.
+    pub fn kill(mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+
+    /// SIGTERM, then the exit status and what it printed on stderr.
+    pub fn stop(mut self) -> (Option<i32>, String) {
+        Command::new("kill")
+            .args(["-TERM", &self.child.id().to_string()])
+            .status()
+            .unwrap();
+        let output = std::mem::replace(&mut self.child, Command::new("true").spawn().unwrap())
+            .wait_with_output()
+            .unwrap();
+        (
+            output.status.code(),
+            String::from_utf8_lossy(&output.stderr).into_owned(),
+        )
+    }
+}
+
+/// One HTTP/1.1 request on a fresh connection: (status, body).
+pub fn http(address: SocketAddr, method: &str, path: &str, body: &str) -> (u16, String) {
+    use std::io::{Read, Write};
+    let mut stream = std::net::TcpStream::connect(address).unwrap();
+    stream.set_read_timeout(Some(Duration::from_secs(10))).unwrap();
+    write!(
+        stream,
+        "{method} {path} HTTP/1.1\r\nHost: test\r\nContent-Type: application/json\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
+        body.len()
+    )
+    .unwrap();
+    let mut response = String::new();
+    let _ = stream.read_to_string(&mut response);
+    let status = response
+        .split_whitespace()
+        .nth(1)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(0);
+    let body = response.split_once("\r\n\r\n").map_or("", |(_, b)| b).to_string();
+    (status, body)
+}
+
+pub fn json(body: &str) -> serde_json::Value {
+    serde_json::from_str(body).unwrap_or_else(|e| panic!("{e}: {body}"))
+}
+
+/// What a server that ended printed on stderr.
+fn child_output(child: &mut Child) -> String {
+    use std::io::Read as _;
+    let _ = child.wait();
+    let mut text = String::new();
+    if let Some(stderr) = child.stderr.as_mut() {
+        let _ = stderr.read_to_string(&mut text);
+    }
+    text
+}
