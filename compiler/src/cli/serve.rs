@@ -72,6 +72,23 @@ pub struct ServeArgs {
     /// process's memory locked; says so and goes on where not permitted.
     #[arg(long)]
     realtime: bool,
+    /// Modbus clients in these networks may write (`192.168.1.0/24`, an
+    /// address alone, comma-separated); beyond loopback, nobody else may.
+    #[arg(long, value_name = "ADDR/NET,...", value_delimiter = ',')]
+    modbus_write_from: Vec<String>,
+    /// HTTP writes need the token in this file (`Authorization: Bearer
+    /// TOKEN`); without it, HTTP writes come only from loopback.
+    #[arg(long, value_name = "FILE")]
+    token_file: Option<PathBuf>,
+    /// HTTP reads need the token too (the page itself stays open).
+    #[arg(long, requires = "token_file")]
+    token_reads: bool,
+    /// Serve HTTPS with this certificate chain (PEM); needs --tls-key.
+    #[arg(long, value_name = "FILE", requires = "tls_key")]
+    tls_cert: Option<PathBuf>,
+    /// The private key (PEM) of --tls-cert.
+    #[arg(long, value_name = "FILE", requires = "tls_cert")]
+    tls_key: Option<PathBuf>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -109,6 +126,35 @@ pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
         say_err!("error: --retain-ms is 10 to 3600000");
         return status::UNUSABLE;
     }
+    let mut modbus_write_from = Vec::new();
+    for text in &args.modbus_write_from {
+        let parsed = text
+            .trim()
+            .parse::<ipnet::IpNet>()
+            .or_else(|_| text.trim().parse::<std::net::IpAddr>().map(ipnet::IpNet::from));
+        match parsed {
+            Ok(net) => modbus_write_from.push(net),
+            Err(_) => {
+                say_err!("error: --modbus-write-from: `{text}` is not an address or a network like 192.168.1.0/24");
+                return status::UNUSABLE;
+            }
+        }
+    }
+    let token = match &args.token_file {
+        Some(path) => match crate::serve::access::read_token_file(path) {
+            Ok(token) => Some(token),
+            Err(message) => {
+                say_err!("error: {message}");
+                return status::UNUSABLE;
+            }
+        },
+        None => None,
+    };
+    if let Some(address) = args.http {
+        if !address.ip().is_loopback() && token.is_none() && !args.read_only {
+            say_err!("note: no --token-file: HTTP writes are taken from loopback only");
+        }
+    }
     let source = match super::read_program(&args.program) {
         Ok(source) => source,
         Err(message) => {
@@ -133,6 +179,12 @@ pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
             .map(|path| crate::serve::retain::RetainFile { path, ranges }),
         retain_interval: Duration::from_millis(u64::from(args.retain_ms)),
         realtime: args.realtime,
+        modbus_write_from,
+        access: crate::serve::access::Access {
+            token,
+            token_reads: args.token_reads,
+        },
+        tls: args.tls_cert.clone().zip(args.tls_key.clone()),
         engine: match args.engine {
             ServeEngine::Interp => EngineKind::Interp,
             ServeEngine::Jit => EngineKind::Jit,

@@ -4,11 +4,13 @@
 //! reads that copy and queues writes for the next scan. Ctrl-C or SIGTERM
 //! stops it cleanly and prints the scan statistics.
 
+pub mod access;
 mod change;
 mod control;
 mod debug;
 mod http;
 mod modbus;
+pub mod modbus_tcp;
 mod realtime;
 pub mod retain;
 mod shared;
@@ -40,6 +42,12 @@ pub struct ServeOptions {
     pub retain_interval: Duration,
     /// SCHED_FIFO and locked memory for the scan thread (`--realtime`).
     pub realtime: bool,
+    /// Networks beyond loopback whose Modbus clients may write.
+    pub modbus_write_from: Vec<ipnet::IpNet>,
+    /// Who may read and write over HTTP.
+    pub access: access::Access,
+    /// HTTPS: the certificate chain and the private key (PEM files).
+    pub tls: Option<(std::path::PathBuf, std::path::PathBuf)>,
 }
 
 /// Runs the program until Ctrl-C or SIGTERM; `Err` is a message for an
@@ -83,7 +91,17 @@ pub fn serve(
         .map_err(|e| format!("cannot start the server runtime: {e}"))?;
     // The listeners first: a port in use is an error before anything runs.
     let listener = listen(&runtime, options.modbus, "Modbus", "modbus")?;
-    let web = listen(&runtime, options.http, "HTTP", "http")?;
+    let tls = options
+        .tls
+        .as_ref()
+        .map(|(cert, key)| tls_config(cert, key))
+        .transpose()?;
+    let web = listen(
+        &runtime,
+        options.http,
+        "HTTP",
+        if tls.is_some() { "https" } else { "http" },
+    )?;
     let (ready, started) = std::sync::mpsc::channel();
     let scanner = {
         let shared = Arc::clone(&shared);
@@ -111,32 +129,44 @@ pub fn serve(
         std::thread::spawn(move || watch_file(&path, &shared, native));
     }
     let read_only = options.read_only;
+    let access = options.access.clone();
+    let modbus_write_from = options.modbus_write_from.clone();
     let native = options.engine == EngineKind::Jit;
     let served = Arc::clone(&shared);
     runtime.block_on(async move {
         if let Some(listener) = listener {
-            let server = tokio_modbus::server::tcp::Server::new(listener);
             let shared = Arc::clone(&served);
-            tokio::spawn(async move {
-                let on_connected = |stream, address| {
-                    let shared = Arc::clone(&shared);
-                    let new_service = move |_| {
-                        Ok(Some(modbus::Service {
-                            shared: Arc::clone(&shared),
-                            read_only,
-                        }))
-                    };
-                    async move { tokio_modbus::server::tcp::accept_tcp_connection(stream, address, new_service) }
-                };
-                // A malformed frame ends that connection only.
-                let _ = server.serve(&on_connected, |_error| {}).await;
-            });
+            let write_from = modbus_write_from.clone();
+            tokio::spawn(modbus_tcp::serve(listener, move |peer| modbus::Service {
+                shared: Arc::clone(&shared),
+                may_write: !read_only
+                    && (peer.ip().to_canonical().is_loopback()
+                        || write_from.iter().any(|net| net.contains(&peer.ip().to_canonical()))),
+            }));
         }
         if let Some(web) = web {
-            let app = http::router(Arc::clone(&served), read_only, native);
-            tokio::spawn(async move {
-                let _ = axum::serve(web, app).await;
-            });
+            let app = http::router(Arc::clone(&served), read_only, native)
+                .layer(axum::middleware::from_fn_with_state(Arc::new(access), access::check));
+            let app = app.into_make_service_with_connect_info::<SocketAddr>();
+            match tls {
+                Some(tls) => match web.into_std() {
+                    Ok(web) => {
+                        let server = axum_server::from_tcp_rustls(web, tls);
+                        tokio::spawn(async move {
+                            let _ = server.serve(app).await;
+                        });
+                    }
+                    Err(error) => {
+                        use std::io::Write as _;
+                        let _ = writeln!(std::io::stderr(), "https: {error}");
+                    }
+                },
+                None => {
+                    tokio::spawn(async move {
+                        let _ = axum::serve(web, app).await;
+                    });
+                }
+            }
         }
         wait_for_stop(&served).await;
     });
@@ -147,6 +177,36 @@ pub fn serve(
         saver.join().map_err(|_| "the retain thread failed".to_string())?;
     }
     Ok(shared.stats())
+}
+
+/// The TLS setup of `--tls-cert`/`--tls-key` (rustls with ring).
+fn tls_config(cert: &std::path::Path, key: &std::path::Path) -> Result<axum_server::tls_rustls::RustlsConfig, String> {
+    use rustls::pki_types::pem::PemObject as _;
+    use rustls::pki_types::{CertificateDer, PrivateKeyDer};
+    let chain = CertificateDer::pem_file_iter(cert)
+        .and_then(|certs| certs.collect::<Result<Vec<_>, _>>())
+        .map_err(|e| format!("cannot read the certificate {}: {e}", cert.display()))?;
+    if chain.is_empty() {
+        return Err(format!("{} holds no certificate (PEM)", cert.display()));
+    }
+    let private =
+        PrivateKeyDer::from_pem_file(key).map_err(|e| format!("cannot read the private key {}: {e}", key.display()))?;
+    let provider = Arc::new(rustls::crypto::ring::default_provider());
+    let config = rustls::ServerConfig::builder_with_provider(provider)
+        .with_safe_default_protocol_versions()
+        .map_err(|e| format!("TLS: {e}"))?
+        .with_no_client_auth()
+        .with_single_cert(chain, private)
+        .map_err(|e| {
+            format!(
+                "the certificate {} and the key {} do not make a TLS setup: {e}",
+                cert.display(),
+                key.display()
+            )
+        })?;
+    let mut config = config;
+    config.alpn_protocols = vec![b"h2".to_vec(), b"http/1.1".to_vec()];
+    Ok(axum_server::tls_rustls::RustlsConfig::from_config(Arc::new(config)))
 }
 
 /// Binds `address` (when given) and says where it listens: `{what}

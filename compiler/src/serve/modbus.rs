@@ -2,10 +2,10 @@
 //! mapping of Modbus addresses to devices. Reads come from the image as the
 //! latest scan left it; writes are queued and applied as host writes before
 //! the next scan. Bad addresses and unsupported functions get exception
-//! responses; nothing a client sends stops the scan loop.
+//! responses; nothing a client sends stops the scan loop. The framing is
+//! in `modbus_tcp`.
 
 use super::shared::{HostWrite, Shared};
-use std::future;
 use std::sync::Arc;
 use tokio_modbus::prelude::{ExceptionCode, Request, Response};
 
@@ -35,29 +35,24 @@ fn within(block: (u16, u16), address: u16, count: u16) -> Option<usize> {
 /// The service of one connection.
 pub struct Service {
     pub shared: Arc<Shared>,
-    pub read_only: bool,
-}
-
-/// The quantities one Modbus request may carry (the protocol's limits):
-/// more, or none, is exception 03 (illegal data value).
-fn quantity_ok(request: &Request<'_>) -> bool {
-    let within = |count: usize, most: usize| (1..=most).contains(&count);
-    match request {
-        Request::ReadCoils(_, count) | Request::ReadDiscreteInputs(_, count) => within(usize::from(*count), 2000),
-        Request::ReadHoldingRegisters(_, count) | Request::ReadInputRegisters(_, count) => {
-            within(usize::from(*count), 125)
-        }
-        Request::WriteMultipleCoils(_, values) => within(values.len(), 1968),
-        Request::WriteMultipleRegisters(_, values) => within(values.len(), 123),
-        _ => true,
-    }
+    /// Writes are allowed: not `--read-only`, and the peer is on loopback
+    /// or in a `--modbus-write-from` network.
+    pub may_write: bool,
 }
 
 impl Service {
-    fn respond(&self, request: Request<'_>) -> Result<Response, ExceptionCode> {
+    pub fn respond(&self, request: Request<'_>) -> Result<Response, ExceptionCode> {
         use ExceptionCode::{IllegalDataAddress, IllegalFunction};
-        if !quantity_ok(&request) {
-            return Err(ExceptionCode::IllegalDataValue);
+        let writes = matches!(
+            request,
+            Request::WriteSingleCoil(..)
+                | Request::WriteMultipleCoils(..)
+                | Request::WriteSingleRegister(..)
+                | Request::WriteMultipleRegisters(..)
+        );
+        // A refused write is refused whatever its address or value.
+        if writes && !self.may_write {
+            return Err(IllegalFunction);
         }
         let image = || self.shared.image();
         let bits = |values: &[u8], offset: usize, count: u16| -> Vec<bool> {
@@ -73,9 +68,6 @@ impl Service {
                 .collect()
         };
         let write = |writes: Vec<HostWrite>| -> Result<(), ExceptionCode> {
-            if self.read_only {
-                return Err(IllegalFunction);
-            }
             self.shared.queue(writes);
             Ok(())
         };
@@ -154,15 +146,4 @@ fn coil_write(address: u16, count: u16) -> Option<impl Fn(usize, bool) -> HostWr
         return None;
     };
     Some(move |i: usize, on: bool| kind((offset + i) as u32, on))
-}
-
-impl tokio_modbus::server::Service for Service {
-    type Request = Request<'static>;
-    type Response = Response;
-    type Exception = ExceptionCode;
-    type Future = future::Ready<Result<Response, ExceptionCode>>;
-
-    fn call(&self, request: Self::Request) -> Self::Future {
-        future::ready(self.respond(request))
-    }
 }

@@ -30,7 +30,13 @@ impl Server {
         let program = dir.path().join("plc.il");
         std::fs::write(&program, text).unwrap();
         let mut child = Command::new(env!("CARGO_BIN_EXE_ladderc"))
-            .args(["serve", program.to_str().unwrap(), "--modbus", "127.0.0.1:0"])
+            .args(["serve", program.to_str().unwrap()])
+            // Modbus on loopback unless the test names its address.
+            .args(if extra.contains(&"--modbus") {
+                &[][..]
+            } else {
+                &["--modbus", "127.0.0.1:0"][..]
+            })
             // 10 ms scans unless the test asks for another period.
             .args(if extra.contains(&"--scan-ms") {
                 &[][..]
@@ -60,7 +66,13 @@ impl Server {
             panic!("no `{prefix}` line; the server said: {output}")
         };
         let address = find("modbus listening on ");
-        let web = extra.contains(&"--http").then(|| find("http listening on "));
+        let web = extra.contains(&"--http").then(|| {
+            find(if extra.contains(&"--tls-cert") {
+                "https listening on "
+            } else {
+                "http listening on "
+            })
+        });
         Server {
             child,
             address,
@@ -93,17 +105,28 @@ impl Server {
 
 /// One HTTP/1.1 request on a fresh connection: (status, body).
 pub fn http(address: SocketAddr, method: &str, path: &str, body: &str) -> (u16, String) {
+    http_with(address, method, path, body, &[])
+}
+
+/// One request with extra header lines (`Authorization: Bearer ...`).
+pub fn http_with(address: SocketAddr, method: &str, path: &str, body: &str, headers: &[&str]) -> (u16, String) {
     use std::io::{Read, Write};
     let mut stream = std::net::TcpStream::connect(address).unwrap();
     stream.set_read_timeout(Some(Duration::from_secs(10))).unwrap();
+    let extra: String = headers.iter().map(|h| format!("{h}\r\n")).collect();
     write!(
         stream,
-        "{method} {path} HTTP/1.1\r\nHost: test\r\nContent-Type: application/json\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
+        "{method} {path} HTTP/1.1\r\nHost: test\r\n{extra}Content-Type: application/json\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
         body.len()
     )
     .unwrap();
     let mut response = String::new();
     let _ = stream.read_to_string(&mut response);
+    parse_response(&response)
+}
+
+/// (status, body) of a whole HTTP/1.1 response.
+pub fn parse_response(response: &str) -> (u16, String) {
     let status = response
         .split_whitespace()
         .nth(1)
