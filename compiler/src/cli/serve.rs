@@ -89,6 +89,15 @@ pub struct ServeArgs {
     /// The private key (PEM) of --tls-cert.
     #[arg(long, value_name = "FILE", requires = "tls_cert")]
     tls_key: Option<PathBuf>,
+    /// Serve OPC UA (opc.tcp, security policy None) on this address
+    /// (loopback unless --allow-remote).
+    #[arg(long, value_name = "ADDRESS:PORT")]
+    opcua: Option<SocketAddr>,
+    /// The devices OPC UA publishes, as --watch names them (`:32` and
+    /// `:float` for pairs); default: X, Y, M0-M1023, M8000-M8099, S0-S999,
+    /// T/TN and C/CN 0-255, D0-D1023, D8000-D8099, R0-R1023.
+    #[arg(long, value_name = "DEV,...")]
+    opcua_devices: Option<String>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -98,7 +107,11 @@ enum ServeEngine {
 }
 
 pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
-    for (flag, address) in [("--modbus", args.modbus), ("--http", args.http)] {
+    for (flag, address) in [
+        ("--modbus", args.modbus),
+        ("--http", args.http),
+        ("--opcua", args.opcua),
+    ] {
         if let Some(address) = address {
             if !address.ip().is_loopback() && !args.allow_remote {
                 say_err!("error: {flag} {address} is not a loopback address; add --allow-remote to serve the network");
@@ -140,6 +153,13 @@ pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
             }
         }
     }
+    let opcua_devices = match crate::serve::opcua_devices(args.opcua_devices.as_deref()) {
+        Ok(devices) => devices,
+        Err(message) => {
+            say_err!("error: --opcua-devices: {message}");
+            return status::UNUSABLE;
+        }
+    };
     let token = match &args.token_file {
         Some(path) => match crate::serve::access::read_token_file(path) {
             Ok(token) => Some(token),
@@ -185,6 +205,8 @@ pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
             token_reads: args.token_reads,
         },
         tls: args.tls_cert.clone().zip(args.tls_key.clone()),
+        opcua: args.opcua,
+        opcua_devices,
         engine: match args.engine {
             ServeEngine::Interp => EngineKind::Interp,
             ServeEngine::Jit => EngineKind::Jit,

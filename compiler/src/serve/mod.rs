@@ -11,6 +11,7 @@ mod debug;
 mod http;
 mod modbus;
 pub mod modbus_tcp;
+mod opcua;
 mod realtime;
 pub mod retain;
 mod shared;
@@ -48,6 +49,10 @@ pub struct ServeOptions {
     pub access: access::Access,
     /// HTTPS: the certificate chain and the private key (PEM files).
     pub tls: Option<(std::path::PathBuf, std::path::PathBuf)>,
+    /// Serve OPC UA on this address.
+    pub opcua: Option<SocketAddr>,
+    /// The devices OPC UA publishes.
+    pub opcua_devices: Vec<crate::waveform::Signal>,
 }
 
 /// Runs the program until Ctrl-C or SIGTERM; `Err` is a message for an
@@ -102,6 +107,21 @@ pub fn serve(
         "HTTP",
         if tls.is_some() { "https" } else { "http" },
     )?;
+    let opcua = match listen(&runtime, options.opcua, "OPC UA", "opcua")? {
+        Some(listener) => Some(runtime.block_on(async {
+            opcua::start(
+                opcua::Setup {
+                    listener,
+                    devices: options.opcua_devices.clone(),
+                    read_only: options.read_only,
+                    token: options.access.token.clone(),
+                    period: options.period,
+                },
+                Arc::clone(&shared),
+            )
+        })?),
+        None => None,
+    };
     let (ready, started) = std::sync::mpsc::channel();
     let scanner = {
         let shared = Arc::clone(&shared);
@@ -168,6 +188,9 @@ pub fn serve(
                 }
             }
         }
+        if let Some(opcua) = opcua {
+            tokio::spawn(opcua);
+        }
         wait_for_stop(&served).await;
     });
     shared.stop();
@@ -177,6 +200,11 @@ pub fn serve(
         saver.join().map_err(|_| "the retain thread failed".to_string())?;
     }
     Ok(shared.stats())
+}
+
+/// The devices `--opcua-devices` names, or the default set.
+pub fn opcua_devices(list: Option<&str>) -> Result<Vec<crate::waveform::Signal>, String> {
+    opcua::parse_devices(list.unwrap_or(opcua::DEFAULT_DEVICES))
 }
 
 /// The TLS setup of `--tls-cert`/`--tls-key` (rustls with ring).

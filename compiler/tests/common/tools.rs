@@ -245,3 +245,47 @@ pub fn interpreter_digests(program: &Path, scans: u32) -> String {
     }
     out
 }
+
+/// Makes sure Python 3 can import `module`, installing `package` from PyPI
+/// if needed (and Python itself from Debian's packages). `Err` says why it
+/// could not, for a skip message.
+pub fn ensure_python_module(module: &str, package: &str) -> Result<(), String> {
+    ensure("python3", &["--version"], &["python3", "python3-pip"])?;
+    let imports = || runs("python3", &["-c", &format!("import {module}")]);
+    if imports() {
+        return Ok(());
+    }
+    let _guard = INSTALL.lock().unwrap_or_else(|e| e.into_inner());
+    if !runs("python3", &["-m", "pip", "--version"]) {
+        ensure("pip3", &["--version"], &["python3-pip"])?;
+    }
+    let mut last = String::new();
+    for extra in [
+        &[][..],
+        &["--break-system-packages"][..],
+        &["--user", "--break-system-packages"][..],
+    ] {
+        if imports() {
+            break;
+        }
+        let output = Command::new("python3")
+            .args(["-m", "pip", "install", "-q", package])
+            .args(extra)
+            .output();
+        last = match output {
+            Ok(output) => String::from_utf8_lossy(&output.stderr)
+                .lines()
+                .last()
+                .unwrap_or("")
+                .to_string(),
+            Err(e) => e.to_string(),
+        };
+    }
+    if imports() {
+        Ok(())
+    } else {
+        Err(format!(
+            "the Python module {module} could not be installed (pip install {package}): {last}"
+        ))
+    }
+}
