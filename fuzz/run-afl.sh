@@ -1,17 +1,35 @@
 #!/usr/bin/env bash
 # Runs AFL++ on one ladderc fuzz target on the stable toolchain.
-#   fuzz/run-afl.sh TARGET SECONDS      (TARGET: front_end | scenario | pipeline)
+#   fuzz/run-afl.sh TARGET SECONDS      (TARGET: front_end | scenario | pipeline | modbus | http)
 # Seeds come from the repository's programs and scenarios; findings land in
 # target/afl/TARGET/default/crashes.
 set -euo pipefail
 cd "$(dirname "$0")"
-target=${1:?target: front_end, scenario or pipeline}
+target=${1:?target: front_end, scenario, pipeline, modbus or http}
 seconds=${2:-600}
 command -v cargo-afl >/dev/null || cargo install --locked cargo-afl
 cargo afl build --release --no-default-features --features afl --bin "afl_$target"
 seeds=target/afl/$target/seeds
 mkdir -p "$seeds"
-if [ "$target" = scenario ]; then
+if [ "$target" = modbus ]; then
+    # A flags byte (bit 0: writes allowed), then frames: reads, writes,
+    # a bad coil value, a multiple write, an unknown function.
+    printf '\x01\x00\x01\x00\x00\x00\x06\x01\x03\x00\x00\x00\x0a' > "$seeds/read"
+    printf '\x01\x00\x02\x00\x00\x00\x06\x01\x05\x00\x00\xff\x00\x00\x03\x00\x00\x00\x06\x01\x05\x00\x00\x12\x34' > "$seeds/coils"
+    printf '\x00\x00\x04\x00\x00\x00\x0b\x01\x10\x00\x00\x00\x02\x04\x00\x01\x00\x02' > "$seeds/registers"
+    printf '\x01\x00\x05\x00\x00\x00\x08\x01\x0f\x4e\x20\x00\x09\x02\xff\x01' > "$seeds/multiple"
+    printf '\x01\x00\x06\x00\x00\x00\x03\x01\x2b\x0e' > "$seeds/unknown"
+elif [ "$target" = http ]; then
+    # The first line is the method and the path; the rest is the body.
+    printf 'GET /api/devices?watch=Y0..Y7,D10:32,D0:hex' > "$seeds/devices"
+    printf 'POST /api/set\n{"device": "D20:32", "value": 100000}' > "$seeds/set"
+    printf 'POST /api/force\n{"device": "X0", "value": "on"}' > "$seeds/force"
+    printf 'POST /api/control\n{"action": "step", "scans": 3}' > "$seeds/control"
+    printf 'POST /api/breakpoints\n{"condition": "D0 > 100"}' > "$seeds/breakpoint"
+    printf 'POST /api/program?allow_empty=1\nLD X0\nOUT Y0\n' > "$seeds/program"
+    printf 'GET /api/ladder/state?rungs=0,1,2' > "$seeds/ladder"
+    printf 'GET /api/stats' > "$seeds/stats"
+elif [ "$target" = scenario ]; then
     find ../testsuite/scenarios -name '*.scn' -size -4k | head -400 | while read -r f; do
         cp "$f" "$seeds/$(echo "$f" | tr '/' '_')"
     done

@@ -7,7 +7,11 @@
 //! - `pipeline`: a program file → check → IR → native code (JIT and an
 //!   object file) → a few scans of interpreter and JIT with varied inputs
 //!   and registers, whose whole images must be equal (a differential check
-//!   on whatever the fuzzer finds).
+//!   on whatever the fuzzer finds);
+//! - `modbus`: a client's bytes on a `serve` Modbus TCP connection → framed
+//!   and answered as the server does; every answer well formed;
+//! - `http`: a request (method, path and query, body) to `serve`'s HTTP
+//!   router with its access layer → never a 5xx.
 
 use ladder_runtime::Memory;
 use ladderc::check::compile_source;
@@ -91,4 +95,12 @@ pub fn pipeline(data: &[u8]) {
             scan + 1
         );
     }
+}
+
+pub fn modbus(data: &[u8]) {
+    ladderc::serve::fuzzing::modbus_stream(data);
+}
+
+pub fn http(data: &[u8]) {
+    ladderc::serve::fuzzing::http_request(data);
 }

@@ -131,6 +131,10 @@ pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
             return status::UNUSABLE;
         }
     };
+    if args.opcua_devices.is_some() && args.opcua.is_none() {
+        say_err!("error: --opcua-devices names what --opcua ADDRESS publishes; add --opcua");
+        return status::UNUSABLE;
+    }
     if args.latch.is_some() && args.retain.is_none() {
         say_err!("error: --latch names the devices --retain FILE keeps; add --retain");
         return status::UNUSABLE;
@@ -153,8 +157,12 @@ pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
             }
         }
     }
-    let opcua_devices = match crate::serve::opcua_devices(args.opcua_devices.as_deref()) {
-        Ok(devices) => devices,
+    let opcua_devices = match args
+        .opcua
+        .map(|_| crate::serve::opcua_devices(args.opcua_devices.as_deref()))
+        .transpose()
+    {
+        Ok(devices) => devices.unwrap_or_default(),
         Err(message) => {
             say_err!("error: --opcua-devices: {message}");
             return status::UNUSABLE;

@@ -35,7 +35,7 @@ pub const NAMESPACE: &str = "urn:ladderc:plc";
 pub const WRITER: &str = "operator";
 /// The devices published unless `--opcua-devices` names others.
 pub const DEFAULT_DEVICES: &str =
-    "X0..X377,Y0..Y377,M0..M1023,M8000..M8099,S0..S999,T0..T255,TN0..TN255,C0..C255,CN0..CN255,D0..D1023,D8000..D8099,R0..R1023";
+    "X0..X377,Y0..Y377,M0..M1023,M8000..M8099,S0..S999,T0..T255,TN0..TN255,C0..C255,CN0..CN199,CN200..CN255,D0..D1023,D8000..D8099,R0..R1023";
 
 /// How a device shows in OPC UA.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -3,8 +3,14 @@
 //! batch wake-ups). With `--realtime`: SCHED_FIFO for the scan thread only
 //! (the servers keep normal priority, so a client cannot starve a scan but
 //! neither can a scan starve the servers for longer than it takes), and
-//! the process's memory locked so a page fault never delays a scan. Where
+//! the process's memory locked so a page fault never delays a scan, and the
+//! last 250 µs before a scan is due spun rather than slept. Where
 //! the system does not permit it, a line says why and scanning goes on.
+
+/// With `--realtime`, the scan thread sleeps until this long before a
+/// scan is due and spins the rest (at most a tenth of the period): the
+/// OS's wake-up latency then no longer delays the scan.
+pub const SPIN: std::time::Duration = std::time::Duration::from_micros(250);
 
 /// SCHED_FIFO priority of the scan thread: above normal threads, below the
 /// kernel's own real-time threads (which use 50 and up).

@@ -130,7 +130,13 @@ impl Stats {
 }
 
 pub struct Shared {
-    image: Mutex<Box<Memory>>,
+    /// The latest published image. The lock is held only to swap or clone
+    /// the pointer: a reader that takes its time (a JSON reply for 256
+    /// devices, an OPC UA sample) holds its own copy, never the scan.
+    image: Mutex<Arc<Memory>>,
+    /// The image published before, reused for the next publish when no
+    /// reader holds it any more (no allocation per scan).
+    spare: Mutex<Option<Arc<Memory>>>,
     /// A program waiting to replace the running one between two scans.
     pending: Mutex<Option<super::change::Loaded>>,
     /// Programs swapped in so far.
@@ -155,7 +161,8 @@ pub struct Shared {
 impl Default for Shared {
     fn default() -> Self {
         Shared {
-            image: Mutex::new(Memory::new_boxed()),
+            image: Mutex::new(Arc::from(Memory::new_boxed())),
+            spare: Mutex::new(None),
             pending: Mutex::new(None),
             swaps: std::sync::atomic::AtomicU64::new(0),
             writes: Mutex::new(Vec::new()),
@@ -174,6 +181,18 @@ impl Default for Shared {
     }
 }
 
+/// Copies an image byte for byte, heap to heap (a `*a = *b` of 138 KB may
+/// pass through the stack in a debug build).
+fn copy_image(target: &mut Memory, source: &Memory) {
+    bytemuck::bytes_of_mut(target).copy_from_slice(bytemuck::bytes_of(source));
+}
+
+fn heap_copy(source: &Memory) -> Arc<Memory> {
+    let mut copy = Memory::new_boxed();
+    copy_image(&mut copy, source);
+    Arc::from(copy)
+}
+
 /// A lock whose holder panicked is still usable: the data is plain values.
 fn lock<T>(mutex: &Mutex<T>) -> MutexGuard<'_, T> {
     mutex.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
@@ -181,12 +200,24 @@ fn lock<T>(mutex: &Mutex<T>) -> MutexGuard<'_, T> {
 
 impl Shared {
     /// The image as the latest scan left it.
-    pub fn image(&self) -> MutexGuard<'_, Box<Memory>> {
-        lock(&self.image)
+    pub fn image(&self) -> Arc<Memory> {
+        Arc::clone(&lock(&self.image))
     }
 
     pub fn publish(&self, image: &Memory) {
-        **lock(&self.image) = *image;
+        let spare = lock(&self.spare).take();
+        let mut next = match spare {
+            Some(mut spare) => match Arc::get_mut(&mut spare) {
+                Some(memory) => {
+                    copy_image(memory, image);
+                    spare
+                }
+                None => heap_copy(image),
+            },
+            None => heap_copy(image),
+        };
+        std::mem::swap(&mut *lock(&self.image), &mut next);
+        *lock(&self.spare) = Some(next);
         self.published.store(true, Ordering::Release);
     }
 
