@@ -5,6 +5,7 @@
 //! (`CheckedProgram`) → `interp` (reference interpreter).
 
 pub mod aot;
+pub mod cback;
 pub mod check;
 pub mod cli;
 pub mod codegen;

@@ -21,3 +21,8 @@ pub fn jit(program: &CheckedProgram) -> Result<JitProgram, CodegenError> {
 pub fn object(program: &CheckedProgram, options: &ObjectOptions) -> Result<Vec<u8>, CodegenError> {
     emit_object(&ir(program), options)
 }
+
+/// The program as portable C (the C back end, from the same optimised IR).
+pub fn c_source(program: &CheckedProgram, options: &crate::cback::COptions) -> String {
+    crate::cback::emit_c(&ir(program), options)
+}

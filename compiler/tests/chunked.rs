@@ -14,16 +14,9 @@ use proptest::strategy::Just;
 fn programs_compiled_in_parts_match_the_interpreter() {
     ladderc::codegen::set_chunk_instructions(8);
     let test = "programs_compiled_in_parts_match_the_interpreter";
-    let aot = differential::aot_host(test);
+    let aot = differential::native_hosts(test);
     let seed = differential::seed(test);
-    let totals = differential::check(
-        test,
-        differential::case(common::program()),
-        seed,
-        300,
-        100,
-        aot.as_ref(),
-    );
+    let totals = differential::check(test, differential::case(common::program()), seed, 300, 100, &aot);
     assert_eq!(totals.programs, 300);
 }
 
@@ -34,16 +27,9 @@ fn programs_compiled_in_parts_match_the_interpreter() {
 fn fx_programs_compiled_in_parts_match_the_interpreter() {
     ladderc::codegen::set_chunk_instructions(8);
     let test = "fx_programs_compiled_in_parts_match_the_interpreter";
-    let aot = differential::aot_host(test);
+    let aot = differential::native_hosts(test);
     let seed = differential::seed(test);
-    let totals = differential::check(
-        test,
-        differential::case(common::fx::fx_program()),
-        seed,
-        200,
-        100,
-        aot.as_ref(),
-    );
+    let totals = differential::check(test, differential::case(common::fx::fx_program()), seed, 200, 100, &aot);
     assert_eq!(totals.programs, 200);
 }
 
@@ -68,7 +54,7 @@ fn a_program_cut_into_parts_keeps_master_control_across_them() {
         7,
         30,
         30,
-        None,
+        &[],
     );
     assert_eq!(totals.programs, 30);
 }

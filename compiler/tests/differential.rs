@@ -3,9 +3,9 @@
 //! from the instruction table (see `common`) with STL, MC/MCR, CJ, edges,
 //! timers of every resolution and counters, driven by random inputs, host
 //! writes, forces and elapsed times up to a whole `u32`; after every scan
-//! the whole device image of the JIT and of the object-file path (programs
-//! linked with the runtime library into a C host) must equal the
-//! interpreter's. A divergence is shrunk and written out as a scenario file.
+//! the whole device image of the JIT, of the object-file path and of the C
+//! route (the C back end's source compiled by gcc -O2; both linked with the
+//! runtime library into a C host) must equal the interpreter's. A divergence is shrunk and written out as a scenario file.
 //!
 //! CI runs 2,000 programs (four tests of 500, so both cores work). The long
 //! run is an ignored test:
@@ -28,12 +28,12 @@ fn run_share(test: &str, share: u64) -> Totals {
 }
 
 fn run_programs(test: &str, share: u64, programs: BoxedStrategy<String>, count: usize) -> Totals {
-    let aot = differential::aot_host(test);
+    let aot = differential::native_hosts(test);
     let seed = differential::seed(test).wrapping_add(share);
-    let totals = differential::check(test, differential::case(programs), seed, count, 100, aot.as_ref());
+    let totals = differential::check(test, differential::case(programs), seed, count, 100, &aot);
     eprintln!(
-        "{test}: {} programs, {} scans, {} on the object-file path: every image equal",
-        totals.programs, totals.scans, totals.aot_programs
+        "{test}: {} programs, {} scans, {} on the object-file path, {} on the C route: every image equal",
+        totals.programs, totals.scans, totals.aot_programs, totals.c_programs
     );
     assert_eq!(totals.programs, count);
     totals
@@ -130,7 +130,7 @@ fn long_run() {
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(1_000_000);
-    let aot = differential::aot_host("long_run");
+    let aot = differential::native_hosts("long_run");
     let seed = differential::seed("long_run");
     let started = std::time::Instant::now();
     let mut totals = Totals::default();
@@ -142,17 +142,19 @@ fn long_run() {
             seed.wrapping_add(round),
             1000,
             200,
-            aot.as_ref(),
+            &aot,
         );
         totals.programs += part.programs;
         totals.scans += part.scans;
         totals.aot_programs += part.aot_programs;
+        totals.c_programs += part.c_programs;
         round += 1;
         eprintln!(
-            "long_run: {} programs, {} program-scans, {} programs on the object-file path, {:.0?}",
+            "long_run: {} programs, {} program-scans, {} programs on the object-file path, {} on the C route, {:.0?}",
             totals.programs,
             totals.scans,
             totals.aot_programs,
+            totals.c_programs,
             started.elapsed()
         );
     }

@@ -89,7 +89,7 @@ fn soak() {
     }
     {
         // The writer: D100 + n (registers the program does not touch), each
-        // write read back two scans later.
+        // write read back.
         let (stop, writes, lost) = (Arc::clone(&stop), Arc::clone(&writes), Arc::clone(&lost));
         clients.push(std::thread::spawn(move || {
             let mut stream = TcpStream::connect(modbus_address).unwrap();
@@ -100,10 +100,22 @@ fn soak() {
                 let [hi, lo] = register.to_be_bytes();
                 let [vh, vl] = n.to_be_bytes();
                 modbus(&mut stream, n, &[0x06, hi, lo, vh, vl]);
-                std::thread::sleep(Duration::from_millis(30));
-                let reply = modbus(&mut stream, n, &[0x03, hi, lo, 0, 1]);
+                // Applied before the next scan, published after it: read
+                // back until seen (a busy machine may delay a scan), for at
+                // most a second.
+                let written = Instant::now();
+                let seen = loop {
+                    std::thread::sleep(Duration::from_millis(20));
+                    let reply = modbus(&mut stream, n, &[0x03, hi, lo, 0, 1]);
+                    if reply[2..4] == [vh, vl] {
+                        break true;
+                    }
+                    if written.elapsed() > Duration::from_secs(1) {
+                        break false;
+                    }
+                };
                 writes.fetch_add(1, Ordering::Relaxed);
-                if reply[2..4] != [vh, vl] {
+                if !seen {
                     lost.fetch_add(1, Ordering::Relaxed);
                 }
             }

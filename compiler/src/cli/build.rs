@@ -36,6 +36,10 @@ enum Emit {
     Obj,
     /// The optimised IR, as text.
     Ir,
+    /// Portable C99 from the same IR, with the same entry point and C API
+    /// as the object file (build it with any C compiler; link it with the
+    /// runtime library).
+    C,
 }
 
 pub fn run(args: &BuildArgs, shown: Shown) -> u8 {
@@ -51,6 +55,8 @@ pub fn run(args: &BuildArgs, shown: Shown) -> u8 {
         (None, Emit::Obj) if super::is_standard_stream(&args.program) => None,
         (None, Emit::Obj) => Some(args.program.with_extension("o")),
         (None, Emit::Ir) => None,
+        (None, Emit::C) if super::is_standard_stream(&args.program) => None,
+        (None, Emit::C) => Some(args.program.with_extension("c")),
     };
     // Checked before compiling: a refused output is refused however the
     // program is.
@@ -93,6 +99,16 @@ fn produce(args: &BuildArgs, shown: Shown) -> Result<Vec<u8>, u8> {
     let program = super::compile_file(&args.program, shown)?;
     match args.emit {
         Emit::Ir => Ok(crate::pipeline::ir(&program).to_string().into_bytes()),
+        Emit::C => {
+            let options = crate::cback::COptions {
+                prefix: args.prefix.clone(),
+                source_name: args
+                    .program
+                    .file_name()
+                    .map_or_else(|| "standard input".to_string(), |n| n.to_string_lossy().into_owned()),
+            };
+            Ok(crate::pipeline::c_source(&program, &options).into_bytes())
+        }
         Emit::Obj => {
             let options = ObjectOptions {
                 target: args.target.clone(),

@@ -47,7 +47,10 @@ pub struct Divergence {
 pub struct Totals {
     pub programs: usize,
     pub scans: usize,
+    /// Programs also run on the object-file path.
     pub aot_programs: usize,
+    /// Programs also run on the C route (C back end, gcc -O2).
+    pub c_programs: usize,
 }
 
 pub fn compile(text: &str) -> CheckedProgram {
@@ -97,9 +100,21 @@ pub fn interpreter_image(case: &Case, program: &CheckedProgram, scans: usize) ->
     mem
 }
 
-/// The object-file path: programs compiled with their own prefixes and
-/// linked with the runtime library into the differential driver.
+/// How a native engine gets the program into the driver.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Route {
+    /// Cranelift's object file.
+    Object,
+    /// The C back end's source, compiled by the system's C compiler at -O2
+    /// with every warning an error.
+    C,
+}
+
+/// A native engine outside the process: programs compiled with their own
+/// prefixes and linked with the runtime library into the differential
+/// driver.
 pub struct AotHost {
+    route: Route,
     compiler: String,
     library: PathBuf,
     /// Extra linker arguments the library needs.
@@ -109,7 +124,7 @@ pub struct AotHost {
 impl AotHost {
     /// The firmware library when it builds, else the library cargo built
     /// for ladderc; `Err` says why neither can be used.
-    pub fn find() -> Result<AotHost, String> {
+    pub fn find(route: Route) -> Result<AotHost, String> {
         let compiler = ladderc::aot::toolchain::c_compiler()?;
         let (library, libraries) = match super::tools::firmware_runtime_library() {
             Ok(library) => (library, vec!["-nodefaultlibs".to_string(), "-lc".to_string()]),
@@ -123,6 +138,7 @@ impl AotHost {
             }
         };
         Ok(AotHost {
+            route,
             compiler,
             library,
             libraries,
@@ -133,16 +149,47 @@ impl AotHost {
     fn link(&self, programs: &[&CheckedProgram], work: &Path) -> Result<PathBuf, String> {
         let mut sources = vec![super::tools::workspace().join("testsuite/differential/driver.c")];
         let mut list = String::from("#define PROGRAMS");
+        let mut c_sources = Vec::new();
         for (i, program) in programs.iter().enumerate() {
-            let options = ObjectOptions {
-                target: None,
-                prefix: format!("p{i}_"),
-            };
-            let object = ladderc::pipeline::object(program, &options).map_err(|e| e.to_string())?;
-            let path = work.join(format!("p{i}.o"));
-            std::fs::write(&path, object).map_err(|e| e.to_string())?;
-            sources.push(path);
-            let _ = write!(list, " X(p{i}_)");
+            let prefix = format!("p{i}_");
+            match self.route {
+                Route::Object => {
+                    let options = ObjectOptions {
+                        target: None,
+                        prefix: prefix.clone(),
+                    };
+                    let object = ladderc::pipeline::object(program, &options).map_err(|e| e.to_string())?;
+                    let path = work.join(format!("p{i}.o"));
+                    std::fs::write(&path, object).map_err(|e| e.to_string())?;
+                    sources.push(path);
+                }
+                Route::C => {
+                    let options = ladderc::cback::COptions {
+                        prefix: prefix.clone(),
+                        source_name: format!("p{i}.il"),
+                    };
+                    let path = work.join(format!("p{i}.c"));
+                    std::fs::write(&path, ladderc::pipeline::c_source(program, &options)).map_err(|e| e.to_string())?;
+                    c_sources.push(path);
+                    sources.push(work.join(format!("p{i}.o")));
+                }
+            }
+            let _ = write!(list, " X({prefix})");
+        }
+        if !c_sources.is_empty() {
+            // The generated C as a user builds it: -O2, every warning an error.
+            let output = Command::new(&self.compiler)
+                .current_dir(work)
+                .args(["-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", "-c"])
+                .args(&c_sources)
+                .output()
+                .map_err(|e| format!("{} did not run: {e}", self.compiler))?;
+            if !output.status.success() {
+                return Err(format!(
+                    "compiling the generated C failed:\n{}",
+                    String::from_utf8_lossy(&output.stderr)
+                ));
+            }
         }
         std::fs::write(work.join("programs.h"), list + "\n").map_err(|e| e.to_string())?;
         let host = work.join("driver");
@@ -236,7 +283,15 @@ impl AotHost {
         Ok(mem)
     }
 
-    /// Where the object-file path leaves the interpreter on `case`, if it does.
+    /// The engine's name in reports.
+    pub fn engine(&self) -> &'static str {
+        match self.route {
+            Route::Object => "aot",
+            Route::C => "c",
+        }
+    }
+
+    /// Where this engine leaves the interpreter on `case`, if it does.
     pub fn diverges(&self, case: &Case, program: &CheckedProgram, expected: &[u64]) -> Result<Option<usize>, String> {
         let digests = self.digests(&[(case, program)])?;
         Ok(first_difference(expected, &digests[0]))
@@ -248,38 +303,39 @@ pub fn first_difference(expected: &[u64], actual: &[u64]) -> Option<usize> {
 }
 
 /// Any engine's divergence on `case` (in-process engines first).
-pub fn divergence(case: &Case, aot: Option<&AotHost>) -> Option<Divergence> {
+pub fn divergence(case: &Case, hosts: &[AotHost]) -> Option<Divergence> {
     let program = compile(&case.program);
     let expected = match in_process(case, &program) {
         Ok(digests) => digests,
         Err(divergence) => return Some(divergence),
     };
-    let aot = aot?;
-    let scan = aot
-        .diverges(case, &program, &expected)
-        .unwrap_or_else(|e| panic!("aot: {e}"))?;
-    let differences = match aot.image(case, &program, scan + 1) {
-        Ok(actual) => image::differences(&interpreter_image(case, &program, scan + 1), &actual),
-        Err(_) => Vec::new(),
-    };
-    Some(Divergence {
-        engine: "aot",
-        scan,
-        differences,
+    hosts.iter().find_map(|host| {
+        let scan = host
+            .diverges(case, &program, &expected)
+            .unwrap_or_else(|e| panic!("{}: {e}", host.engine()))?;
+        let differences = match host.image(case, &program, scan + 1) {
+            Ok(actual) => image::differences(&interpreter_image(case, &program, scan + 1), &actual),
+            Err(_) => Vec::new(),
+        };
+        Some(Divergence {
+            engine: host.engine(),
+            scan,
+            differences,
+        })
     })
 }
 
 /// Shrinks the failing `tree` (proptest's simplify/complicate walk) to a
 /// case that still diverges, at most `budget` tries.
-pub fn minimise(mut tree: impl ValueTree<Value = Case>, aot: Option<&AotHost>, budget: usize) -> (Case, Divergence) {
+pub fn minimise(mut tree: impl ValueTree<Value = Case>, hosts: &[AotHost], budget: usize) -> (Case, Divergence) {
     let mut smallest = tree.current();
-    let mut found = divergence(&smallest, aot).expect("the case diverged");
+    let mut found = divergence(&smallest, hosts).expect("the case diverged");
     let mut tries = 0;
     if tree.simplify() {
         while tries < budget {
             tries += 1;
             let candidate = tree.current();
-            let failed = std::panic::catch_unwind(|| divergence(&candidate, aot)).unwrap_or(None);
+            let failed = std::panic::catch_unwind(|| divergence(&candidate, hosts)).unwrap_or(None);
             if let Some(divergence) = failed {
                 smallest = candidate;
                 found = divergence;
@@ -345,9 +401,10 @@ pub fn runner(seed: u64) -> TestRunner {
     TestRunner::new_with_rng(Config::default(), TestRng::from_seed(RngAlgorithm::ChaCha, &bytes))
 }
 
-/// Runs `count` cases from `seed` on every engine (the object-file path in
-/// batches of `batch`); panics with the minimised scenario on a divergence.
-pub fn check<S>(name: &str, strategy: S, seed: u64, count: usize, batch: usize, aot: Option<&AotHost>) -> Totals
+/// Runs `count` cases from `seed` on every engine (the engines outside the
+/// process in batches of `batch`); panics with the minimised scenario on a
+/// divergence.
+pub fn check<S>(name: &str, strategy: S, seed: u64, count: usize, batch: usize, hosts: &[AotHost]) -> Totals
 where
     S: Strategy<Value = Case>,
 {
@@ -365,19 +422,24 @@ where
             let program = compile(&case.program);
             match in_process(&case, &program) {
                 Ok(digests) => expected.push(digests),
-                Err(_) => fail(name, seed, tree, aot),
+                Err(_) => fail(name, seed, tree, hosts),
             }
             totals.programs += 1;
             totals.scans += case.steps.len();
             programs.push((case, program));
             trees.push(tree);
         }
-        if let Some(aot) = aot {
+        for host in hosts {
             let cases: Vec<(&Case, &CheckedProgram)> = programs.iter().map(|(c, p)| (c, p)).collect();
-            let digests = aot.digests(&cases).unwrap_or_else(|e| panic!("aot: {e}"));
-            totals.aot_programs += cases.len();
+            let digests = host
+                .digests(&cases)
+                .unwrap_or_else(|e| panic!("{}: {e}", host.engine()));
+            match host.route {
+                Route::Object => totals.aot_programs += cases.len(),
+                Route::C => totals.c_programs += cases.len(),
+            }
             if let Some(i) = (0..size).find(|&i| first_difference(&expected[i], &digests[i]).is_some()) {
-                fail(name, seed, trees.swap_remove(i), Some(aot));
+                fail(name, seed, trees.swap_remove(i), hosts);
             }
         }
         done += size;
@@ -385,8 +447,8 @@ where
     totals
 }
 
-fn fail(name: &str, seed: u64, tree: impl ValueTree<Value = Case>, aot: Option<&AotHost>) -> ! {
-    let (case, divergence) = minimise(tree, aot, 2000);
+fn fail(name: &str, seed: u64, tree: impl ValueTree<Value = Case>, hosts: &[AotHost]) -> ! {
+    let (case, divergence) = minimise(tree, hosts, 2000);
     let text = scenario(&case, &divergence);
     let path = write_scenario(&format!("{name}-{seed}"), &text);
     panic!(
@@ -410,12 +472,17 @@ pub fn seed(test: &str) -> u64 {
     seed
 }
 
-pub fn aot_host(test: &str) -> Option<AotHost> {
-    match AotHost::find() {
-        Ok(host) => Some(host),
-        Err(why) => {
-            super::tools::skip(&format!("{test} (aot engine only)"), &why);
-            None
-        }
-    }
+/// The engines outside the process: the object-file path and the C route
+/// (each skipped, with the reason printed, where it cannot be built).
+pub fn native_hosts(test: &str) -> Vec<AotHost> {
+    [Route::Object, Route::C]
+        .into_iter()
+        .filter_map(|route| match AotHost::find(route) {
+            Ok(host) => Some(host),
+            Err(why) => {
+                super::tools::skip(&format!("{test} ({route:?} engine only)"), &why);
+                None
+            }
+        })
+        .collect()
 }

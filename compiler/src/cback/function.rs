@@ -1,0 +1,414 @@
+//! One IR function as a C function `static void NAME(uint8_t *m)`.
+
+use crate::ir::{self, BinOp, Conversion, FloatOp, FloatUnaryOp, Index, Inst, Terminator, Type, UnaryOp, Value};
+use crate::isa::CompareOp;
+use ladder_runtime::device::{FIRST_WIDE_COUNTER, WIDE_COUNTER_COUNT};
+use ladder_runtime::helpers::Helper;
+use ladder_runtime::layout::{
+    bit_area_offset, word_area_offset, EDGE_SLOT_OFFSET, STL_BLOCK_ACTIVE_OFFSET, WIDE_COUNTER_OFFSET,
+};
+use std::collections::{BTreeSet, HashSet};
+use std::fmt::Write as _;
+
+/// The helpers a program calls (each declared once, in `Helper::ALL` order).
+pub fn used_helpers(program: &ir::Program) -> Vec<Helper> {
+    let mut used = BTreeSet::new();
+    for function in std::iter::once(&program.main).chain(&program.subroutines) {
+        for block in &function.blocks {
+            for (_, inst) in &block.insts {
+                if let Inst::Call { helper, .. } = inst {
+                    used.insert(*helper as usize);
+                }
+                if let Inst::RecordError { .. } = inst {
+                    used.insert(Helper::RecordError as usize);
+                }
+            }
+        }
+    }
+    used.into_iter().map(|index| Helper::ALL[index]).collect()
+}
+
+/// The subroutines the scan body can call (directly or through other
+/// subroutines), in number order: only they are emitted (C compilers warn
+/// about functions nobody calls).
+pub fn called_subroutines(program: &ir::Program) -> Vec<usize> {
+    let mut called = BTreeSet::new();
+    let mut pending = vec![&program.main];
+    while let Some(function) = pending.pop() {
+        for block in &function.blocks {
+            for (_, inst) in &block.insts {
+                if let Inst::CallSubroutine { subroutine } = inst {
+                    let number = *subroutine as usize;
+                    if let Some(callee) = program.subroutines.get(number) {
+                        if called.insert(number) {
+                            pending.push(callee);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    called.into_iter().collect()
+}
+
+fn c_type(ty: Type) -> &'static str {
+    match ty {
+        Type::Bit => "uint8_t",
+        Type::I16 => "int16_t",
+        Type::I32 => "int32_t",
+        Type::I64 => "int64_t",
+        Type::F32 => "float",
+        Type::F64 => "double",
+    }
+}
+
+/// The width suffix of the prelude's integer operations (`ld_add32`).
+fn width(ty: Type) -> u32 {
+    match ty {
+        Type::Bit => 8,
+        Type::I16 => 16,
+        Type::I32 | Type::F32 => 32,
+        Type::I64 | Type::F64 => 64,
+    }
+}
+
+fn compare_operator(op: CompareOp) -> &'static str {
+    match op {
+        CompareOp::Eq => "==",
+        CompareOp::Ne => "!=",
+        CompareOp::Gt => ">",
+        CompareOp::Lt => "<",
+        CompareOp::Ge => ">=",
+        CompareOp::Le => "<=",
+    }
+}
+
+/// A constant of `ty` as a C expression of that type.
+fn constant(ty: Type, value: i64) -> String {
+    match ty {
+        Type::Bit => format!("(uint8_t){}", value as u8),
+        Type::I16 => format!("(int16_t){}", value as i16),
+        Type::I32 => match value as i32 {
+            i32::MIN => "(int32_t)(-2147483647 - 1)".to_string(),
+            v => format!("(int32_t){v}"),
+        },
+        Type::I64 => match value {
+            i64::MIN => "(INT64_C(-9223372036854775807) - 1)".to_string(),
+            v => format!("INT64_C({v})"),
+        },
+        Type::F32 => format!("ld_f32_bits(UINT32_C(0x{:08x}))", value as u32),
+        Type::F64 => format!("ld_f64_bits(UINT64_C(0x{:016x}))", value as u64),
+    }
+}
+
+struct Emitter<'a> {
+    function: &'a ir::Function,
+    out: String,
+}
+
+impl Emitter<'_> {
+    fn v(&self, value: Value) -> String {
+        format!("v{}", value.0)
+    }
+
+    /// `m + offset` of element `index` of an array at `base` with `len`
+    /// elements of `size` bytes, the index clamped into the array.
+    fn element(&self, base: usize, size: usize, len: u32, index: Index) -> String {
+        match index {
+            Index::Fixed(n) => format!("m + {}", base + n.min(len - 1) as usize * size),
+            Index::Dynamic(value) => format!(
+                "m + {base} + (size_t)ld_clamp({}, {}u) * {size}",
+                self.v(value),
+                len - 1
+            ),
+        }
+    }
+
+    fn wide_counter(&self, index: Index) -> String {
+        match index {
+            Index::Fixed(n) => {
+                let slot = n.saturating_sub(FIRST_WIDE_COUNTER).min(WIDE_COUNTER_COUNT - 1);
+                format!("m + {}", WIDE_COUNTER_OFFSET + slot as usize * 4)
+            }
+            Index::Dynamic(value) => format!(
+                "m + {WIDE_COUNTER_OFFSET} + (size_t)ld_clamp(ld_sub32({}, {FIRST_WIDE_COUNTER}), {}u) * 4",
+                self.v(value),
+                WIDE_COUNTER_COUNT - 1
+            ),
+        }
+    }
+
+    /// The C expression an instruction computes, or the statement it runs
+    /// (`Err`) when it defines no value.
+    fn inst(&self, inst: &Inst) -> Result<String, String> {
+        let ty = |value: &Value| self.function.value_type(*value);
+        let v = |value: &Value| self.v(*value);
+        Ok(match inst {
+            Inst::Const { ty, value } => constant(*ty, *value),
+            Inst::LoadBit { area, index } => {
+                format!("*({})", self.element(bit_area_offset(*area), 1, area.count(), *index))
+            }
+            Inst::StoreBit { area, index, value } => {
+                return Err(format!(
+                    "*({}) = {};",
+                    self.element(bit_area_offset(*area), 1, area.count(), *index),
+                    v(value)
+                ))
+            }
+            Inst::FillBits { area, start, count, on } => {
+                let count = (*count).clamp(1, area.count());
+                let at = self.element(bit_area_offset(*area), 1, area.count() - count + 1, *start);
+                return Err(format!("memset({at}, {}, {count});", u8::from(*on)));
+            }
+            Inst::LoadWord { area, index } => {
+                format!(
+                    "ld_load16({})",
+                    self.element(word_area_offset(*area), 2, area.count(), *index)
+                )
+            }
+            Inst::StoreWord { area, index, value } => {
+                return Err(format!(
+                    "ld_store16({}, {});",
+                    self.element(word_area_offset(*area), 2, area.count(), *index),
+                    v(value)
+                ))
+            }
+            Inst::ClearWords { area, start, count } => {
+                let count = (*count).clamp(1, area.count());
+                let at = self.element(word_area_offset(*area), 2, area.count() - count + 1, *start);
+                return Err(format!("memset({at}, 0, {});", count * 2));
+            }
+            Inst::LoadWideCounter { index } => format!("ld_load32({})", self.wide_counter(*index)),
+            Inst::StoreWideCounter { index, value } => {
+                return Err(format!("ld_store32({}, {});", self.wide_counter(*index), v(value)))
+            }
+            Inst::LoadSlot { slot } => format!("m[{}]", EDGE_SLOT_OFFSET + *slot as usize),
+            Inst::StoreSlot { slot, value } => {
+                return Err(format!("m[{}] = {};", EDGE_SLOT_OFFSET + *slot as usize, v(value)))
+            }
+            Inst::LoadBlockActive { state } => format!("m[{}]", STL_BLOCK_ACTIVE_OFFSET + *state as usize),
+            Inst::StoreBlockActive { state, value } => {
+                return Err(format!(
+                    "m[{}] = {};",
+                    STL_BLOCK_ACTIVE_OFFSET + *state as usize,
+                    v(value)
+                ))
+            }
+            Inst::GetLocal { local } => format!("l{}", local.0),
+            Inst::SetLocal { local, value } => return Err(format!("l{} = {};", local.0, v(value))),
+            Inst::LoadLoopCount { level } => format!("c{level}"),
+            Inst::StoreLoopCount { level, value } => return Err(format!("c{level} = {};", v(value))),
+            Inst::CallSubroutine { .. } => return Err(String::new()),
+            Inst::Not { value } => format!("(uint8_t)({} ^ 1)", v(value)),
+            Inst::And { a, b } => format!("(uint8_t)({} & {})", v(a), v(b)),
+            Inst::Or { a, b } => format!("(uint8_t)({} | {})", v(a), v(b)),
+            Inst::Binary { op, a, b } => {
+                let name = match op {
+                    BinOp::Add => "add",
+                    BinOp::Sub => "sub",
+                    BinOp::Mul => "mul",
+                    BinOp::Div => "div",
+                    BinOp::Rem => "rem",
+                    BinOp::And => "and",
+                    BinOp::Or => "or",
+                    BinOp::Xor => "xor",
+                    BinOp::Shl => "shl",
+                    BinOp::Shr => "sshr",
+                    BinOp::UShr => "ushr",
+                };
+                let t = ty(a);
+                // Operands and result of the IR's type; bits are 8-bit values.
+                format!("({})ld_{name}{}({}, {})", c_type(t), width(t), v(a), v(b))
+            }
+            Inst::Unary { op, value } => {
+                let t = ty(value);
+                let name = match op {
+                    UnaryOp::PopCount => "popcnt",
+                    UnaryOp::LeadingZeros => "clz",
+                    UnaryOp::SquareRoot => "isqrt",
+                };
+                format!("({})ld_{name}{}({})", c_type(t), width(t), v(value))
+            }
+            Inst::Compare { op, a, b } => {
+                let t = ty(a);
+                // Signed comparison: bits are compared as 8-bit signed values.
+                let (x, y) = if t == Type::Bit {
+                    (format!("(int8_t){}", v(a)), format!("(int8_t){}", v(b)))
+                } else {
+                    (v(a), v(b))
+                };
+                format!("(uint8_t)({x} {} {y})", compare_operator(*op))
+            }
+            Inst::Extend { value, to, signed } => {
+                let from = ty(value);
+                let source = match (from, signed) {
+                    (Type::Bit, true) => format!("(int8_t){}", v(value)),
+                    (_, true) => v(value),
+                    (_, false) => format!("(uint{}_t){}", width(from), v(value)),
+                };
+                format!("({}){source}", c_type(*to))
+            }
+            Inst::Truncate { value, to } => match to {
+                Type::Bit => format!("(uint8_t){}", v(value)),
+                other => format!(
+                    "({})ld_s{}((uint{}_t){})",
+                    c_type(*other),
+                    width(*other),
+                    width(ty(value)).max(32),
+                    v(value)
+                ),
+            },
+            Inst::Select {
+                condition,
+                if_true,
+                if_false,
+            } => format!("({} ? {} : {})", v(condition), v(if_true), v(if_false)),
+            Inst::Float { op, a, b } => {
+                let operator = match op {
+                    FloatOp::Add => "+",
+                    FloatOp::Sub => "-",
+                    FloatOp::Mul => "*",
+                    FloatOp::Div => "/",
+                };
+                format!("({})({} {operator} {})", c_type(ty(a)), v(a), v(b))
+            }
+            Inst::FloatUnary { op, value } => {
+                let double = ty(value) == Type::F64;
+                match op {
+                    FloatUnaryOp::SquareRoot if double => format!("sqrt({})", v(value)),
+                    FloatUnaryOp::SquareRoot => format!("sqrtf({})", v(value)),
+                    FloatUnaryOp::Neg => format!("(-{})", v(value)),
+                    FloatUnaryOp::Abs if double => format!("fabs({})", v(value)),
+                    FloatUnaryOp::Abs => format!("fabsf({})", v(value)),
+                }
+            }
+            Inst::FloatCompare { op, a, b } => format!("(uint8_t)({} {} {})", v(a), compare_operator(*op), v(b)),
+            Inst::Bitcast { value, to } => match (ty(value), to) {
+                (Type::I32, Type::F32) => format!("ld_f32_bits((uint32_t){})", v(value)),
+                (Type::I64, Type::F64) => format!("ld_f64_bits((uint64_t){})", v(value)),
+                (Type::F32, Type::I32) => format!("ld_f32_to_i32_bits({})", v(value)),
+                (Type::F64, Type::I64) => format!("ld_f64_to_i64_bits({})", v(value)),
+                // Same-size bitcasts only; anything else keeps the value.
+                (_, to) => format!("({}){}", c_type(*to), v(value)),
+            },
+            Inst::Convert { value, to, conversion } => match conversion {
+                Conversion::IntToFloat | Conversion::FloatToFloat => format!("({}){}", c_type(*to), v(value)),
+                Conversion::FloatToInt => {
+                    format!("({})ld_sat{}((double){})", c_type(*to), width(*to), v(value))
+                }
+            },
+            Inst::RecordError { error, line } => {
+                return Err(format!(
+                    "{}((LadderMemory *)m, {}u, {}u);",
+                    Helper::RecordError.decl().name,
+                    error.code(),
+                    line
+                ))
+            }
+            Inst::Call { helper, args } => {
+                let mut call = format!("{}((LadderMemory *)m", helper.decl().name);
+                for arg in args {
+                    let _ = write!(call, ", {}", v(arg));
+                }
+                call.push(')');
+                if helper.decl().returns.is_some() {
+                    call
+                } else {
+                    return Err(format!("{call};"));
+                }
+            }
+        })
+    }
+}
+
+/// Appends `static void name(uint8_t *m)` for `function`; subroutine `n`
+/// is `{body}_sub{n}`.
+pub fn emit(out: &mut String, function: &ir::Function, name: &str, body: &str) {
+    let mut emitter = Emitter {
+        function,
+        out: String::new(),
+    };
+    // Values that are read somewhere: only they get a variable.
+    let mut used: HashSet<Value> = HashSet::new();
+    let mut targets: HashSet<u32> = HashSet::new();
+    for (number, block) in function.blocks.iter().enumerate() {
+        for (_, inst) in &block.insts {
+            used.extend(inst.operands());
+        }
+        match &block.terminator {
+            Terminator::Jump(to) => {
+                // A jump to the next block falls through: no label needed.
+                if to.0 as usize != number + 1 {
+                    targets.insert(to.0);
+                }
+            }
+            Terminator::Branch {
+                condition,
+                then,
+                otherwise,
+            } => {
+                used.insert(*condition);
+                targets.insert(then.0);
+                targets.insert(otherwise.0);
+            }
+            Terminator::Return => {}
+        }
+    }
+    let _ = writeln!(emitter.out, "static void {name}(uint8_t *m) {{");
+    emitter.out.push_str("    (void)m;\n");
+    let mut declared: Vec<&Value> = used.iter().collect();
+    declared.sort();
+    for value in declared {
+        // Initialised: a compiler cannot always see that a value is set on
+        // every path to its use (it is: the IR is in SSA form).
+        let _ = writeln!(
+            emitter.out,
+            "    {} v{} = 0;",
+            c_type(function.value_type(*value)),
+            value.0
+        );
+    }
+    for local in 0..function.locals {
+        let _ = writeln!(emitter.out, "    uint8_t l{local} = 0;\n    (void)l{local};");
+    }
+    for level in 0..function.loop_levels {
+        let _ = writeln!(emitter.out, "    int32_t c{level} = 0;\n    (void)c{level};");
+    }
+    for (number, block) in function.blocks.iter().enumerate() {
+        if targets.contains(&(number as u32)) {
+            let _ = writeln!(emitter.out, "b{number}:;");
+        }
+        for (result, inst) in &block.insts {
+            let line = match (emitter.inst(inst), inst) {
+                (Err(_), Inst::CallSubroutine { subroutine }) => format!("{body}_sub{subroutine}(m);"),
+                (Err(statement), _) => statement,
+                (Ok(expression), _) => match result {
+                    Some(value) if used.contains(value) => format!("v{} = {expression};", value.0),
+                    // A value nobody reads: only a call has an effect.
+                    _ if matches!(inst, Inst::Call { .. }) => format!("(void){expression};"),
+                    _ => continue,
+                },
+            };
+            let _ = writeln!(emitter.out, "    {line}");
+        }
+        let next = number + 1;
+        let line = match &block.terminator {
+            Terminator::Jump(to) if to.0 as usize == next => continue,
+            Terminator::Jump(to) => format!("goto b{};", to.0),
+            Terminator::Branch {
+                condition,
+                then,
+                otherwise,
+            } => format!(
+                "if ({}) goto b{}; else goto b{};",
+                emitter.v(*condition),
+                then.0,
+                otherwise.0
+            ),
+            Terminator::Return => "return;".to_string(),
+        };
+        let _ = writeln!(emitter.out, "    {line}");
+    }
+    emitter.out.push_str("}\n\n");
+    out.push_str(&emitter.out);
+}
