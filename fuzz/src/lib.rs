@@ -50,6 +50,9 @@ pub fn scenario(data: &[u8]) {
             | Directive::Expect { .. }
             | Directive::ExpectError(_)
             | Directive::ExpectReject { .. }
+            | Directive::ExpectReal { .. }
+            | Directive::Pulse { .. }
+            | Directive::Clock(_)
             | Directive::Print(_) => 0,
         })
         .sum();

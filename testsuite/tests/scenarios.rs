@@ -41,13 +41,14 @@ fn every_scenario_passes_on_every_engine() {
     );
     if c_compiler_present() {
         assert!(
-            report.contains("engines: interp, jit, aot\n"),
-            "aot must run where a C compiler exists:\n{report}"
+            report.contains("engines: interp, jit, aot, c\n"),
+            "aot and c must run where a C compiler exists:\n{report}"
         );
     } else {
         // Not a silent pass: say it, as `ladderc test` does.
         assert!(report.contains("skipped aot:"), "{report}");
-        println!("aot engine skipped: no C compiler on this machine");
+        assert!(report.contains("skipped c:"), "{report}");
+        println!("aot and c engines skipped: no C compiler on this machine");
     }
 }
 

@@ -13,6 +13,15 @@ use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
 
 const SCENARIO_HOST: &str = include_str!("scenario_host.c");
 
+/// How the program gets into the host.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Route {
+    /// Cranelift's object file.
+    Object,
+    /// The C back end's source, compiled with the host (at -O2).
+    C,
+}
+
 /// A host process running the compiled program.
 pub struct AotEngine {
     child: Child,
@@ -23,8 +32,9 @@ pub struct AotEngine {
 }
 
 impl AotEngine {
-    /// Compiles `program` to an object, links the scenario host and starts it.
-    pub fn start(program: &CheckedProgram) -> Result<AotEngine, EngineError> {
+    /// Compiles `program` (to an object, or to C compiled by the C
+    /// compiler), links the scenario host and starts it.
+    pub fn start(program: &CheckedProgram, route: Route) -> Result<AotEngine, EngineError> {
         let compiler = toolchain::c_compiler().map_err(EngineError::Unavailable)?;
         let runtime = toolchain::runtime_library().map_err(EngineError::Unavailable)?;
         let failed = |e: String| EngineError::Failed(e);
@@ -33,13 +43,28 @@ impl AotEngine {
             target: None,
             prefix: crate::codegen::DEFAULT_PREFIX.to_string(),
         };
-        let object = crate::pipeline::object(program, &options).map_err(|e| failed(e.to_string()))?;
-        let object_path = work.path().join("program.o");
+        let program_path = match route {
+            Route::Object => {
+                let object = crate::pipeline::object(program, &options).map_err(|e| failed(e.to_string()))?;
+                let path = work.path().join("program.o");
+                std::fs::write(&path, object).map_err(|e| failed(e.to_string()))?;
+                path
+            }
+            Route::C => {
+                let c_options = crate::cback::COptions {
+                    prefix: options.prefix.clone(),
+                    source_name: "scenario program".to_string(),
+                };
+                let path = work.path().join("program.c");
+                std::fs::write(&path, crate::pipeline::c_source(program, &c_options))
+                    .map_err(|e| failed(e.to_string()))?;
+                path
+            }
+        };
         let host_source = work.path().join("scenario_host.c");
         let host = work.path().join("scenario_host");
-        std::fs::write(&object_path, object).map_err(|e| failed(e.to_string()))?;
         std::fs::write(&host_source, SCENARIO_HOST).map_err(|e| failed(e.to_string()))?;
-        toolchain::link_host(&compiler, work.path(), &[host_source, object_path], &runtime, &host).map_err(failed)?;
+        toolchain::link_host(&compiler, work.path(), &[host_source, program_path], &runtime, &host).map_err(failed)?;
         let mut child = Command::new(&host)
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())

@@ -67,7 +67,7 @@ pub fn link_host(
 ) -> Result<(), String> {
     std::fs::write(work.join("ladder_runtime.h"), RUNTIME_HEADER).map_err(|e| e.to_string())?;
     let result = Command::new(compiler)
-        .arg("-std=c99")
+        .args(["-std=c99", "-O2"])
         .arg("-I")
         .arg(work)
         .args(sources)

@@ -114,6 +114,7 @@ pub enum EngineChoice {
     Interp,
     Jit,
     Aot,
+    C,
     #[default]
     All,
 }
@@ -124,6 +125,7 @@ impl EngineChoice {
             EngineChoice::Interp => vec![EngineKind::Interp],
             EngineChoice::Jit => vec![EngineKind::Jit],
             EngineChoice::Aot => vec![EngineKind::Aot],
+            EngineChoice::C => vec![EngineKind::C],
             EngineChoice::All => EngineKind::ALL.to_vec(),
         }
     }

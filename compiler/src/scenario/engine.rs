@@ -13,16 +13,20 @@ pub enum EngineKind {
     Interp,
     Jit,
     Aot,
+    /// The C back end's source compiled by the system's C compiler (-O2)
+    /// into the same host process as `Aot`.
+    C,
 }
 
 impl EngineKind {
-    pub const ALL: [EngineKind; 3] = [EngineKind::Interp, EngineKind::Jit, EngineKind::Aot];
+    pub const ALL: [EngineKind; 4] = [EngineKind::Interp, EngineKind::Jit, EngineKind::Aot, EngineKind::C];
 
     pub fn name(self) -> &'static str {
         match self {
             EngineKind::Interp => "interp",
             EngineKind::Jit => "jit",
             EngineKind::Aot => "aot",
+            EngineKind::C => "c",
         }
     }
 }
@@ -146,6 +150,10 @@ pub fn instantiate<'p>(kind: EngineKind, program: &'p CheckedProgram) -> Result<
             let compiled = crate::pipeline::jit(program).map_err(|e| EngineError::Failed(e.to_string()))?;
             Ok(Box::new(InProcess::new(compiled)))
         }
-        EngineKind::Aot => Ok(Box::new(crate::aot::AotEngine::start(program)?)),
+        EngineKind::Aot => Ok(Box::new(crate::aot::AotEngine::start(
+            program,
+            crate::aot::Route::Object,
+        )?)),
+        EngineKind::C => Ok(Box::new(crate::aot::AotEngine::start(program, crate::aot::Route::C)?)),
     }
 }
