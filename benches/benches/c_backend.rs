@@ -1,0 +1,124 @@
+//! The two native routes of the same program: the scan body as Cranelift
+//! compiles it (the JIT; the object file holds the same code) and as the C
+//! back end writes it, compiled by the system's `cc -O2` into a shared
+//! library with the runtime. Programs: 11,000 instructions of bit logic and
+//! the plant program of 100 machine units (timers, counters, arithmetic,
+//! STL). The mark: the C route within 1.2× of Cranelift; read the
+//! ratio within one run. Both routes must leave the same image first.
+//!
+//! Skipped with a message when there is no C compiler or runtime library.
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use ladder_runtime::Memory;
+use ladderc::check::compile_source;
+use ladderc::source::SourceFile;
+use std::hint::black_box;
+use std::path::PathBuf;
+use std::process::Command;
+
+type Body = unsafe extern "C" fn(*mut Memory);
+
+/// The C of `checked` with its body exported (the back end keeps it static:
+/// hosts call `<prefix>scan`), built into a shared library with the runtime.
+fn c_library(name: &str, checked: &ladderc::program::CheckedProgram) -> Result<PathBuf, String> {
+    let folder = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/c-backend");
+    std::fs::create_dir_all(&folder).map_err(|e| e.to_string())?;
+    let options = ladderc::cback::COptions {
+        prefix: "bench_".to_string(),
+        source_name: name.to_string(),
+    };
+    let source = ladderc::pipeline::c_source(checked, &options)
+        .replace("static void bench_body(uint8_t *m)", "void bench_body(uint8_t *m)");
+    let path = folder.join(format!("{name}.c"));
+    std::fs::write(&path, source).map_err(|e| e.to_string())?;
+    let library = folder.join(format!("{name}.so"));
+    let compiler = ladderc::aot::toolchain::c_compiler()?;
+    let runtime = ladderc::aot::toolchain::runtime_library()?;
+    let output = Command::new(&compiler)
+        .args(["-std=c99", "-O2", "-shared", "-fPIC", "-o"])
+        .arg(&library)
+        .arg(&path)
+        .arg(&runtime)
+        .args(ladderc::aot::toolchain::NATIVE_LIBS)
+        .output()
+        .map_err(|e| format!("cannot run `{compiler}`: {e}"))?;
+    if !output.status.success() {
+        return Err(format!(
+            "`{compiler} -O2` failed on {}: {}",
+            path.display(),
+            String::from_utf8_lossy(&output.stderr)
+        ));
+    }
+    Ok(library)
+}
+
+fn set_inputs(mem: &mut Memory, scan: u32) {
+    let pattern = scan.wrapping_mul(2_654_435_761);
+    for (i, input) in mem.x.iter_mut().enumerate() {
+        *input = ((pattern >> (i % 29)) & 1) as u8;
+    }
+    mem.elapsed_ms = 10;
+}
+
+fn c_backend(c: &mut Criterion) {
+    let mut group = c.benchmark_group("c_backend");
+    let programs = [
+        ("bit_logic_11k", ladderc_benches::bit_logic(11_000, 1024, 1).il),
+        ("plant_100_units", ladderc_benches::plant(100)),
+    ];
+    for (name, text) in programs {
+        let (checked, diagnostics) = compile_source(&SourceFile::new(format!("{name}.il"), text.as_str()));
+        let checked = checked.unwrap_or_else(|| panic!("{diagnostics:?}"));
+        let jit = ladderc::pipeline::jit(&checked).expect("compiles");
+        let library = match c_library(name, &checked) {
+            Ok(library) => library,
+            Err(why) => {
+                eprintln!("c_backend: skipped: {why}");
+                return;
+            }
+        };
+        // SAFETY: the library was just built from the C back end's output;
+        // `bench_body` has the declared signature.
+        let library = unsafe { libloading::Library::new(&library) }.expect("loads the compiled C");
+        let c_body: Body = *unsafe { library.get::<Body>(b"bench_body") }.expect("exports the body");
+
+        // The same body scans leave the same whole image.
+        let (mut jit_mem, mut c_mem) = (Memory::new_boxed(), Memory::new_boxed());
+        for scan in 0..50 {
+            set_inputs(&mut jit_mem, scan);
+            set_inputs(&mut c_mem, scan);
+            jit.run(&mut jit_mem);
+            // SAFETY: a valid, exclusive image.
+            unsafe { c_body(&mut *c_mem) };
+        }
+        assert!(
+            bytemuck::bytes_of(&*jit_mem) == bytemuck::bytes_of(&*c_mem),
+            "{name}: the C route left another image than Cranelift"
+        );
+
+        let mut scan = 0u32;
+        group.bench_function(BenchmarkId::new("cranelift", name), |b| {
+            b.iter(|| {
+                scan = scan.wrapping_add(1);
+                jit_mem.x[0] = (scan & 1) as u8;
+                jit.run(black_box(&mut jit_mem));
+            })
+        });
+        group.bench_function(BenchmarkId::new("c_backend_gcc_O2", name), |b| {
+            b.iter(|| {
+                scan = scan.wrapping_add(1);
+                c_mem.x[0] = (scan & 1) as u8;
+                // SAFETY: as above.
+                unsafe { c_body(black_box(&mut *c_mem)) };
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().warm_up_time(std::time::Duration::from_secs(1)).measurement_time(std::time::Duration::from_secs(3));
+    targets = c_backend
+}
+criterion_main!(benches);
