@@ -126,3 +126,66 @@ fn the_c_route_never_touches_memory_outside_the_image() {
     );
     assert_eq!(text(&output.stdout), interpreter_csv(&program, 300, 10, &["X0=1"]));
 }
+
+/// A target Cranelift lacks: with the cross compiler, an object for that
+/// CPU (installed from Debian's packages when missing); the C file and the
+/// command that builds it where there is none.
+#[test]
+fn thirty_two_bit_targets_go_through_the_c_back_end() {
+    let dir = scratch("c-targets");
+    let program = workspace().join("examples/traffic_light.il");
+    let object = dir.path().join("m3.o");
+    match common::tools::ensure("arm-none-eabi-gcc", &["--version"], &["gcc-arm-none-eabi"]) {
+        Ok(()) => {
+            let output = ladderc(&[
+                "build",
+                program.to_str().unwrap(),
+                "--target",
+                "thumbv7m-none-eabi",
+                "-o",
+                object.to_str().unwrap(),
+            ]);
+            assert!(output.status.success(), "{}", text(&output.stderr));
+            let bytes = std::fs::read(&object).unwrap();
+            let file = object::File::parse(&*bytes).expect("an object file");
+            assert_eq!(file.architecture(), object::Architecture::Arm, "a Cortex-M object");
+            use object::{Object as _, ObjectSymbol as _};
+            assert!(
+                file.symbols()
+                    .any(|s| s.name() == Ok("ladder_program_scan") && s.is_definition()),
+                "the entry point is defined"
+            );
+        }
+        Err(why) => skip(
+            "thirty_two_bit_targets_go_through_the_c_back_end (Cortex-M object)",
+            &why,
+        ),
+    }
+    // A triple whose compiler this machine lacks (no RISC-V toolchain is
+    // installed here): the C file and how to build it.
+    if ["riscv64-unknown-elf-gcc", "riscv32-unknown-elf-gcc"]
+        .iter()
+        .any(|c| Command::new(c).arg("--version").output().is_ok())
+    {
+        skip(
+            "thirty_two_bit_targets_go_through_the_c_back_end (no-compiler case)",
+            "a RISC-V compiler is installed",
+        );
+        return;
+    }
+    let requested = dir.path().join("rv.o");
+    let output = ladderc(&[
+        "build",
+        program.to_str().unwrap(),
+        "--target",
+        "riscv32imac-unknown-none-elf",
+        "-o",
+        requested.to_str().unwrap(),
+    ]);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let stderr = text(&output.stderr);
+    assert!(stderr.contains("-march=rv32imac"), "{stderr}");
+    assert!(!requested.exists(), "no object without a compiler");
+    let c = std::fs::read_to_string(dir.path().join("rv.c")).expect("the C file");
+    assert!(c.contains("void ladder_program_scan(LadderMemory *mem, uint32_t elapsed_ms)"));
+}

@@ -91,12 +91,17 @@ fn an_unsupported_target_lists_the_supported_ones() {
     let dir = temp_dir("target");
     std::fs::write(dir.join("p.il"), "LD X0\nOUT Y0\n").unwrap();
     let output = ladderc(
-        &["build", "p.il", "--target", "thumbv7em-none-eabihf", "-o", "p.o"],
+        &["build", "p.il", "--target", "mips-unknown-linux-gnu", "-o", "p.o"],
         &dir,
     );
     assert_eq!(output.status.code(), Some(2), "a bad argument");
     let stderr = text(&output.stderr);
-    for needle in ["aarch64-unknown-linux-gnu", "riscv64gc-unknown-linux-gnu", "32-bit"] {
+    for needle in [
+        "aarch64-unknown-linux-gnu",
+        "riscv64gc-unknown-linux-gnu",
+        "thumbv7em-none-eabihf",
+        "--emit c",
+    ] {
         assert!(stderr.contains(needle), "{stderr}");
     }
     assert!(!dir.join("p.o").exists());

@@ -15,6 +15,7 @@
 //! scan.
 
 mod function;
+pub mod targets;
 
 use crate::ir::Program;
 use ladder_runtime::helpers::Helper;

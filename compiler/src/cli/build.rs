@@ -18,7 +18,9 @@ pub struct BuildArgs {
     #[arg(short = 'o', long = "output")]
     output: Option<PathBuf>,
     /// Target triple, e.g. aarch64-unknown-linux-gnu or riscv64gc-unknown-linux-gnu
-    /// (default: this machine).
+    /// (default: this machine); thumbv6m/thumbv7m/thumbv7em-none-eabi(hf),
+    /// armv7-unknown-linux-gnueabihf and riscv32imac-unknown-none-elf go
+    /// through the C back end and the cross compiler (or write the C file).
     #[arg(long)]
     target: Option<String>,
     /// Prefix of the exported entry point `<PREFIX>scan`, so that several
@@ -46,6 +48,40 @@ pub fn run(args: &BuildArgs, shown: Shown) -> u8 {
     if let Err(message) = check_prefix(&args.prefix) {
         say_err!("error: --prefix `{}`: {message}", args.prefix);
         return status::UNUSABLE;
+    }
+    // A target Cranelift lacks goes through the C back end: an object from
+    // the cross compiler when one is installed, else the C file and the
+    // command that builds it.
+    let c_target = args.target.as_deref().and_then(crate::cback::targets::c_target);
+    let cross = c_target.and_then(|target| target.find_compiler().map(|compiler| (target, compiler)));
+    if let (Some(target), None, Emit::Obj) = (c_target, cross, args.emit) {
+        let output = args
+            .output
+            .clone()
+            .filter(|path| !super::is_standard_stream(path))
+            .unwrap_or_else(|| args.program.clone())
+            .with_extension("c");
+        let as_c = BuildArgs {
+            program: args.program.clone(),
+            output: Some(output.clone()),
+            target: None,
+            prefix: args.prefix.clone(),
+            emit: Emit::C,
+        };
+        let code = run(&as_c, shown);
+        if code == status::OK {
+            say_err!(
+                "note: no compiler for {} found (tried {}; Debian package {}): wrote the program as C to {}; \
+                 build it with `{}` and link it with the runtime library built for {}",
+                target.triple,
+                target.compilers.join(", "),
+                target.package,
+                output.display(),
+                target.command_line(target.compilers[0], &output.display().to_string()),
+                target.triple
+            );
+        }
+        return code;
     }
     // `-o -`, and a program read from standard input without `-o`, write
     // to standard output.
@@ -108,6 +144,29 @@ fn produce(args: &BuildArgs, shown: Shown) -> Result<Vec<u8>, u8> {
                     .map_or_else(|| "standard input".to_string(), |n| n.to_string_lossy().into_owned()),
             };
             Ok(crate::pipeline::c_source(&program, &options).into_bytes())
+        }
+        Emit::Obj
+            if args
+                .target
+                .as_deref()
+                .and_then(crate::cback::targets::c_target)
+                .is_some() =>
+        {
+            let target = args.target.as_deref().and_then(crate::cback::targets::c_target);
+            let Some((target, compiler)) = target.and_then(|t| t.find_compiler().map(|c| (t, c))) else {
+                say_err!("error: the cross compiler went away");
+                return Err(status::FAILED);
+            };
+            let options = crate::cback::COptions {
+                prefix: args.prefix.clone(),
+                source_name: args.program.display().to_string(),
+            };
+            target
+                .compile(compiler, &crate::pipeline::c_source(&program, &options))
+                .map_err(|error| {
+                    say_err!("error: {error}");
+                    status::FAILED
+                })
         }
         Emit::Obj => {
             let options = ObjectOptions {

@@ -24,10 +24,11 @@ use translate::{translate, Locals};
 #[derive(Debug, thiserror::Error)]
 pub enum CodegenError {
     #[error(
-        "unsupported target `{0}`: ladderc builds for x86_64-unknown-linux-gnu, aarch64-unknown-linux-gnu and \
-         riscv64gc-unknown-linux-gnu (and the same CPUs on other systems). 32-bit targets such as Cortex-M \
-         (thumbv7em-none-eabihf) are not among them: Cranelift has no 32-bit Arm back end, and the device \
-         image's layout assumes 64-bit pointers"
+        "unsupported target `{0}`: ladderc builds object files for x86_64-unknown-linux-gnu, \
+         aarch64-unknown-linux-gnu and riscv64gc-unknown-linux-gnu (and the same CPUs on other systems), and \
+         through its C back end for thumbv6m-none-eabi, thumbv7m-none-eabi, thumbv7em-none-eabi, thumbv7em-none-eabihf, \
+         armv7-unknown-linux-gnueabihf and riscv32imac-unknown-none-elf; `--emit c` writes portable C for \
+         any other"
     )]
     Target(String),
     #[error("this machine is not a target ladderc can compile for: {0}")]
