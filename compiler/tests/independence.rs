@@ -3,7 +3,7 @@
 //! the lowering, the code generator, or the runtime's helpers and block
 //! operations for compiled code. (Shared on purpose: the device image, the
 //! scan steps, timers, counters and `Place` access — see
-//! docs/architecture.md.)
+//! docs/architecture.md.) Nor does the C back end share Cranelift's translation.
 
 use std::path::Path;
 
@@ -11,6 +11,7 @@ const FORBIDDEN: &[&str] = &[
     "crate::ir",
     "crate::lower",
     "crate::codegen",
+    "crate::cback",
     "crate::pipeline",
     "crate::aot",
     "ladder_runtime::helpers",
@@ -47,5 +48,28 @@ fn the_interpreter_uses_none_of_the_compiled_path() {
             }
         }
     }
+    assert!(found.is_empty(), "{}", found.join("\n"));
+}
+
+/// The C back end is checked against the interpreter as an engine of its
+/// own, so it must not share Cranelift's translation: it reads the IR and
+/// the layout, nothing of `codegen`.
+#[test]
+fn the_c_back_end_shares_nothing_with_cranelift_s_translation() {
+    let mut files = Vec::new();
+    sources(&Path::new(env!("CARGO_MANIFEST_DIR")).join("src/cback"), &mut files);
+    assert!(files.len() >= 3, "found the C back end's sources");
+    let found: Vec<String> = files
+        .iter()
+        .flat_map(|(path, text)| {
+            text.lines().enumerate().filter_map(move |(number, line)| {
+                let code = line.split("//").next().unwrap_or("");
+                ["crate::codegen", "cranelift"]
+                    .iter()
+                    .find(|forbidden| code.contains(*forbidden))
+                    .map(|forbidden| format!("{path}:{}: uses `{forbidden}`", number + 1))
+            })
+        })
+        .collect();
     assert!(found.is_empty(), "{}", found.join("\n"));
 }

@@ -289,3 +289,62 @@ pub fn ensure_python_module(module: &str, package: &str) -> Result<(), String> {
         ))
     }
 }
+
+/// The firmware build of the runtime for a Rust target (`thumbv7m-none-eabi`),
+/// adding the target's standard library with rustup when it is missing (a
+/// download from the Rust project's distribution server). `Err` says why it
+/// could not, for a skip message.
+pub fn cross_firmware_runtime_library(triple: &str) -> Result<PathBuf, String> {
+    let rustc = std::env::var("RUSTC").unwrap_or_else(|_| "rustc".to_string());
+    let installed = Command::new(&rustc)
+        .args(["--print", "target-libdir", "--target", triple])
+        .output()
+        .ok()
+        .filter(|o| o.status.success())
+        .map(|o| PathBuf::from(String::from_utf8_lossy(&o.stdout).trim()))
+        .is_some_and(|dir| dir.join("..").join("lib").exists() && dir.read_dir().is_ok_and(|mut d| d.next().is_some()));
+    if !installed {
+        let _guard = INSTALL.lock().unwrap_or_else(|e| e.into_inner());
+        let toolchain = std::env::var("RUSTUP_TOOLCHAIN").ok();
+        let mut rustup = Command::new("rustup");
+        rustup.args(["target", "add", triple]);
+        if let Some(toolchain) = toolchain {
+            rustup.args(["--toolchain", &toolchain]);
+        }
+        match rustup.output() {
+            Ok(output) if output.status.success() => {}
+            Ok(output) => {
+                return Err(format!(
+                    "`rustup target add {triple}` failed: {}",
+                    String::from_utf8_lossy(&output.stderr).lines().last().unwrap_or("")
+                ))
+            }
+            Err(e) => return Err(format!("rustup is not available to add {triple}: {e}")),
+        }
+    }
+    let target = workspace().join("target/firmware-runtime");
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
+    let output = Command::new(cargo)
+        .current_dir(workspace())
+        .args([
+            "build",
+            "--quiet",
+            "-p",
+            "ladder-runtime",
+            "--profile",
+            "firmware",
+            "--no-default-features",
+        ])
+        .args(["--target", triple])
+        .arg("--target-dir")
+        .arg(&target)
+        .output()
+        .map_err(|e| format!("cargo could not run: {e}"))?;
+    if !output.status.success() {
+        return Err(format!(
+            "the runtime does not build for {triple}:\n{}",
+            String::from_utf8_lossy(&output.stderr)
+        ));
+    }
+    Ok(target.join(triple).join("firmware/libladder_runtime.a"))
+}
