@@ -10,6 +10,7 @@ pub mod check;
 pub mod cli;
 pub mod codegen;
 pub mod diagnostics;
+pub mod engine;
 pub mod host_device;
 pub mod interp;
 pub mod ir;

@@ -3,8 +3,8 @@
 //! timescale) that GTKWave and other waveform viewers open. Bits are wires,
 //! words 16- or 32-bit vectors.
 
+use crate::engine::Engine;
 use crate::host_device::HostDevice;
-use crate::scenario::Engine;
 use ladder_runtime::{BitArea, Device, Width, WordArea};
 
 /// A device as a person writes it: `X17`, `D0.F`, `K4M0`, `CN200`,

@@ -2,9 +2,9 @@
 
 use super::toolchain;
 use crate::codegen::ObjectOptions;
+use crate::engine::{Engine, EngineError};
 use crate::host_device::HostDevice;
 use crate::program::CheckedProgram;
-use crate::scenario::{Engine, EngineError};
 use ladder_runtime::calendar::CalendarTime;
 use ladder_runtime::host::{read_composite, write_composite, AccessError, Basic, BasicAccess};
 use ladder_runtime::BitArea;

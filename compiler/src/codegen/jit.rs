@@ -1,8 +1,8 @@
 //! The JIT back end: the program compiled into this process.
 
 use super::{define_program, target_isa, CodegenError};
+use crate::engine::ProgramRunner;
 use crate::ir::Program;
-use crate::scenario::ProgramRunner;
 use cranelift_jit::{JITBuilder, JITModule};
 use cranelift_module::{default_libcall_names, Linkage};
 use ladder_runtime::Memory;

@@ -3,8 +3,8 @@
 //! waveforms and printed values with it, `ladderc run --stimulus` prints
 //! the watched devices.
 
-use super::engine::Engine;
 use super::parse::{Directive, Step};
+use crate::engine::Engine;
 use crate::host_device::{format_value, same_bits, HostDevice};
 use ladder_runtime::special::{D_ERROR_CODE, D_ERROR_LINE, M_OPERATION_ERROR};
 use ladder_runtime::{BitArea, Device, Width, WordArea};

@@ -2,10 +2,10 @@
 //! through the directives and compare.
 
 use super::drive::{drive, Observer};
-use super::engine::{instantiate, Engine, EngineError, EngineKind};
 use super::parse::{Directive, ProgramSource, Scenario};
 use crate::check::compile_source;
 use crate::diagnostics::render_all;
+use crate::engine::{instantiate, Engine, EngineError, EngineKind};
 use crate::host_device::{format_value, HostDevice};
 use crate::program::{BitRef, CheckedProgram, Op, Output};
 use crate::source::SourceFile;

@@ -21,9 +21,9 @@ mod view;
 
 use shared::{HostWrite, Shared, Stats};
 
+use crate::engine::{instantiate, Engine, EngineKind};
 use crate::host_device::HostDevice;
 use crate::program::CheckedProgram;
-use crate::scenario::{instantiate, Engine, EngineKind};
 use ladder_runtime::{BitArea, Device, Width, WordArea};
 use std::net::SocketAddr;
 use std::sync::Arc;
@@ -447,7 +447,7 @@ fn scan_loop(
         let (next, last_image) = {
             let native = loaded.native.take().filter(|_| kind == EngineKind::Jit);
             let built = match native {
-                Some(native) => Ok(Box::new(crate::scenario::InProcess::new(native)) as Box<dyn Engine>),
+                Some(native) => Ok(Box::new(crate::engine::InProcess::new(native)) as Box<dyn Engine>),
                 None => instantiate(kind, &loaded.program),
             };
             let mut engine = match built {

@@ -111,18 +111,27 @@ pub fn http(address: SocketAddr, method: &str, path: &str, body: &str) -> (u16, 
 /// One request with extra header lines (`Authorization: Bearer ...`).
 pub fn http_with(address: SocketAddr, method: &str, path: &str, body: &str, headers: &[&str]) -> (u16, String) {
     use std::io::{Read, Write};
-    let mut stream = std::net::TcpStream::connect(address).unwrap();
-    stream.set_read_timeout(Some(Duration::from_secs(10))).unwrap();
     let extra: String = headers.iter().map(|h| format!("{h}\r\n")).collect();
-    write!(
-        stream,
+    let request = format!(
         "{method} {path} HTTP/1.1\r\nHost: test\r\n{extra}Content-Type: application/json\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
         body.len()
-    )
-    .unwrap();
-    let mut response = String::new();
-    let _ = stream.read_to_string(&mut response);
-    parse_response(&response)
+    );
+    // A server may answer a body it refuses (413) before reading all of it
+    // and close: the rest of the write then fails, and the answer can be
+    // lost to the reset. Such a request is sent again (a few times).
+    let mut last = (0, String::new());
+    for _ in 0..5 {
+        let mut stream = std::net::TcpStream::connect(address).unwrap();
+        stream.set_read_timeout(Some(Duration::from_secs(10))).unwrap();
+        let written = stream.write_all(request.as_bytes());
+        let mut response = String::new();
+        let _ = stream.read_to_string(&mut response);
+        last = parse_response(&response);
+        if written.is_ok() || last.0 != 0 {
+            return last;
+        }
+    }
+    last
 }
 
 /// (status, body) of a whole HTTP/1.1 response.

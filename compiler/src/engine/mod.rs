@@ -1,5 +1,8 @@
-//! Engines a scenario runs on. The in-process ones (interpreter, JIT) work on
-//! a `Memory` directly; the AOT one talks to a host process.
+//! The engines: what runs a checked program, scan by scan. The in-process
+//! ones (interpreter, JIT) work on a `Memory` directly; `aot` (the object
+//! file) and `c` (the C back end's source) talk to a host process through
+//! the C API (`crate::aot`). Everything that runs programs — scenarios,
+//! `run`, `serve`, waveforms — sits above this module.
 
 use crate::host_device::HostDevice;
 use crate::interp::Interpreter;
