@@ -119,23 +119,33 @@ pub fn firmware_runtime_library() -> Result<PathBuf, String> {
 }
 
 fn build_firmware_runtime() -> Result<PathBuf, String> {
+    cargo_firmware_runtime(None)
+}
+
+/// `cargo build -p ladder-runtime --profile firmware --no-default-features`
+/// (for `triple`, or the host) in its own target directory; the library.
+fn cargo_firmware_runtime(triple: Option<&str>) -> Result<PathBuf, String> {
     let target = workspace().join("target/firmware-runtime");
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
     let output = Command::new(cargo)
         .current_dir(workspace())
         .args(["build", "--quiet", "-p", "ladder-runtime", "--profile", "firmware"])
         .arg("--no-default-features")
+        .args(triple.map(|triple| ["--target", triple]).iter().flatten())
         .arg("--target-dir")
         .arg(&target)
         .output()
         .map_err(|e| format!("cargo could not run: {e}"))?;
     if !output.status.success() {
         return Err(format!(
-            "`cargo build -p ladder-runtime --profile firmware --no-default-features` failed:\n{}",
+            "`cargo build -p ladder-runtime --profile firmware --no-default-features{}` failed:\n{}",
+            triple.map_or(String::new(), |triple| format!(" --target {triple}")),
             String::from_utf8_lossy(&output.stderr)
         ));
     }
-    Ok(target.join("firmware/libladder_runtime.a"))
+    Ok(triple
+        .map_or(target.clone(), |triple| target.join(triple))
+        .join("firmware/libladder_runtime.a"))
 }
 
 /// Links C sources and objects with the firmware runtime library and the C
@@ -302,7 +312,7 @@ pub fn cross_firmware_runtime_library(triple: &str) -> Result<PathBuf, String> {
         .ok()
         .filter(|o| o.status.success())
         .map(|o| PathBuf::from(String::from_utf8_lossy(&o.stdout).trim()))
-        .is_some_and(|dir| dir.join("..").join("lib").exists() && dir.read_dir().is_ok_and(|mut d| d.next().is_some()));
+        .is_some_and(|dir| dir.read_dir().is_ok_and(|mut d| d.next().is_some()));
     if !installed {
         let _guard = INSTALL.lock().unwrap_or_else(|e| e.into_inner());
         let toolchain = std::env::var("RUSTUP_TOOLCHAIN").ok();
@@ -322,29 +332,5 @@ pub fn cross_firmware_runtime_library(triple: &str) -> Result<PathBuf, String> {
             Err(e) => return Err(format!("rustup is not available to add {triple}: {e}")),
         }
     }
-    let target = workspace().join("target/firmware-runtime");
-    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
-    let output = Command::new(cargo)
-        .current_dir(workspace())
-        .args([
-            "build",
-            "--quiet",
-            "-p",
-            "ladder-runtime",
-            "--profile",
-            "firmware",
-            "--no-default-features",
-        ])
-        .args(["--target", triple])
-        .arg("--target-dir")
-        .arg(&target)
-        .output()
-        .map_err(|e| format!("cargo could not run: {e}"))?;
-    if !output.status.success() {
-        return Err(format!(
-            "the runtime does not build for {triple}:\n{}",
-            String::from_utf8_lossy(&output.stderr)
-        ));
-    }
-    Ok(target.join(triple).join("firmware/libladder_runtime.a"))
+    cargo_firmware_runtime(Some(triple))
 }
