@@ -135,7 +135,11 @@ fn thirty_two_bit_targets_go_through_the_c_back_end() {
     let dir = scratch("c-targets");
     let program = workspace().join("examples/traffic_light.il");
     let object = dir.path().join("m3.o");
-    match common::tools::ensure("arm-none-eabi-gcc", &["--version"], &["gcc-arm-none-eabi"]) {
+    match common::tools::ensure(
+        "arm-none-eabi-gcc",
+        &["--version"],
+        &["gcc-arm-none-eabi", "libnewlib-arm-none-eabi"],
+    ) {
         Ok(()) => {
             let output = ladderc(&[
                 "build",
