@@ -338,3 +338,27 @@ fn https_serves_the_api_with_rustls() {
     let (code, stderr) = server.stop();
     assert_eq!(code, Some(0), "{stderr}");
 }
+
+#[test]
+fn read_only_refuses_every_http_write_even_with_the_token() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = token_file(dir.path(), TOKEN);
+    let server = Server::start(&["--http", "127.0.0.1:0", "--read-only", "--token-file", &file]);
+    let web = server.web.unwrap();
+    let right = format!("Authorization: Bearer {TOKEN}");
+    for (method, path, body) in [
+        ("POST", "/api/set", r#"{"device": "D7", "value": 5}"#),
+        ("POST", "/api/force", r#"{"device": "Y0", "value": 1}"#),
+        ("POST", "/api/control", r#"{"action": "stop"}"#),
+        ("POST", "/api/breakpoints", r#"{"condition": "D0 > 1"}"#),
+        ("DELETE", "/api/breakpoints", ""),
+        ("POST", "/api/stats/reset", ""),
+        ("POST", "/api/program", "LD X0\nOUT Y1\n"),
+    ] {
+        let (status, answer) = http_with(web, method, path, body, &[&right]);
+        assert_eq!(status, 403, "{method} {path}: {answer}");
+        assert!(answer.contains("read-only"), "{method} {path}: {answer}");
+    }
+    assert_eq!(http(web, "GET", "/api/stats", "").0, 200, "reads go on");
+    server.stop();
+}

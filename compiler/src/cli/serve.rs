@@ -211,6 +211,7 @@ pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
         access: crate::serve::access::Access {
             token,
             token_reads: args.token_reads,
+            read_only: args.read_only,
         },
         tls: args.tls_cert.clone().zip(args.tls_key.clone()),
         opcua: args.opcua,

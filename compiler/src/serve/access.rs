@@ -6,8 +6,9 @@
 //! stays open, so a browser can load it and ask for the token). Event
 //! streams may carry it as `?access_token=` (RFC 6750), since a browser's
 //! EventSource cannot set headers. Without a token file, writes come only
-//! from loopback peers. Refusals are JSON: 401 (no or wrong token, with
-//! `WWW-Authenticate: Bearer`) or 403 (no token file, peer beyond loopback).
+//! from loopback peers; with `--read-only`, from nobody. Refusals are JSON:
+//! 401 (no or wrong token, with `WWW-Authenticate: Bearer`) or 403
+//! (read-only, or no token file and a peer beyond loopback).
 
 use axum::extract::{ConnectInfo, Request, State};
 use axum::http::{header, Method, StatusCode};
@@ -25,6 +26,8 @@ pub struct Access {
     pub token: Option<String>,
     /// Reads need the token too.
     pub token_reads: bool,
+    /// `--read-only`: every write is refused (403), whoever asks.
+    pub read_only: bool,
 }
 
 /// Reads a token file: its first line, trimmed, of at least
@@ -110,6 +113,9 @@ pub async fn check(
 ) -> Response {
     let writes = !matches!(*request.method(), Method::GET | Method::HEAD);
     let page = request.uri().path() == "/";
+    if writes && access.read_only {
+        return refuse(StatusCode::FORBIDDEN, "the server is read-only");
+    }
     match &access.token {
         Some(token) if writes || (access.token_reads && !page) => match token_of(&request) {
             Some(given) if same(given.as_bytes(), token.as_bytes()) => next.run(request).await,

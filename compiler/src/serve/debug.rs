@@ -114,9 +114,6 @@ pub async fn set_control(
     State(app): State<App>,
     body: Result<Json<Action>, axum::extract::rejection::JsonRejection>,
 ) -> Response {
-    if app.read_only {
-        return error(StatusCode::FORBIDDEN, "the server is read-only");
-    }
     let Json(body) = match body {
         Ok(body) => body,
         Err(rejection) => return error(rejection.status(), rejection.body_text()),
@@ -168,9 +165,6 @@ pub async fn add_breakpoint(
     State(app): State<App>,
     body: Result<Json<NewBreakpoint>, axum::extract::rejection::JsonRejection>,
 ) -> Response {
-    if app.read_only {
-        return error(StatusCode::FORBIDDEN, "the server is read-only");
-    }
     let Json(body) = match body {
         Ok(body) => body,
         Err(rejection) => return error(rejection.status(), rejection.body_text()),
@@ -192,9 +186,6 @@ pub async fn remove_breakpoints(
     State(app): State<App>,
     query: Result<Query<Which>, axum::extract::rejection::QueryRejection>,
 ) -> Response {
-    if app.read_only {
-        return error(StatusCode::FORBIDDEN, "the server is read-only");
-    }
     let Ok(Query(which)) = query else {
         return error(StatusCode::BAD_REQUEST, "the query is not `id=N`");
     };

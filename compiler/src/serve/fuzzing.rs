@@ -103,8 +103,9 @@ pub fn http_request(data: &[u8]) {
             .filter(|b| **b & 1 != 0)
             .map(|_| "0123456789abcdef".to_string()),
         token_reads: data.get(1).is_some_and(|b| b & 2 != 0),
+        read_only: data.get(1).is_some_and(|b| b & 4 != 0),
     };
-    let router = super::http::router(started(), false, false).layer(axum::middleware::from_fn_with_state(
+    let router = super::http::router(started(), false).layer(axum::middleware::from_fn_with_state(
         Arc::new(access),
         super::access::check,
     ));

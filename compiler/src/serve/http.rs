@@ -30,12 +30,11 @@ pub const MOST_WATCHED: usize = 256;
 #[derive(Clone)]
 pub struct App {
     pub shared: Arc<Shared>,
-    pub read_only: bool,
     /// Programs run as native code: online change compiles them here.
     native: bool,
 }
 
-pub fn router(shared: Arc<Shared>, read_only: bool, native: bool) -> Router {
+pub fn router(shared: Arc<Shared>, native: bool) -> Router {
     Router::new()
         .route("/", get(page))
         .route("/api/devices", get(devices))
@@ -66,11 +65,7 @@ pub fn router(shared: Arc<Shared>, read_only: bool, native: bool) -> Router {
                 .get(running_program)
                 .layer(DefaultBodyLimit::max(PROGRAM_LIMIT)),
         )
-        .with_state(App {
-            shared,
-            read_only,
-            native,
-        })
+        .with_state(App { shared, native })
 }
 
 /// A JSON error with its HTTP status.
@@ -250,9 +245,6 @@ async fn events(
 }
 
 async fn reset_stats(State(app): State<App>) -> Response {
-    if app.read_only {
-        return error(StatusCode::FORBIDDEN, "the server is read-only");
-    }
     app.shared.reset_stats();
     Json(json!({ "reset": true })).into_response()
 }
@@ -268,9 +260,6 @@ async fn forces(State(app): State<App>) -> Json<Value> {
 
 /// Unforces every forced device (at the next scan).
 async fn unforce_all(State(app): State<App>) -> Response {
-    if app.read_only {
-        return error(StatusCode::FORBIDDEN, "the server is read-only");
-    }
     let forced = super::view::forces(&app.shared.image());
     let mut writes = Vec::new();
     for (name, _) in &forced {
@@ -357,9 +346,6 @@ fn queue(
     body: Result<Json<Write>, axum::extract::rejection::JsonRejection>,
     make: impl FnOnce(HostDevice, Option<i32>) -> Result<HostWrite, String>,
 ) -> Response {
-    if app.read_only {
-        return error(StatusCode::FORBIDDEN, "the server is read-only");
-    }
     let Json(body) = match body {
         Ok(body) => body,
         Err(rejection) => return error(rejection.status(), rejection.body_text()),
@@ -427,9 +413,6 @@ async fn program(
     query: Result<Query<Upload>, axum::extract::rejection::QueryRejection>,
     body: Result<axum::body::Bytes, axum::extract::rejection::BytesRejection>,
 ) -> Response {
-    if app.read_only {
-        return error(StatusCode::FORBIDDEN, "the server is read-only");
-    }
     let allow_empty = matches!(query, Ok(Query(Upload { allow_empty: Some(ref v) })) if v == "1" || v == "true");
     let bytes = match body {
         Ok(bytes) => bytes,

@@ -167,7 +167,7 @@ pub fn serve(
             }));
         }
         if let Some(web) = web {
-            let app = http::router(Arc::clone(&served), read_only, native)
+            let app = http::router(Arc::clone(&served), native)
                 .layer(axum::middleware::from_fn_with_state(Arc::new(access), access::check));
             let app = app.into_make_service_with_connect_info::<SocketAddr>();
             match tls {
