@@ -1,11 +1,19 @@
-//! The program on the controller it usually lives on, emulated: the traffic
-//! light and the GX Works2 sample built by `ladderc build --target
-//! thumbv7m-none-eabi` (the C back end and arm-none-eabi-gcc), linked with
-//! the runtime built for that target and the Cortex-M example host
-//! (examples/cortex-m: SysTick as the scan period), run on QEMU's MPS2
-//! AN385 board (Cortex-M3); every scan's outputs equal `ladderc run`'s.
-//! The tools come from Debian's packages and rustup; where they cannot be
-//! installed the test says so and skips.
+//! The program on the controllers it usually lives on, emulated, through the
+//! C back end and the system's cross compilers:
+//!
+//! - Cortex-M3: the traffic light and the GX Works2 sample built by
+//!   `ladderc build --target thumbv7m-none-eabi` (arm-none-eabi-gcc),
+//!   linked with the runtime built for that target and the Cortex-M example
+//!   host (examples/cortex-m: SysTick as the scan period), run on QEMU's
+//!   MPS2 AN385 board;
+//! - 32-bit Arm Linux (armhf): the same programs built by `ladderc build
+//!   --target armv7-unknown-linux-gnueabihf` (arm-linux-gnueabihf-gcc),
+//!   linked statically with the example host and the runtime built for that
+//!   target, run by `qemu-arm` (user-mode emulation).
+//!
+//! Every scan's outputs equal `ladderc run`'s. The tools come from Debian's
+//! packages and rustup; where they cannot be installed the test says so and
+//! skips.
 
 mod common;
 
@@ -14,6 +22,13 @@ use std::path::Path;
 use std::process::Command;
 
 const TRIPLE: &str = "thumbv7m-none-eabi";
+const ARMHF: &str = "armv7-unknown-linux-gnueabihf";
+
+/// The programs each controller runs: (file, scans, scan period in ms).
+const PROGRAMS: [(&str, u32, u32); 2] = [
+    ("examples/traffic_light.il", 300, 100),
+    ("testsuite/programs/gxworks2/gxworks2_fx2n_main.csv", 200, 10),
+];
 
 fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
@@ -116,10 +131,7 @@ fn programs_run_on_an_emulated_cortex_m3_like_the_interpreter() {
         }
     };
     let dir = scratch("cortex-m");
-    for (name, scans, scan_ms) in [
-        ("examples/traffic_light.il", 300, 100),
-        ("testsuite/programs/gxworks2/gxworks2_fx2n_main.csv", 200, 10),
-    ] {
+    for (name, scans, scan_ms) in PROGRAMS {
         let program = workspace().join(name);
         if !program.exists() {
             panic!("{} is missing", program.display());
@@ -133,5 +145,87 @@ fn programs_run_on_an_emulated_cortex_m3_like_the_interpreter() {
             .map(|line| format!("{line}\n"))
             .collect();
         assert_eq!(csv, interpreter_csv(&program, scans, scan_ms, &[]), "{name}");
+    }
+}
+
+/// Builds `program` for armhf Linux and links it statically with the
+/// example host and the runtime built for that target.
+fn armhf_executable(program: &Path, dir: &Path, runtime: &Path) -> std::path::PathBuf {
+    let object = dir.join("program-armhf.o");
+    let output = ladderc(&[
+        "build",
+        program.to_str().unwrap(),
+        "--target",
+        ARMHF,
+        "-o",
+        object.to_str().unwrap(),
+    ]);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let executable = dir.join("host-armhf");
+    let output = Command::new("arm-linux-gnueabihf-gcc")
+        .args(["-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", "-static", "-I"])
+        .arg(workspace().join("runtime/include"))
+        .arg(workspace().join("examples/host/main.c"))
+        .arg(&object)
+        .arg(runtime)
+        .args(["-lm", "-o"])
+        .arg(&executable)
+        .output()
+        .unwrap();
+    assert!(
+        output.status.success(),
+        "linking the armhf host:\n{}",
+        text(&output.stderr)
+    );
+    executable
+}
+
+#[test]
+fn programs_run_on_emulated_armhf_linux_like_the_interpreter() {
+    let test = "programs_run_on_emulated_armhf_linux_like_the_interpreter";
+    // The cross compiler with its C library, and user-mode QEMU.
+    let libc = "test -e \"$(arm-linux-gnueabihf-gcc -print-file-name=libc.a)\"";
+    let tools = ensure(
+        "sh",
+        &["-c", libc],
+        &["gcc-arm-linux-gnueabihf", "libc6-dev-armhf-cross"],
+    )
+    .and_then(|()| ensure("qemu-arm", &["--version"], &["qemu-user"]));
+    if let Err(why) = tools {
+        skip(test, &why);
+        return;
+    }
+    let runtime = match cross_firmware_runtime_library(ARMHF) {
+        Ok(runtime) => runtime,
+        Err(why) => {
+            skip(test, &why);
+            return;
+        }
+    };
+    let dir = scratch("armhf");
+    for (name, scans, scan_ms) in PROGRAMS {
+        let program = workspace().join(name);
+        let executable = armhf_executable(&program, dir.path(), &runtime);
+        let machine = Command::new("file").arg(&executable).output().map(|o| text(&o.stdout));
+        if let Ok(description) = machine {
+            assert!(description.contains("ARM"), "not an Arm executable: {description}");
+        }
+        let output = Command::new("timeout")
+            .args(["120", "qemu-arm"])
+            .arg(&executable)
+            .args([scans.to_string(), scan_ms.to_string()])
+            .output()
+            .unwrap();
+        assert!(
+            output.status.success(),
+            "qemu-arm: {:?}\n{}",
+            output.status,
+            text(&output.stderr)
+        );
+        assert_eq!(
+            text(&output.stdout),
+            interpreter_csv(&program, scans, scan_ms, &[]),
+            "{name} on armhf"
+        );
     }
 }
