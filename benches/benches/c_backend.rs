@@ -35,7 +35,10 @@ fn c_library(name: &str, checked: &ladderc::program::CheckedProgram) -> Result<P
     let compiler = ladderc::aot::toolchain::c_compiler()?;
     let runtime = ladderc::aot::toolchain::runtime_library()?;
     let output = Command::new(&compiler)
-        .args(["-std=c99", "-O2", "-shared", "-fPIC", "-o"])
+        // Calls into the runtime bound inside the library, as a static
+        // link binds them (a firmware image has no PLT between program and
+        // runtime; Cranelift's code calls the helpers directly too).
+        .args(["-std=c99", "-O2", "-shared", "-fPIC", "-Wl,-Bsymbolic-functions", "-o"])
         .arg(&library)
         .arg(&path)
         .arg(&runtime)

@@ -15,6 +15,7 @@
 //! scan.
 
 mod function;
+mod prelude;
 pub mod targets;
 
 use crate::ir::Program;
@@ -30,9 +31,6 @@ pub struct COptions {
     pub source_name: String,
 }
 
-/// The portable helpers every generated file starts with.
-const PRELUDE: &str = include_str!("prelude.h");
-
 /// The program as one C99 source file.
 pub fn emit_c(program: &Program, options: &COptions) -> String {
     let mut out = String::new();
@@ -46,35 +44,35 @@ pub fn emit_c(program: &Program, options: &COptions) -> String {
         options.source_name.replace("*/", "* /"),
         ladder_runtime::layout::LAYOUT_TAG
     );
-    out.push_str(PRELUDE);
-    out.push_str("\n/* The runtime: begin and end of a scan, and the helpers the program calls. */\n");
+    let mut code = String::new();
+    code.push_str("\n/* The runtime: begin and end of a scan, and the helpers the program calls. */\n");
     let _ = writeln!(
-        out,
+        code,
         "void {}(LadderMemory *mem, uint32_t elapsed_ms);",
         ladder_runtime::layout::TAGGED_BEGIN_SCAN
     );
-    let _ = writeln!(out, "void {}(LadderMemory *mem);", ladder_runtime::layout::END_SCAN);
+    let _ = writeln!(code, "void {}(LadderMemory *mem);", ladder_runtime::layout::END_SCAN);
     for helper in function::used_helpers(program) {
-        let _ = writeln!(out, "{};", helper_prototype(helper));
+        let _ = writeln!(code, "{};", helper_prototype(helper));
     }
     let body = format!("{}body", options.prefix);
-    out.push('\n');
+    code.push('\n');
     let called = function::called_subroutines(program);
     for number in &called {
-        let _ = writeln!(out, "static void {body}_sub{number}(uint8_t *m);");
+        let _ = writeln!(code, "static void {body}_sub{number}(uint8_t *m);");
     }
-    let _ = writeln!(out, "static void {body}(uint8_t *m);\n");
+    let _ = writeln!(code, "static void {body}(uint8_t *m);\n");
     for &number in &called {
         function::emit(
-            &mut out,
+            &mut code,
             &program.subroutines[number],
             &format!("{body}_sub{number}"),
             &body,
         );
     }
-    function::emit(&mut out, &program.main, &body, &body);
+    function::emit(&mut code, &program.main, &body, &body);
     let _ = writeln!(
-        out,
+        code,
         "/* One whole scan; a null image does nothing, as with every function of the C API. */\n\
          void {prefix}scan(LadderMemory *mem, uint32_t elapsed_ms) {{\n    \
          if (!mem) return;\n    \
@@ -85,6 +83,8 @@ pub fn emit_c(program: &Program, options: &COptions) -> String {
         begin = ladder_runtime::layout::TAGGED_BEGIN_SCAN,
         end = ladder_runtime::layout::END_SCAN,
     );
+    out.push_str(&prelude::prelude_for(&code));
+    out.push_str(&code);
     out
 }
 
