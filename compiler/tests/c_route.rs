@@ -8,7 +8,7 @@
 
 mod common;
 
-use common::tools::{interpreter_csv, ladderc, link_host_with, scratch, skip, workspace};
+use common::tools::{build_for_target, interpreter_csv, ladderc, link_host_with, scratch, skip, workspace};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -141,14 +141,7 @@ fn thirty_two_bit_targets_go_through_the_c_back_end() {
         &["gcc-arm-none-eabi", "libnewlib-arm-none-eabi"],
     ) {
         Ok(()) => {
-            let output = ladderc(&[
-                "build",
-                program.to_str().unwrap(),
-                "--target",
-                "thumbv7m-none-eabi",
-                "-o",
-                object.to_str().unwrap(),
-            ]);
+            let output = build_for_target(&program, "thumbv7m-none-eabi", &object);
             assert!(output.status.success(), "{}", text(&output.stderr));
             let bytes = std::fs::read(&object).unwrap();
             let file = object::File::parse(&*bytes).expect("an object file");
@@ -178,14 +171,7 @@ fn thirty_two_bit_targets_go_through_the_c_back_end() {
         return;
     }
     let requested = dir.path().join("rv.o");
-    let output = ladderc(&[
-        "build",
-        program.to_str().unwrap(),
-        "--target",
-        "riscv32imac-unknown-none-elf",
-        "-o",
-        requested.to_str().unwrap(),
-    ]);
+    let output = build_for_target(&program, "riscv32imac-unknown-none-elf", &requested);
     assert!(output.status.success(), "{}", text(&output.stderr));
     let stderr = text(&output.stderr);
     assert!(stderr.contains("-march=rv32imac"), "{stderr}");

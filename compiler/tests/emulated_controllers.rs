@@ -17,7 +17,9 @@
 
 mod common;
 
-use common::tools::{cross_firmware_runtime_library, ensure, interpreter_csv, ladderc, scratch, skip, workspace};
+use common::tools::{
+    build_for_target, cross_firmware_runtime_library, ensure, interpreter_csv, scratch, skip, workspace,
+};
 use std::path::Path;
 use std::process::Command;
 
@@ -38,14 +40,7 @@ fn text(bytes: &[u8]) -> String {
 /// the image and its `size` line (text, data, bss).
 fn firmware(program: &Path, dir: &Path, runtime: &Path, scans: u32, scan_ms: u32) -> (std::path::PathBuf, String) {
     let object = dir.join("program.o");
-    let output = ladderc(&[
-        "build",
-        program.to_str().unwrap(),
-        "--target",
-        TRIPLE,
-        "-o",
-        object.to_str().unwrap(),
-    ]);
+    let output = build_for_target(program, TRIPLE, &object);
     assert!(output.status.success(), "{}", text(&output.stderr));
     let host = workspace().join("examples/cortex-m");
     let elf = dir.join("firmware.elf");
@@ -82,6 +77,23 @@ fn firmware(program: &Path, dir: &Path, runtime: &Path, scans: u32, scan_ms: u32
     (elf, text(&size.stdout).lines().nth(1).unwrap_or("").to_string())
 }
 
+/// Installs what a test needs when it is missing — the cross compiler with
+/// its C library (`compiler_check`, a shell test, and `packages`) and the
+/// emulator (program, package) — and builds the runtime for `triple`; the
+/// runtime library, or `None` after saying why the test skips.
+fn tools_and_runtime(
+    test: &str,
+    compiler_check: &str,
+    packages: &[&str],
+    (emulator, emulator_package): (&str, &str),
+    triple: &str,
+) -> Option<std::path::PathBuf> {
+    let ready = ensure("sh", &["-c", compiler_check], packages)
+        .and_then(|()| ensure(emulator, &["--version"], &[emulator_package]))
+        .and_then(|()| cross_firmware_runtime_library(triple));
+    ready.map_err(|why| skip(test, &why)).ok()
+}
+
 fn run_on_qemu(elf: &Path) -> String {
     let output = Command::new("timeout")
         .args([
@@ -113,22 +125,16 @@ fn run_on_qemu(elf: &Path) -> String {
 
 #[test]
 fn programs_run_on_an_emulated_cortex_m3_like_the_interpreter() {
-    let test = "programs_run_on_an_emulated_cortex_m3_like_the_interpreter";
     // The compiler and its C library (newlib: a compiler installed without
     // recommended packages has none, so both are checked).
-    let newlib = "test -e \"$(arm-none-eabi-gcc -print-file-name=nosys.specs)\"";
-    let tools = ensure("sh", &["-c", newlib], &["gcc-arm-none-eabi", "libnewlib-arm-none-eabi"])
-        .and_then(|()| ensure("qemu-system-arm", &["--version"], &["qemu-system-arm"]));
-    if let Err(why) = tools {
-        skip(test, &why);
+    let Some(runtime) = tools_and_runtime(
+        "programs_run_on_an_emulated_cortex_m3_like_the_interpreter",
+        "test -e \"$(arm-none-eabi-gcc -print-file-name=nosys.specs)\"",
+        &["gcc-arm-none-eabi", "libnewlib-arm-none-eabi"],
+        ("qemu-system-arm", "qemu-system-arm"),
+        TRIPLE,
+    ) else {
         return;
-    }
-    let runtime = match cross_firmware_runtime_library(TRIPLE) {
-        Ok(runtime) => runtime,
-        Err(why) => {
-            skip(test, &why);
-            return;
-        }
     };
     let dir = scratch("cortex-m");
     for (name, scans, scan_ms) in PROGRAMS {
@@ -152,14 +158,7 @@ fn programs_run_on_an_emulated_cortex_m3_like_the_interpreter() {
 /// example host and the runtime built for that target.
 fn armhf_executable(program: &Path, dir: &Path, runtime: &Path) -> std::path::PathBuf {
     let object = dir.join("program-armhf.o");
-    let output = ladderc(&[
-        "build",
-        program.to_str().unwrap(),
-        "--target",
-        ARMHF,
-        "-o",
-        object.to_str().unwrap(),
-    ]);
+    let output = build_for_target(program, ARMHF, &object);
     assert!(output.status.success(), "{}", text(&output.stderr));
     let executable = dir.join("host-armhf");
     let output = Command::new("arm-linux-gnueabihf-gcc")
@@ -182,25 +181,15 @@ fn armhf_executable(program: &Path, dir: &Path, runtime: &Path) -> std::path::Pa
 
 #[test]
 fn programs_run_on_emulated_armhf_linux_like_the_interpreter() {
-    let test = "programs_run_on_emulated_armhf_linux_like_the_interpreter";
     // The cross compiler with its C library, and user-mode QEMU.
-    let libc = "test -e \"$(arm-linux-gnueabihf-gcc -print-file-name=libc.a)\"";
-    let tools = ensure(
-        "sh",
-        &["-c", libc],
+    let Some(runtime) = tools_and_runtime(
+        "programs_run_on_emulated_armhf_linux_like_the_interpreter",
+        "test -e \"$(arm-linux-gnueabihf-gcc -print-file-name=libc.a)\"",
         &["gcc-arm-linux-gnueabihf", "libc6-dev-armhf-cross"],
-    )
-    .and_then(|()| ensure("qemu-arm", &["--version"], &["qemu-user"]));
-    if let Err(why) = tools {
-        skip(test, &why);
+        ("qemu-arm", "qemu-user"),
+        ARMHF,
+    ) else {
         return;
-    }
-    let runtime = match cross_firmware_runtime_library(ARMHF) {
-        Ok(runtime) => runtime,
-        Err(why) => {
-            skip(test, &why);
-            return;
-        }
     };
     let dir = scratch("armhf");
     for (name, scans, scan_ms) in PROGRAMS {

@@ -110,6 +110,18 @@ pub fn link_host_with(flags: &[&str], sources: &[&Path], output: &Path) {
     assert!(status.success(), "linking {} failed", output.display());
 }
 
+/// `ladderc build PROGRAM --target TRIPLE -o OUTPUT`.
+pub fn build_for_target(program: &Path, triple: &str, output: &Path) -> std::process::Output {
+    ladderc(&[
+        "build",
+        program.to_str().unwrap(),
+        "--target",
+        triple,
+        "-o",
+        output.to_str().unwrap(),
+    ])
+}
+
 /// The firmware build of the runtime (`no_std`, panics abort), built once per
 /// test process by a nested cargo in its own target directory (so it never
 /// waits on the lock of the build that runs the tests). `Err` says why not.
