@@ -26,8 +26,10 @@ fn c_library(name: &str, checked: &ladderc::program::CheckedProgram) -> Result<P
     let options = ladderc::cback::COptions {
         prefix: "bench_".to_string(),
         source_name: name.to_string(),
+        layout: None,
     };
-    let source = ladderc::pipeline::c_source(checked, &options)
+    let source = ladderc::pipeline::c_source(checked, &options, &ladderc::pipeline::ImageRequest::full())
+        .output
         .replace("static void bench_body(uint8_t *m)", "void bench_body(uint8_t *m)");
     let path = folder.join(format!("{name}.c"));
     std::fs::write(&path, source).map_err(|e| e.to_string())?;

@@ -58,9 +58,14 @@ static ALLOCATOR: Counting = Counting;
 fn build(text: &str) -> usize {
     let (program, diagnostics) = compile_source(&SourceFile::new("bench.il", text));
     let program = program.unwrap_or_else(|| panic!("{:?}", diagnostics.first()));
-    ladderc::pipeline::object(&program, &ObjectOptions::default())
-        .expect("compiles")
-        .len()
+    ladderc::pipeline::object(
+        &program,
+        &ObjectOptions::default(),
+        &ladderc::pipeline::ImageRequest::full(),
+    )
+    .expect("compiles")
+    .output
+    .len()
 }
 
 fn peak_heap_per_instruction() {

@@ -12,6 +12,7 @@ pub mod codegen;
 pub mod diagnostics;
 pub mod engine;
 pub mod host_device;
+pub mod image;
 pub mod interp;
 pub mod ir;
 pub mod isa;

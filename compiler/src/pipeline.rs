@@ -1,9 +1,12 @@
-//! The stages after the checker, in order: lowering to IR, IR passes, and
-//! code generation.
+//! The stages after the checker, in order: lowering to IR, IR passes, the
+//! image's layout, and code generation.
 
 use crate::codegen::{emit_object, CodegenError, JitProgram, ObjectOptions};
+use crate::host_device::HostDevice;
+use crate::image::{compact_layout, ImageKind};
 use crate::ir::{passes, Program};
 use crate::program::CheckedProgram;
+use ladder_runtime::layout::Layout;
 
 /// The optimised IR of a checked program.
 pub fn ir(program: &CheckedProgram) -> Program {
@@ -12,17 +15,89 @@ pub fn ir(program: &CheckedProgram) -> Program {
     ir
 }
 
-/// The program compiled into this process.
+/// The program compiled into this process (which runs it on `Memory`: the
+/// full layout).
 pub fn jit(program: &CheckedProgram) -> Result<JitProgram, CodegenError> {
     JitProgram::compile(&ir(program))
 }
 
-/// The program as an object file.
-pub fn object(program: &CheckedProgram, options: &ObjectOptions) -> Result<Vec<u8>, CodegenError> {
-    emit_object(&ir(program), options)
+/// The image a built program gets: the full layout, or a compact one that
+/// also holds the devices the host names.
+#[derive(Clone, Debug)]
+pub struct ImageRequest {
+    pub kind: ImageKind,
+    pub host_devices: Vec<HostDevice>,
 }
 
-/// The program as portable C (the C back end, from the same optimised IR).
-pub fn c_source(program: &CheckedProgram, options: &crate::cback::COptions) -> String {
-    crate::cback::emit_c(&ir(program), options)
+impl Default for ImageRequest {
+    fn default() -> Self {
+        ImageRequest::full()
+    }
+}
+
+impl ImageRequest {
+    /// Every device (the runtime's `Memory`).
+    pub fn full() -> ImageRequest {
+        ImageRequest {
+            kind: ImageKind::Full,
+            host_devices: Vec::new(),
+        }
+    }
+
+    /// The devices the program uses and `host_devices`.
+    pub fn compact(host_devices: Vec<HostDevice>) -> ImageRequest {
+        ImageRequest {
+            kind: ImageKind::Compact,
+            host_devices,
+        }
+    }
+
+    /// The layout for `program`, optimised as `ir`; `None` for the full one.
+    pub fn layout(&self, program: &CheckedProgram, ir: &Program) -> Option<Layout> {
+        match self.kind {
+            ImageKind::Full => None,
+            ImageKind::Compact => Some(compact_layout(program, ir, &self.host_devices)),
+        }
+    }
+}
+
+/// What a back end made, and the compact layout it was made for (`None`:
+/// the full layout).
+#[derive(Clone, Debug)]
+pub struct Built<T> {
+    pub output: T,
+    pub layout: Option<Layout>,
+}
+
+/// The program as an object file (`options.layout` is set from `image`).
+pub fn object(
+    program: &CheckedProgram,
+    options: &ObjectOptions,
+    image: &ImageRequest,
+) -> Result<Built<Vec<u8>>, CodegenError> {
+    let ir = ir(program);
+    let layout = image.layout(program, &ir);
+    let options = ObjectOptions {
+        layout,
+        ..options.clone()
+    };
+    Ok(Built {
+        output: emit_object(&ir, &options)?,
+        layout,
+    })
+}
+
+/// The program as portable C (the C back end, from the same optimised IR;
+/// `options.layout` is set from `image`).
+pub fn c_source(program: &CheckedProgram, options: &crate::cback::COptions, image: &ImageRequest) -> Built<String> {
+    let ir = ir(program);
+    let layout = image.layout(program, &ir);
+    let options = crate::cback::COptions {
+        layout,
+        ..options.clone()
+    };
+    Built {
+        output: crate::cback::emit_c(&ir, &options),
+        layout,
+    }
 }

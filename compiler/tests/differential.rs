@@ -5,7 +5,10 @@
 //! writes, forces and elapsed times up to a whole `u32`; after every scan
 //! the whole device image of the JIT, of the object-file path and of the C
 //! route (the C back end's source compiled by gcc -O2; both linked with the
-//! runtime library into a C host) must equal the interpreter's. A divergence is shrunk and written out as a scenario file.
+//! runtime library into a C host) must equal the interpreter's, and so must
+//! every device of the C route's compact image (`--image compact`: only the
+//! devices the program and its host use). A divergence is shrunk and
+//! written out as a scenario file.
 //!
 //! CI runs 2,000 programs (four tests of 500, so both cores work). The long
 //! run is an ignored test:
@@ -32,8 +35,9 @@ fn run_programs(test: &str, share: u64, programs: BoxedStrategy<String>, count: 
     let seed = differential::seed(test).wrapping_add(share);
     let totals = differential::check(test, differential::case(programs), seed, count, 100, &aot);
     eprintln!(
-        "{test}: {} programs, {} scans, {} on the object-file path, {} on the C route: every image equal",
-        totals.programs, totals.scans, totals.aot_programs, totals.c_programs
+        "{test}: {} programs, {} scans, {} on the object-file path, {} on the C route, {} with a compact \
+         image: every image equal",
+        totals.programs, totals.scans, totals.aot_programs, totals.c_programs, totals.compact_programs
     );
     assert_eq!(totals.programs, count);
     totals

@@ -60,6 +60,9 @@ fn firmware(program: &Path, dir: &Path, runtime: &Path, scans: u32, scan_ms: u32
         .arg(host.join("link.ld"))
         .arg("-I")
         .arg(workspace().join("runtime/include"))
+        // program.h, which `ladderc build` wrote beside program.o.
+        .arg("-I")
+        .arg(dir)
         .arg(host.join("main.c"))
         .arg(host.join("startup.c"))
         .arg(&object)

@@ -9,6 +9,13 @@
  */
 #include <stdint.h>
 #include "ladder_runtime.h"
+/* The program's header (`ladderc build` writes it beside the object, e.g.
+   traffic_light_m3.h for traffic_light_m3.o): its entry points and the size
+   of its image. Name it with -DPROGRAM_HEADER='"traffic_light_m3.h"'. */
+#ifndef PROGRAM_HEADER
+#define PROGRAM_HEADER "program.h"
+#endif
+#include PROGRAM_HEADER
 
 #ifndef SCANS
 #define SCANS 40
@@ -19,7 +26,6 @@
 /* The MPS2 boards run the core at 25 MHz. */
 #define CORE_HZ 25000000u
 
-LADDER_DECLARE_PROGRAM(ladder_program_);
 
 /* ---- semihosting: output and exit through the debugger (QEMU) ---- */
 static int semihost(int operation, const void *argument) {
@@ -54,13 +60,14 @@ static volatile uint32_t ticks;
 
 void SysTick_Handler(void) { ticks++; }
 
-/* The image: static storage, aligned as ladder_init requires. */
-static uint32_t storage[LADDER_MEMORY_SIZE / sizeof(uint32_t) + 1];
+/* The image: static storage of the program's size, aligned as
+   ladder_program_init requires. */
+static uint32_t storage[(LADDER_PROGRAM_IMAGE_SIZE + 3) / 4];
 
 int main(void) {
-    LadderMemory *mem = ladder_init(storage, sizeof storage);
+    LadderMemory *mem = ladder_program_init(storage, sizeof storage);
     if (mem == 0) {
-        put("ladder_init: storage too small or misaligned\n");
+        put("ladder_program_init: storage too small or misaligned\n");
         exit_emulation();
     }
     SYST_RVR = CORE_HZ / 1000u * SCAN_MS - 1u;
@@ -73,7 +80,8 @@ int main(void) {
         seen = ticks;
         ladder_program_scan(mem, SCAN_MS);
         put_number(scan);
-        for (uint32_t y = 0; y < 8; y++) put(ladder_get_output(mem, y) ? ",1" : ",0");
+        /* An output the compact image does not hold is -1: OFF. */
+        for (uint32_t y = 0; y < 8; y++) put(ladder_get_output(mem, y) == 1 ? ",1" : ",0");
         put("\n");
     }
     exit_emulation();

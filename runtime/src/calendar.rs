@@ -17,6 +17,9 @@
 //! Also here: the scan-time registers D8010-D8012, whose "scan time" is
 //! the elapsed time reported to the next scan.
 
+use crate::image::{Image, ImageMut};
+use crate::layout::{Array, Scalar};
+#[cfg(test)]
 use crate::memory::Memory;
 
 /// D8010: the latest scan's time, in 0.1 ms.
@@ -165,15 +168,26 @@ pub fn full_year(year: i32) -> Option<u32> {
     }
 }
 
-impl Memory {
+impl<B: AsRef<[u8]>> Image<'_, B> {
+    /// The clock's time now.
+    pub fn calendar(&self) -> CalendarTime {
+        CalendarTime::from_seconds(self.scalar(Scalar::CalendarSeconds))
+    }
+
+    fn flag(&self, flag: u32) -> bool {
+        self.scalar(Scalar::CalendarFlags) & flag != 0
+    }
+}
+
+impl ImageMut<'_> {
     /// Sets the clock (milliseconds below the second start at 0); false,
     /// and nothing changed, for a time that does not exist or is outside
     /// 1980-2079.
     pub fn set_calendar(&mut self, time: CalendarTime) -> bool {
         match time.to_seconds() {
             Some(seconds) => {
-                self.calendar_seconds = seconds;
-                self.calendar_ms = 0;
+                self.set_scalar(Scalar::CalendarSeconds, seconds);
+                self.set_scalar(Scalar::CalendarMs, 0);
                 self.write_clock_registers();
                 true
             }
@@ -181,20 +195,19 @@ impl Memory {
         }
     }
 
-    /// The clock's time now.
-    pub fn calendar(&self) -> CalendarTime {
-        CalendarTime::from_seconds(self.calendar_seconds)
+    fn set_flag(&mut self, flag: u32, on: bool) {
+        let flags = self.scalar(Scalar::CalendarFlags);
+        self.set_scalar(Scalar::CalendarFlags, if on { flags | flag } else { flags & !flag });
     }
 
     /// At the start of a scan: the clock advances by the elapsed time and
     /// D8013-D8019 show it; D8010-D8012 take the previous scan's time.
     pub(crate) fn advance_calendar(&mut self, elapsed_ms: u32) {
-        self.m[M_CLOCK_PRESENT as usize] = 1;
-        let stopped = self.m[M_CLOCK_STOP as usize] != 0;
-        let was_stopped = self.calendar_flags & CALENDAR_WAS_STOPPED != 0;
-        self.calendar_flags =
-            (self.calendar_flags & !CALENDAR_WAS_STOPPED) | if stopped { CALENDAR_WAS_STOPPED } else { 0 };
-        if self.scan_count > 0 {
+        self.set_u8(Array::M, M_CLOCK_PRESENT, 1);
+        let stopped = self.get_u8(Array::M, M_CLOCK_STOP) != 0;
+        let was_stopped = self.flag(CALENDAR_WAS_STOPPED);
+        self.set_flag(CALENDAR_WAS_STOPPED, stopped);
+        if self.scalar(Scalar::ScanCount) > 0 {
             self.record_scan_time(elapsed_ms);
         }
         if stopped {
@@ -204,12 +217,11 @@ impl Memory {
             self.preset_from_registers();
             return;
         }
-        let rounding = self.m[M_CLOCK_ROUND as usize] != 0;
-        let was_rounding = self.calendar_flags & CALENDAR_WAS_ROUNDING != 0;
-        self.calendar_flags =
-            (self.calendar_flags & !CALENDAR_WAS_ROUNDING) | if rounding { CALENDAR_WAS_ROUNDING } else { 0 };
-        let ms = u64::from(self.calendar_ms) + u64::from(elapsed_ms);
-        let seconds = u64::from(self.calendar_seconds) + ms / 1000;
+        let rounding = self.get_u8(Array::M, M_CLOCK_ROUND) != 0;
+        let was_rounding = self.flag(CALENDAR_WAS_ROUNDING);
+        self.set_flag(CALENDAR_WAS_ROUNDING, rounding);
+        let ms = u64::from(self.scalar(Scalar::CalendarMs)) + u64::from(elapsed_ms);
+        let seconds = u64::from(self.scalar(Scalar::CalendarSeconds)) + ms / 1000;
         // The clock stops at the end of 2079 rather than wrapping.
         let last = CalendarTime {
             year: LAST_YEAR,
@@ -222,41 +234,43 @@ impl Memory {
         }
         .to_seconds()
         .unwrap_or(u32::MAX);
-        self.calendar_seconds = seconds.min(u64::from(last)) as u32;
-        self.calendar_ms = (ms % 1000) as u32;
+        let mut seconds = seconds.min(u64::from(last)) as u32;
+        let mut below_second = (ms % 1000) as u32;
         if rounding && !was_rounding {
-            let second = self.calendar_seconds % 60;
-            let minute_start = self.calendar_seconds - second;
-            self.calendar_seconds = if second >= 30 {
+            let second = seconds % 60;
+            let minute_start = seconds - second;
+            seconds = if second >= 30 {
                 (minute_start + 60).min(last)
             } else {
                 minute_start
             };
-            self.calendar_ms = 0;
+            below_second = 0;
         }
-        if self.d[(D_CLOCK_FIRST + 5) as usize] == 2000 {
-            self.calendar_flags |= CALENDAR_FOUR_DIGIT_YEAR;
+        self.set_scalar(Scalar::CalendarSeconds, seconds);
+        self.set_scalar(Scalar::CalendarMs, below_second);
+        if self.get_i16(Array::D, D_CLOCK_FIRST + 5) == 2000 {
+            self.set_flag(CALENDAR_FOUR_DIGIT_YEAR, true);
         }
-        if self.m[M_CLOCK_HOLD as usize] == 0 {
+        if self.get_u8(Array::M, M_CLOCK_HOLD) == 0 {
             self.write_clock_registers();
         }
     }
 
     /// M8015 turned OFF: the clock takes D8013-D8019.
     fn preset_from_registers(&mut self) {
-        let register = |offset: u32| i32::from(self.d[(D_CLOCK_FIRST + offset) as usize]);
-        let year = full_year(register(5));
+        let register = |image: &Self, offset: u32| i32::from(image.get_i16(Array::D, D_CLOCK_FIRST + offset));
+        let year = full_year(register(self, 5));
         let time = year.map(|year| CalendarTime {
             year,
-            month: register(4) as u32,
-            day: register(3) as u32,
-            hour: register(2) as u32,
-            minute: register(1) as u32,
-            second: register(0) as u32,
+            month: register(self, 4) as u32,
+            day: register(self, 3) as u32,
+            hour: register(self, 2) as u32,
+            minute: register(self, 1) as u32,
+            second: register(self, 0) as u32,
             weekday: 0,
         });
-        let valid = (0..=5).all(|offset| register(offset) >= 0) && time.is_some_and(|t| self.set_calendar(t));
-        self.m[M_CLOCK_ERROR as usize] = u8::from(!valid);
+        let valid = (0..=5).all(|offset| register(self, offset) >= 0) && time.is_some_and(|t| self.set_calendar(t));
+        self.set_u8(Array::M, M_CLOCK_ERROR, u8::from(!valid));
         if !valid {
             self.write_clock_registers();
         }
@@ -264,7 +278,7 @@ impl Memory {
 
     fn write_clock_registers(&mut self) {
         let time = self.calendar();
-        let year = if self.calendar_flags & CALENDAR_FOUR_DIGIT_YEAR != 0 {
+        let year = if self.flag(CALENDAR_FOUR_DIGIT_YEAR) {
             time.year
         } else {
             time.year % 100
@@ -279,7 +293,7 @@ impl Memory {
             time.weekday,
         ];
         for (offset, value) in (0..).zip(fields) {
-            self.d[(D_CLOCK_FIRST + offset) as usize] = value as i16;
+            self.set_i16(Array::D, D_CLOCK_FIRST + offset, value as i16);
         }
     }
 
@@ -287,14 +301,13 @@ impl Memory {
     /// far (0.1 ms units, at most 32767).
     fn record_scan_time(&mut self, elapsed_ms: u32) {
         let tenths = elapsed_ms.saturating_mul(10).min(i16::MAX as u32) as i16;
-        let first = self.scan_count == 1;
-        let (min, max) = (D_SCAN_TIME_MIN as usize, D_SCAN_TIME_MAX as usize);
-        self.d[D_SCAN_TIME as usize] = tenths;
-        if first || tenths < self.d[min] {
-            self.d[min] = tenths;
+        let first = self.scalar(Scalar::ScanCount) == 1;
+        self.set_i16(Array::D, D_SCAN_TIME, tenths);
+        if first || tenths < self.get_i16(Array::D, D_SCAN_TIME_MIN) {
+            self.set_i16(Array::D, D_SCAN_TIME_MIN, tenths);
         }
-        if first || tenths > self.d[max] {
-            self.d[max] = tenths;
+        if first || tenths > self.get_i16(Array::D, D_SCAN_TIME_MAX) {
+            self.set_i16(Array::D, D_SCAN_TIME_MAX, tenths);
         }
     }
 }

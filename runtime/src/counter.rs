@@ -7,39 +7,41 @@
 //! inputs at the input refresh (`hsc.rs`) instead of counting its own edges.
 
 use crate::device::{is_wide_counter, COUNTER_COUNT, FIRST_WIDE_COUNTER};
-use crate::memory::{Memory, FORCE_NONE};
+use crate::image::ImageMut;
+use crate::layout::Array;
+use crate::memory::FORCE_NONE;
 use crate::special::M_COUNTER_DIRECTION_BASE;
 
-impl Memory {
+impl ImageMut<'_> {
     /// Executes `OUT Cn preset` with the rung result `coil`.
     pub fn counter_coil(&mut self, counter: u32, coil: bool, preset: i32) {
         if counter >= COUNTER_COUNT {
             return;
         }
-        let n = counter as usize;
-        let rising = coil && self.counter_coil_was_on[n] == 0;
-        self.counter_coil_was_on[n] = coil as u8;
-        if self.force_counter[n] != FORCE_NONE {
+        let rising = coil && self.get_u8(Array::CounterCoilWasOn, counter) == 0;
+        self.set_u8(Array::CounterCoilWasOn, counter, coil as u8);
+        if self.get_u8(Array::ForceCounter, counter) != FORCE_NONE {
             return; // a forced counter does not count
         }
         let value = if is_wide_counter(counter) {
-            let slot = n - FIRST_WIDE_COUNTER as usize;
+            let mut value = self.get_i32(Array::WideCounterValue, counter);
             // A high-speed counter's coil only enables counting (hsc.rs).
             if rising && counter < crate::hsc::FIRST_HSC {
-                let direction = M_COUNTER_DIRECTION_BASE as usize + slot;
-                let step = if self.m[direction] != 0 { -1 } else { 1 };
-                self.wide_counter_value[slot] = self.wide_counter_value[slot].wrapping_add(step);
+                let direction = M_COUNTER_DIRECTION_BASE + (counter - FIRST_WIDE_COUNTER);
+                let step = if self.get_u8(Array::M, direction) != 0 { -1 } else { 1 };
+                value = value.wrapping_add(step);
+                self.set_i32(Array::WideCounterValue, counter, value);
             }
-            self.wide_counter_value[slot]
+            value
         } else {
-            let value = i32::from(self.counter_value[n]);
+            let value = i32::from(self.get_i16(Array::CounterValue, counter));
             if rising && value < preset {
                 // value < preset <= i16::MAX, so the increment cannot overflow
-                self.counter_value[n] = (value + 1) as i16;
+                self.set_i16(Array::CounterValue, counter, (value + 1) as i16);
             }
-            i32::from(self.counter_value[n])
+            i32::from(self.get_i16(Array::CounterValue, counter))
         };
-        self.counter_contact[n] = (value >= preset) as u8;
+        self.set_u8(Array::CounterContact, counter, (value >= preset) as u8);
     }
 
     /// `RST Cn`: value and contact cleared (a forced contact keeps its value).
@@ -47,14 +49,13 @@ impl Memory {
         if counter >= COUNTER_COUNT {
             return;
         }
-        let n = counter as usize;
         if is_wide_counter(counter) {
-            self.wide_counter_value[n - FIRST_WIDE_COUNTER as usize] = 0;
+            self.set_i32(Array::WideCounterValue, counter, 0);
         } else {
-            self.counter_value[n] = 0;
+            self.set_i16(Array::CounterValue, counter, 0);
         }
-        if self.force_counter[n] == FORCE_NONE {
-            self.counter_contact[n] = 0;
+        if self.get_u8(Array::ForceCounter, counter) == FORCE_NONE {
+            self.set_u8(Array::CounterContact, counter, 0);
         }
     }
 }

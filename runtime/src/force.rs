@@ -4,7 +4,11 @@
 //! the forced value and its timer or counter stops timing or counting.
 
 use crate::device::BitArea;
-use crate::memory::{Memory, FORCE_NONE, FORCE_OFF, FORCE_ON};
+use crate::image::{Image, ImageMut};
+use crate::layout::{Array, Scalar};
+#[cfg(test)]
+use crate::memory::Memory;
+use crate::memory::{FORCE_NONE, FORCE_OFF, FORCE_ON};
 
 /// Why a force request was refused.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -13,6 +17,8 @@ pub enum ForceError {
     NotForceable,
     /// The device number is outside its area.
     OutOfRange,
+    /// The image's compact layout does not hold the device.
+    NotInImage,
 }
 
 impl core::fmt::Display for ForceError {
@@ -20,95 +26,100 @@ impl core::fmt::Display for ForceError {
         f.write_str(match self {
             ForceError::NotForceable => "only X, Y, M, T and C devices can be forced",
             ForceError::OutOfRange => "device number out of range",
+            ForceError::NotInImage => "the image (a compact layout) does not hold the device",
         })
     }
 }
 
 impl core::error::Error for ForceError {}
 
-impl Memory {
-    fn force_table_mut(&mut self, area: BitArea) -> Option<&mut [u8]> {
-        match area {
-            BitArea::X => Some(&mut self.force_x),
-            BitArea::Y => Some(&mut self.force_y),
-            BitArea::M => Some(&mut self.force_m),
-            BitArea::TimerContact => Some(&mut self.force_timer),
-            BitArea::CounterContact => Some(&mut self.force_counter),
-            BitArea::S | BitArea::Sm => None,
+/// The force table of a bit area; `None` for S and SM, which cannot be forced.
+fn force_table(area: BitArea) -> Option<Array> {
+    match area {
+        BitArea::X => Some(Array::ForceX),
+        BitArea::Y => Some(Array::ForceY),
+        BitArea::M => Some(Array::ForceM),
+        BitArea::TimerContact => Some(Array::ForceTimer),
+        BitArea::CounterContact => Some(Array::ForceCounter),
+        BitArea::S | BitArea::Sm => None,
+    }
+}
+
+impl<B: AsRef<[u8]>> Image<'_, B> {
+    /// The forced value of a device, or `None` when it is not forced.
+    pub fn forced(&self, area: BitArea, index: u32) -> Option<bool> {
+        match self.get_u8(force_table(area)?, index) {
+            FORCE_ON => Some(true),
+            FORCE_OFF => Some(false),
+            _ => None,
         }
     }
+}
 
-    fn force_table(&self, area: BitArea) -> Option<&[u8]> {
-        match area {
-            BitArea::X => Some(&self.force_x),
-            BitArea::Y => Some(&self.force_y),
-            BitArea::M => Some(&self.force_m),
-            BitArea::TimerContact => Some(&self.force_timer),
-            BitArea::CounterContact => Some(&self.force_counter),
-            BitArea::S | BitArea::Sm => None,
+impl ImageMut<'_> {
+    /// The force table entry of a device: refused for devices that cannot
+    /// be forced, outside the area, or not in the image.
+    fn force_entry(&self, area: BitArea, index: u32) -> Result<Array, ForceError> {
+        let table = force_table(area).ok_or(ForceError::NotForceable)?;
+        if index >= area.count() {
+            return Err(ForceError::OutOfRange);
         }
+        if !self.holds(table, index) {
+            return Err(ForceError::NotInImage);
+        }
+        Ok(table)
     }
 
     /// Forces a device ON or OFF until `unforce`. The device shows the forced
     /// value at once, so a monitor sees it before the next scan.
     pub fn force(&mut self, area: BitArea, index: u32, on: bool) -> Result<(), ForceError> {
-        let table = self.force_table_mut(area).ok_or(ForceError::NotForceable)?;
-        let entry = table.get_mut(index as usize).ok_or(ForceError::OutOfRange)?;
-        let was_forced = *entry != FORCE_NONE;
-        *entry = if on { FORCE_ON } else { FORCE_OFF };
+        let table = self.force_entry(area, index)?;
+        let was_forced = self.get_u8(table, index) != FORCE_NONE;
+        self.set_u8(table, index, if on { FORCE_ON } else { FORCE_OFF });
         if !was_forced {
-            self.forced_count += 1;
+            let count = self.scalar(Scalar::ForcedCount);
+            self.set_scalar(Scalar::ForcedCount, count + 1);
         }
-        self.bits_mut(area)[index as usize] = on as u8;
+        self.set_bit(area, index, on);
         Ok(())
     }
 
     /// Ends a force. An unforced X shows the input image again at once; other
     /// devices keep their value until the program changes it.
     pub fn unforce(&mut self, area: BitArea, index: u32) -> Result<(), ForceError> {
-        let table = self.force_table_mut(area).ok_or(ForceError::NotForceable)?;
-        let entry = table.get_mut(index as usize).ok_or(ForceError::OutOfRange)?;
-        if *entry == FORCE_NONE {
+        let table = self.force_entry(area, index)?;
+        if self.get_u8(table, index) == FORCE_NONE {
             return Ok(());
         }
-        *entry = FORCE_NONE;
-        self.forced_count -= 1;
+        self.set_u8(table, index, FORCE_NONE);
+        let count = self.scalar(Scalar::ForcedCount);
+        self.set_scalar(Scalar::ForcedCount, count.saturating_sub(1));
         if area == BitArea::X {
-            self.x[index as usize] = self.input_image[index as usize];
+            let input = self.get_u8(Array::InputImage, index);
+            self.set_u8(Array::X, index, input);
         }
         Ok(())
     }
 
-    /// The forced value of a device, or `None` when it is not forced.
-    pub fn forced(&self, area: BitArea, index: u32) -> Option<bool> {
-        match self.force_table(area)?.get(index as usize).copied()? {
-            FORCE_ON => Some(true),
-            FORCE_OFF => Some(false),
-            _ => None,
-        }
-    }
-
     /// Step 1: forced X, and forced T/C contacts, before the program runs.
     pub(crate) fn apply_forced_inputs(&mut self) {
-        apply(&self.force_x, &mut self.x);
-        apply(&self.force_timer, &mut self.timer_contact);
-        apply(&self.force_counter, &mut self.counter_contact);
+        self.zip_bytes(Array::ForceX, Array::X, apply);
+        self.zip_bytes(Array::ForceTimer, Array::TimerContact, apply);
+        self.zip_bytes(Array::ForceCounter, Array::CounterContact, apply);
     }
 
     /// Step 4: forced Y and M over the program's results.
     pub(crate) fn apply_forced_outputs(&mut self) {
-        apply(&self.force_y, &mut self.y);
-        apply(&self.force_m, &mut self.m);
+        self.zip_bytes(Array::ForceY, Array::Y, apply);
+        self.zip_bytes(Array::ForceM, Array::M, apply);
     }
 }
 
-fn apply(table: &[u8], devices: &mut [u8]) {
-    for (device, &entry) in devices.iter_mut().zip(table) {
-        match entry {
-            FORCE_ON => *device = 1,
-            FORCE_OFF => *device = 0,
-            _ => {}
-        }
+fn apply(entry: &mut u8, device: &mut u8) {
+    match *entry {
+        FORCE_ON => *device = 1,
+        FORCE_OFF => *device = 0,
+        _ => {}
     }
 }
 

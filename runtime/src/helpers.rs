@@ -12,10 +12,12 @@
 //! The reference interpreter does not call these: it implements the same
 //! rules on its own, and the differential test compares the two.
 
+use crate::capi::LadderMemory;
 use crate::compiled::{self, SortJob, TableOp, Zone};
 use crate::device::BitArea;
 use crate::host::Width;
-use crate::memory::Memory;
+use crate::image::ImageMut;
+use crate::layout::Array;
 use crate::place::Place;
 use crate::special::OperationError;
 
@@ -204,11 +206,14 @@ macro_rules! helpers {
             /// `mem` is null or the program's device image, not in use elsewhere.
             #[no_mangle]
             pub unsafe extern "C" fn $name(
-                $mem: *mut Memory $(, $param: param_type!($kind))*
+                $mem: *mut LadderMemory $(, $param: param_type!($kind))*
             ) -> param_type!($ret) {
                 // SAFETY: the caller passes the image it was given.
-                match unsafe { $mem.as_mut() } {
-                    Some($mem) => $body,
+                match unsafe { ImageMut::from_raw($mem.cast()) } {
+                    Some(mut image) => {
+                        let $mem = &mut image;
+                        $body
+                    }
                     None => Default::default(),
                 }
             }
@@ -328,7 +333,7 @@ helpers! {
                 key,
                 row_major,
                 width: if flags & SORT_WIDE != 0 { Width::Double } else { Width::Single },
-                descending: row_major && mem.sm[crate::special::SM_DESCENDING.number as usize] != 0,
+                descending: row_major && mem.get_u8(Array::Sm, crate::special::SM_DESCENDING.number) != 0,
                 at_once: flags & SORT_AT_ONCE != 0,
             };
             compiled::sort_scan(mem, instance, &job, line)
@@ -642,16 +647,24 @@ pub fn width_arg(width: Width) -> u32 {
     width.words()
 }
 
-/// Steps 1-2 of the scan, for the scan entry point of compiled objects. The
-/// symbol carries the layout tag (`layout::TAGGED_BEGIN_SCAN`).
+/// Steps 1-2 of the scan, for the scan entry point of compiled objects,
+/// which passes the layout table it was compiled for (null: the full
+/// layout). Returns 1 when the image has that layout and the scan may go
+/// on; 0, doing nothing, for an image of another layout (or none), whose
+/// devices the program's code would miss. The symbol carries the layout
+/// rules' tag (`layout::TAGGED_BEGIN_SCAN`).
 ///
 /// # Safety
 /// `mem` is null or the program's device image.
-#[export_name = "ladder_rt_begin_scan_v4_666504"]
-pub unsafe extern "C" fn ladder_rt_begin_scan(mem: *mut Memory, elapsed_ms: u32) {
+#[export_name = "ladder_rt_begin_scan_v5_666520"]
+pub unsafe extern "C" fn ladder_rt_begin_scan(mem: *mut LadderMemory, elapsed_ms: u32, layout: *const u32) -> u32 {
     // SAFETY: the caller passes the image it was given.
-    if let Some(mem) = unsafe { mem.as_mut() } {
-        mem.begin_scan(elapsed_ms);
+    match unsafe { ImageMut::from_raw(mem.cast()) } {
+        Some(mut image) if image.has_layout(layout.cast()) => {
+            image.begin_scan(elapsed_ms);
+            1
+        }
+        _ => 0,
     }
 }
 
@@ -697,10 +710,11 @@ mod tests {
 
     #[test]
     fn record_error_takes_known_codes_only() {
-        let mut mem = Memory::new_boxed();
-        unsafe { ladder_rt_record_error(&mut *mem, 0x1234, 9) };
+        let mut mem = crate::memory::Memory::new_boxed();
+        let image = (&mut *mem as *mut crate::memory::Memory).cast();
+        unsafe { ladder_rt_record_error(image, 0x1234, 9) };
         assert_eq!(mem.operation_error(), None);
-        unsafe { ladder_rt_record_error(&mut *mem, 0x4086, 9) };
+        unsafe { ladder_rt_record_error(image, 0x4086, 9) };
         assert_eq!(mem.operation_error(), Some(0x4086));
     }
 }

@@ -7,6 +7,8 @@
 //! or a compiled program's image in another process.
 
 use crate::device::{BitArea, WordArea, FIRST_WIDE_COUNTER};
+use crate::image::{AsImage, Image, ImageMut, ImageRef};
+use crate::layout::Array;
 use crate::memory::{join_words, split_words, Memory};
 
 /// One device a host can read or write.
@@ -69,6 +71,9 @@ pub enum AccessError {
     OutOfRange,
     /// A write through a read-only view of the image.
     ReadOnly,
+    /// The device is in range, but the image (a compact layout) does not
+    /// hold it.
+    NotInImage,
     /// The image could not be reached (a host process that went away).
     #[cfg(feature = "std")]
     Unreachable(String),
@@ -162,31 +167,7 @@ fn digit_limit(width: Width) -> u8 {
     }
 }
 
-impl BasicAccess for Memory {
-    fn read_basic(&mut self, device: Basic) -> Result<i32, AccessError> {
-        self.basic(device).ok_or(AccessError::OutOfRange)
-    }
-
-    fn write_basic(&mut self, device: Basic, value: i32) -> Result<(), AccessError> {
-        let written = match device {
-            // Inputs go to the input image; X takes them at the next scan's
-            // input refresh, never in the middle of a scan.
-            Basic::Bit(BitArea::X, n) => match self.input_image.get_mut(n as usize) {
-                Some(image) => {
-                    *image = (value != 0) as u8;
-                    true
-                }
-                None => false,
-            },
-            Basic::Bit(area, n) => self.set_bit(area, n, value != 0),
-            Basic::Word(area, n) => self.set_word(area, n, value as i16),
-            Basic::WideCounter(n) => self.set_wide_counter(n, value),
-        };
-        written.then_some(()).ok_or(AccessError::OutOfRange)
-    }
-}
-
-impl Memory {
+impl<B: AsRef<[u8]>> Image<'_, B> {
     /// Reads a basic device: bits as 0/1, words sign-extended, 32-bit counter
     /// values whole; `None` out of range.
     pub fn basic(&self, device: Basic) -> Option<i32> {
@@ -197,12 +178,25 @@ impl Memory {
         }
     }
 
+    /// Does the image hold the device (always, with the full layout; a
+    /// compact one holds what its program and host use)? An input also
+    /// needs its input image, which a compact layout holds with it.
+    pub fn holds_basic(&self, device: Basic) -> bool {
+        match device {
+            Basic::Bit(area, n) => self.holds(Array::of_bits(area), n),
+            Basic::Word(area, n) => self.holds(Array::of_words(area), n),
+            Basic::WideCounter(n) => self.holds(Array::WideCounterValue, n),
+        }
+    }
+
     /// Reads a device; words are sign-extended. `None` when out of range or
     /// when the width does not fit the device.
     pub fn read_device(&self, device: Device, width: Width) -> Option<i32> {
-        read_composite(&mut ReadOnly(self), device, width).ok()
+        read_composite(&mut ReadOnly(self.as_image()), device, width).ok()
     }
+}
 
+impl ImageMut<'_> {
     /// Writes a device as a host or programming tool would (not forced).
     /// Writing X sets the input image (and X itself unless X is forced).
     /// Returns false when out of range or the width does not fit.
@@ -211,12 +205,64 @@ impl Memory {
     }
 }
 
+/// Out of range, or in range but not in the image.
+fn basic_error<B: AsRef<[u8]>>(image: &Image<'_, B>, device: Basic) -> AccessError {
+    let in_area = match device {
+        Basic::Bit(area, n) => n < area.count(),
+        Basic::Word(area, n) => n < area.count(),
+        Basic::WideCounter(n) => (FIRST_WIDE_COUNTER..Array::WideCounterValue.end()).contains(&n),
+    };
+    if in_area && !image.holds_basic(device) {
+        AccessError::NotInImage
+    } else {
+        AccessError::OutOfRange
+    }
+}
+
+pub(crate) fn read_held<B: AsRef<[u8]>>(image: &Image<'_, B>, device: Basic) -> Result<i32, AccessError> {
+    match image.basic(device) {
+        Some(value) if image.holds_basic(device) => Ok(value),
+        _ => Err(basic_error(image, device)),
+    }
+}
+
+impl BasicAccess for ImageMut<'_> {
+    fn read_basic(&mut self, device: Basic) -> Result<i32, AccessError> {
+        read_held(self, device)
+    }
+
+    fn write_basic(&mut self, device: Basic, value: i32) -> Result<(), AccessError> {
+        if !self.holds_basic(device) {
+            return Err(basic_error(self, device));
+        }
+        let written = match device {
+            // Inputs go to the input image; X takes them at the next scan's
+            // input refresh, never in the middle of a scan.
+            Basic::Bit(BitArea::X, n) => self.set_u8(Array::InputImage, n, (value != 0) as u8),
+            Basic::Bit(area, n) => self.set_bit(area, n, value != 0),
+            Basic::Word(area, n) => self.set_word(area, n, value as i16),
+            Basic::WideCounter(n) => self.set_wide_counter(n, value),
+        };
+        written.then_some(()).ok_or(AccessError::OutOfRange)
+    }
+}
+
+impl BasicAccess for Memory {
+    fn read_basic(&mut self, device: Basic) -> Result<i32, AccessError> {
+        self.image().read_basic(device)
+    }
+
+    fn write_basic(&mut self, device: Basic, value: i32) -> Result<(), AccessError> {
+        self.image().write_basic(device, value)
+    }
+}
+
 /// Reads of a shared image through `BasicAccess`.
-struct ReadOnly<'a>(&'a Memory);
+struct ReadOnly<'a>(ImageRef<'a>);
 
 impl BasicAccess for ReadOnly<'_> {
     fn read_basic(&mut self, device: Basic) -> Result<i32, AccessError> {
-        self.0.basic(device).ok_or(AccessError::OutOfRange)
+        read_held(&self.0, device)
     }
 
     fn write_basic(&mut self, _: Basic, _: i32) -> Result<(), AccessError> {

@@ -16,8 +16,12 @@
 //! (ON: down). A reset input holds the counter at 0 while ON; a start input
 //! lets it count only while ON.
 
-use crate::device::{FIRST_WIDE_COUNTER, HSC_INPUTS};
-use crate::memory::{Memory, FORCE_NONE};
+use crate::device::HSC_INPUTS;
+use crate::image::ImageMut;
+use crate::layout::Array;
+#[cfg(test)]
+use crate::memory::Memory;
+use crate::memory::FORCE_NONE;
 use crate::place::Place;
 
 /// The first high-speed counter.
@@ -112,31 +116,38 @@ fn compare_of(phase: u32) -> Option<(HscCompare, u32)> {
     Some((kind, phase >> 8))
 }
 
-impl Memory {
+impl ImageMut<'_> {
     /// Adds `count` rising edges of input X`input` (0-7) before the next
-    /// input refresh; false for another input.
+    /// input refresh; false for another input. A compact image of a
+    /// program without high-speed counters takes them and drops them:
+    /// nothing would count them.
     pub fn add_pulses(&mut self, input: u32, count: u32) -> bool {
-        match self.pulses_pending.get_mut(input as usize) {
-            Some(pending) => {
-                *pending = pending.saturating_add(count);
-                true
-            }
-            None => false,
+        if input >= HSC_INPUTS {
+            return false;
         }
+        let pending = self.get_u32(Array::PulsesPending, input);
+        self.set_u32(Array::PulsesPending, input, pending.saturating_add(count));
+        true
     }
 
     /// At the input refresh (after forces): the rising edges of X0-X7 since
     /// the previous refresh, then every high-speed counter counts them.
     pub(crate) fn refresh_high_speed_inputs(&mut self, previous: [u8; HSC_INPUTS as usize]) {
+        if !self.holds(Array::InputEdges, 0) {
+            return; // a compact image of a program without high-speed counters
+        }
         let mut any = false;
-        for (i, edges) in self.input_edges.iter_mut().enumerate() {
-            let level_rose = u32::from(self.x[i] != 0 && previous[i] == 0);
-            *edges = level_rose.saturating_add(core::mem::take(&mut self.pulses_pending[i]));
-            any |= *edges != 0;
+        for (input, &before) in (0..).zip(previous.iter()) {
+            let level_rose = u32::from(self.get_u8(Array::X, input) != 0 && before == 0);
+            let pending = self.get_u32(Array::PulsesPending, input);
+            self.set_u32(Array::PulsesPending, input, 0);
+            let edges = level_rose.saturating_add(pending);
+            self.set_u32(Array::InputEdges, input, edges);
+            any |= edges != 0;
         }
         // Reset inputs act on levels, so they are looked at every scan.
         for counter in FIRST_HSC..=LAST_HSC {
-            if self.counter_coil_was_on[counter as usize] != 0 {
+            if self.get_u8(Array::CounterCoilWasOn, counter) != 0 {
                 self.count_high_speed(counter, any);
             }
         }
@@ -146,48 +157,47 @@ impl Memory {
         let Some(wiring) = wiring(counter) else {
             return;
         };
-        let n = counter as usize;
-        if self.force_counter[n] != FORCE_NONE {
+        if self.get_u8(Array::ForceCounter, counter) != FORCE_NONE {
             return; // a forced counter does not count
         }
-        let slot = n - FIRST_WIDE_COUNTER as usize;
-        let before = self.wide_counter_value[slot];
-        if wiring.reset.is_some_and(|x| self.x[x as usize] != 0) {
+        let before = self.get_i32(Array::WideCounterValue, counter);
+        let level = |image: &Self, x: u8| image.get_u8(Array::X, u32::from(x)) != 0;
+        if wiring.reset.is_some_and(|x| level(self, x)) {
             // A reset is no count: like a value the program writes, it is
             // not compared (DHSCS/DHSCR/DHSZ act on counting only).
-            self.wide_counter_value[slot] = 0;
+            self.set_i32(Array::WideCounterValue, counter, 0);
             return;
         }
-        if !any_edges || wiring.start.is_some_and(|x| self.x[x as usize] == 0) {
+        if !any_edges || wiring.start.is_some_and(|x| !level(self, x)) {
             return;
         }
-        let edges = |input: u8| i64::from(self.input_edges[input as usize]);
-        let direction_relay = (M_HSC_DIRECTION_BASE + counter) as usize;
+        let edges = |image: &Self, input: u8| i64::from(image.get_u32(Array::InputEdges, u32::from(input)));
+        let direction_relay = M_HSC_DIRECTION_BASE + counter;
         let steps = match wiring.inputs {
             HscInputs::OnePhase { input } => {
-                let down = self.m[direction_relay] != 0;
+                let down = self.get_u8(Array::M, direction_relay) != 0;
                 if down {
-                    -edges(input)
+                    -edges(self, input)
                 } else {
-                    edges(input)
+                    edges(self, input)
                 }
             }
             HscInputs::TwoInputs { up, down } => {
-                let (ups, downs) = (edges(up), edges(down));
+                let (ups, downs) = (edges(self, up), edges(self, down));
                 if ups != downs {
-                    self.m[direction_relay] = u8::from(downs > ups);
+                    self.set_u8(Array::M, direction_relay, u8::from(downs > ups));
                 }
                 ups - downs
             }
             HscInputs::TwoPhase { a, b } => {
-                let down = self.x[b as usize] != 0;
-                if edges(a) != 0 {
-                    self.m[direction_relay] = u8::from(down);
+                let down = level(self, b);
+                if edges(self, a) != 0 {
+                    self.set_u8(Array::M, direction_relay, u8::from(down));
                 }
                 if down {
-                    -edges(a)
+                    -edges(self, a)
                 } else {
-                    edges(a)
+                    edges(self, a)
                 }
             }
         };
@@ -201,36 +211,41 @@ impl Memory {
     /// The counter moves from `before` to `after`; the compares registered
     /// on it see every value it passes.
     fn set_high_speed_value(&mut self, counter: u32, before: i32, after: i32) {
-        let slot = (counter - FIRST_WIDE_COUNTER) as usize;
-        self.wide_counter_value[slot] = after;
+        self.set_i32(Array::WideCounterValue, counter, after);
         if before == after {
             return;
         }
-        for index in 0..self.instance.len() {
-            let state = self.instance[index];
-            let Some((kind, registered)) = compare_of(state.phase) else {
-                continue;
-            };
-            if registered != counter {
-                continue;
-            }
-            let Some(destination) = Place::unpack(state.c as u32) else {
-                continue;
-            };
-            match kind {
-                HscCompare::Set | HscCompare::Reset => {
-                    // Reached: the value lies on the way from before
-                    // (excluded) to after (included).
-                    let (low, high) = if after > before {
-                        (i64::from(before) + 1, i64::from(after))
-                    } else {
-                        (i64::from(after), i64::from(before) - 1)
-                    };
-                    if (low..=high).contains(&i64::from(state.a)) {
-                        destination.write(self, crate::Width::Single, i64::from(kind == HscCompare::Set));
-                    }
+        // The instances the image holds (one segment: a copy of its run).
+        let run = self.layout().runs[Array::Instance.segments().start];
+        {
+            for index in run.first..run.first.saturating_add(run.count) {
+                let Some(state) = self.instance(index) else {
+                    continue;
+                };
+                let Some((kind, registered)) = compare_of(state.phase) else {
+                    continue;
+                };
+                if registered != counter {
+                    continue;
                 }
-                HscCompare::Zone => self.write_zone(destination, state.a, state.b, after),
+                let Some(destination) = Place::unpack(state.c as u32) else {
+                    continue;
+                };
+                match kind {
+                    HscCompare::Set | HscCompare::Reset => {
+                        // Reached: the value lies on the way from before
+                        // (excluded) to after (included).
+                        let (low, high) = if after > before {
+                            (i64::from(before) + 1, i64::from(after))
+                        } else {
+                            (i64::from(after), i64::from(before) - 1)
+                        };
+                        if (low..=high).contains(&i64::from(state.a)) {
+                            destination.write(self, crate::Width::Single, i64::from(kind == HscCompare::Set));
+                        }
+                    }
+                    HscCompare::Zone => self.write_zone(destination, state.a, state.b, after),
+                }
             }
         }
     }
@@ -258,11 +273,12 @@ impl Memory {
         values: [i32; 2],
         destination: u32,
     ) {
-        let Some(state) = self.instance.get_mut(instance as usize) else {
+        let Some(mut state) = self.instance(instance) else {
             return;
         };
         if !power || wiring(counter).is_none() {
             state.phase = 0;
+            self.set_instance(instance, state);
             return;
         }
         let first = state.phase == 0;
@@ -270,6 +286,7 @@ impl Memory {
         state.a = values[0];
         state.b = values[1];
         state.c = destination as i32;
+        self.set_instance(instance, state);
         if kind == HscCompare::Zone && first {
             if let (Some(place), Some(value)) = (Place::unpack(destination), self.wide_counter(counter)) {
                 self.write_zone(place, values[0], values[1], value);

@@ -1,15 +1,24 @@
-//! The device image: every device, plus the per-program bookkeeping the scan
-//! needs (timer remainders, edge slots, STL flags, forces).
+//! The device image with the full layout: every device, plus the
+//! per-program bookkeeping the scan needs (timer remainders, edge slots, STL
+//! flags, forces).
 //!
 //! The struct is `#[repr(C)]` so native code and C hosts address fields by
-//! fixed offsets (see `layout`). All-zero bytes are a valid, freshly
-//! initialised image: that is the state a firmware host gets from `memset`.
+//! fixed offsets (see `layout`). Apart from its header, all-zero bytes are a
+//! valid, freshly initialised image; `new_boxed` and `ladder_init` write the
+//! header, without which the C API and compiled code refuse the image.
 
+use crate::calendar::CalendarTime;
 use crate::device::{
     BitArea, WordArea, COUNTER_COUNT, EDGE_SLOT_COUNT, HSC_INPUTS, PULSE_OUTPUTS, SORT_INSTANCES, STATE_COUNT,
     STATE_INSTANCES, TIMER_COUNT, WIDE_COUNTER_COUNT,
 };
-use crate::special::{OperationError, D_ERROR_CODE, D_ERROR_LINE, M_OPERATION_ERROR};
+use crate::force::ForceError;
+use crate::host::{Basic, Device, Width};
+use crate::hsc::HscCompare;
+use crate::image::{AsImage, AsImageMut, ImageMut, ImageRef};
+use crate::layout::ImageHeader;
+use crate::pulse::PulseRequest;
+use crate::special::OperationError;
 use bytemuck::{Pod, Zeroable};
 
 const IO_POINTS: usize = BitArea::X.count() as usize;
@@ -17,10 +26,42 @@ const STATES: usize = STATE_COUNT as usize;
 const TIMERS: usize = TIMER_COUNT as usize;
 const COUNTERS: usize = COUNTER_COUNT as usize;
 
-/// Device memory of one running program. Bits are one byte each (0 or 1).
+/// The device image with the full layout: every device of the machine
+/// model, plus the per-program bookkeeping the scan needs (timer
+/// remainders, edge slots, STL flags, forces). The runtime reads and writes
+/// it through `Image` (`image.rs`), as it does compact images; the fields
+/// are for code that knows it has the full layout (the interpreter, hosts).
+/// Arrays are in `layout::Array` order. Bits are one byte each (0 or 1).
 #[derive(Clone, Copy, Zeroable, Pod)]
 #[repr(C)]
 pub struct Memory {
+    /// Which layout this is (`ImageHeader::FULL`; `new_boxed` writes it).
+    pub header: ImageHeader,
+
+    // ---- the scan's scalars (`layout::Scalar`) ----
+    /// Number of devices currently forced (lets the scan skip the tables).
+    pub forced_count: u32,
+    /// Non-zero when some `stl_pending_off` entry is set.
+    pub stl_pending_any: u32,
+    /// Milliseconds the host reported for the current scan.
+    pub elapsed_ms: u32,
+    /// Completed scans since initialisation (saturating).
+    pub scan_count: u32,
+    /// The elapsed times reported to all scans so far, this one included,
+    /// modulo one minute (the clock relays M8011-M8014 follow it).
+    pub clock_ms: u32,
+    /// FOR/NEXT repetitions in the current scan (the loop watchdog).
+    pub loop_repetitions: u32,
+    /// The calendar clock (D8013-D8019): seconds since 1980-01-01 00:00:00
+    /// and milliseconds below the second.
+    pub calendar_seconds: u32,
+    pub calendar_ms: u32,
+    /// `CALENDAR_FOUR_DIGIT_YEAR`: D8018 shows four digits.
+    pub calendar_flags: u32,
+    /// Writes by the program to devices the image lacks (only a compact
+    /// layout can lack one; see `image.rs`).
+    pub layout_misses: u32,
+
     // ---- bit devices ----
     pub x: [u8; IO_POINTS],
     pub y: [u8; IO_POINTS],
@@ -69,19 +110,6 @@ pub struct Memory {
     pub force_m: [u8; BitArea::M.count() as usize],
     pub force_timer: [u8; TIMERS],
     pub force_counter: [u8; COUNTERS],
-    /// Number of devices currently forced (lets the scan skip the tables).
-    pub forced_count: u32,
-    /// Non-zero when some `stl_pending_off` entry is set.
-    pub stl_pending_any: u32,
-    /// Milliseconds the host reported for the current scan.
-    pub elapsed_ms: u32,
-    /// Completed scans since initialisation (saturating).
-    pub scan_count: u32,
-    /// The elapsed times reported to all scans so far, this one included,
-    /// modulo one minute (the clock relays M8011-M8014 follow it).
-    pub clock_ms: u32,
-    /// FOR/NEXT repetitions in the current scan (the loop watchdog).
-    pub loop_repetitions: u32,
 
     // ---- the machine around the program (hsc.rs, pulse.rs, calendar.rs) ----
     /// Rising edges a host reported for X0-X7 since the previous input
@@ -100,14 +128,6 @@ pub struct Memory {
     /// Pulses × 1000 not yet output (frequency × milliseconds carried to
     /// the next scan), per pulse output.
     pub pulse_remainder: [u32; PULSE_OUTPUTS as usize],
-    /// The calendar clock (D8013-D8019): seconds since 1980-01-01 00:00:00
-    /// and milliseconds below the second.
-    pub calendar_seconds: u32,
-    pub calendar_ms: u32,
-    /// `CALENDAR_FOUR_DIGIT_YEAR`: D8018 shows four digits.
-    pub calendar_flags: u32,
-    /// Padding, kept 0, so that the layout has no implicit holes.
-    pub reserved: u32,
 
     // ---- special-function units (last: the largest area) ----
     /// Buffer memories of units 0-7 (`Un\Gm`).
@@ -143,10 +163,23 @@ pub const FORCE_OFF: u8 = 1;
 pub const FORCE_ON: u8 = 2;
 
 impl Memory {
-    /// A freshly initialised image on the heap (it is too large for most stacks).
+    /// A freshly initialised image on the heap (it is too large for most
+    /// stacks): every device 0, the header written.
     #[cfg(feature = "std")]
     pub fn new_boxed() -> Box<Memory> {
-        bytemuck::zeroed_box()
+        let mut mem: Box<Memory> = bytemuck::zeroed_box();
+        mem.header = ImageHeader::FULL;
+        mem
+    }
+
+    /// The image, to read through the runtime's code.
+    pub fn view(&self) -> ImageRef<'_> {
+        self.as_image()
+    }
+
+    /// The image, to read and write through the runtime's code.
+    pub fn image(&mut self) -> ImageMut<'_> {
+        self.as_image_mut()
     }
 
     pub fn bits(&self, area: BitArea) -> &[u8] {
@@ -197,131 +230,124 @@ impl Memory {
         }
     }
 
-    /// Reads bit `index` of `area`; `None` when it is outside the area.
-    pub fn bit(&self, area: BitArea, index: u32) -> Option<bool> {
-        self.bits(area).get(index as usize).map(|&b| b != 0)
-    }
-
-    /// Writes bit `index` of `area`; returns false when it is outside the area.
-    pub fn set_bit(&mut self, area: BitArea, index: u32, on: bool) -> bool {
-        match self.bits_mut(area).get_mut(index as usize) {
-            Some(cell) => {
-                *cell = on as u8;
-                true
-            }
-            None => false,
-        }
-    }
-
-    pub fn word(&self, area: WordArea, index: u32) -> Option<i16> {
-        self.words(area).get(index as usize).copied()
-    }
-
-    pub fn set_word(&mut self, area: WordArea, index: u32, value: i16) -> bool {
-        match self.words_mut(area).get_mut(index as usize) {
-            Some(cell) => {
-                *cell = value;
-                true
-            }
-            None => false,
-        }
-    }
-
-    /// 32-bit value of the pair (index+1, index): low word at `index`. A
-    /// pair never crosses the end of its run (a buffer memory's unit).
-    pub fn word_pair(&self, area: WordArea, index: u32) -> Option<i32> {
-        let high_index = Self::pair_high(area, index)?;
-        Some(join_words(self.word(area, index)?, self.word(area, high_index)?))
-    }
-
-    pub fn set_word_pair(&mut self, area: WordArea, index: u32, value: i32) -> bool {
-        let Some(high_index) = Self::pair_high(area, index) else {
-            return false;
-        };
-        let (low, high) = split_words(value);
-        self.set_word(area, index, low) && self.set_word(area, high_index, high)
-    }
-
-    fn pair_high(area: WordArea, index: u32) -> Option<u32> {
-        let high_index = index.checked_add(1)?;
-        (index < area.count() && high_index < area.reach(index).1).then_some(high_index)
-    }
-
-    /// Current value of counter C200–C255 (`counter` is the device number).
-    pub fn wide_counter(&self, counter: u32) -> Option<i32> {
-        let slot = counter.checked_sub(crate::device::FIRST_WIDE_COUNTER)?;
-        self.wide_counter_value.get(slot as usize).copied()
-    }
-
-    pub fn set_wide_counter(&mut self, counter: u32, value: i32) -> bool {
-        let Some(slot) = counter.checked_sub(crate::device::FIRST_WIDE_COUNTER) else {
-            return false;
-        };
-        match self.wide_counter_value.get_mut(slot as usize) {
-            Some(cell) => {
-                *cell = value;
-                true
-            }
-            None => false,
-        }
-    }
-
-    /// Value of the 4·`digits` consecutive bits starting at `start`
-    /// (`KnM0`): first device is bit 0; missing high bits read as 0.
-    pub fn digits(&self, area: BitArea, start: u32, digits: u32) -> Option<i32> {
-        let bits = self.bits(area);
-        let count = 4 * digits as usize;
-        let slice = bits.get(start as usize..(start as usize).checked_add(count)?)?;
-        Some(
-            slice
-                .iter()
-                .enumerate()
-                .fold(0u32, |acc, (i, &b)| acc | (u32::from(b != 0) << i)) as i32,
-        )
-    }
-
-    /// Writes the low 4·`digits` bits of `value` to the bits from `start`.
-    pub fn set_digits(&mut self, area: BitArea, start: u32, digits: u32, value: i32) -> bool {
-        let count = 4 * digits as usize;
-        let bits = self.bits_mut(area);
-        let Some(end) = (start as usize).checked_add(count) else {
-            return false;
-        };
-        let Some(slice) = bits.get_mut(start as usize..end) else {
-            return false;
-        };
-        for (i, cell) in slice.iter_mut().enumerate() {
-            *cell = ((value as u32 >> i) & 1) as u8;
-        }
-        true
-    }
-
-    /// Records an operation error: M8067 ON, D8067 = code, D8069 = line.
-    /// Errors stay until the program or the host clears them.
-    pub fn record_error(&mut self, error: OperationError, line: u32) {
-        self.m[M_OPERATION_ERROR as usize] = 1;
-        self.d[D_ERROR_CODE as usize] = error.code() as i16;
-        // D8069 is one word: lines past 32767 keep their low 16 bits.
-        self.d[D_ERROR_LINE as usize] = line as u16 as i16;
-    }
-
-    /// The latest operation error code, when M8067 is ON.
-    pub fn operation_error(&self) -> Option<u16> {
-        (self.m[M_OPERATION_ERROR as usize] != 0).then(|| self.d[D_ERROR_CODE as usize] as u16)
-    }
-}
-
-impl Memory {
     /// FNV-1a over the image's 64-bit little-endian words: how test drivers
     /// (and hosts) compare whole images cheaply.
     pub fn digest(&self) -> u64 {
-        bytemuck::bytes_of(self)
-            .chunks_exact(8)
-            .fold(0xcbf2_9ce4_8422_2325u64, |hash, word| {
-                let mut bytes = [0u8; 8];
-                bytes.copy_from_slice(word);
-                (hash ^ u64::from_le_bytes(bytes)).wrapping_mul(0x0000_0100_0000_01b3)
-            })
+        self.view().digest()
+    }
+}
+
+/// Methods of `Image` offered on `Memory`: one piece of code, since
+/// `Memory` is an image with the full layout.
+macro_rules! through_image {
+    (view: $(
+        $(#[$doc:meta])*
+        fn $name:ident(&self $(, $arg:ident: $ty:ty)*) $(-> $ret:ty)?;
+    )*) => {
+        impl Memory {
+            $(
+                $(#[$doc])*
+                pub fn $name(&self $(, $arg: $ty)*) $(-> $ret)? {
+                    self.view().$name($($arg),*)
+                }
+            )*
+        }
+    };
+    (image: $(
+        $(#[$doc:meta])*
+        fn $name:ident(&mut self $(, $arg:ident: $ty:ty)*) $(-> $ret:ty)?;
+    )*) => {
+        impl Memory {
+            $(
+                $(#[$doc])*
+                pub fn $name(&mut self $(, $arg: $ty)*) $(-> $ret)? {
+                    self.image().$name($($arg),*)
+                }
+            )*
+        }
+    };
+}
+
+through_image! {
+    view:
+    /// Reads bit `index` of `area`; `None` when it is outside the area.
+    fn bit(&self, area: BitArea, index: u32) -> Option<bool>;
+    fn word(&self, area: WordArea, index: u32) -> Option<i16>;
+    /// 32-bit value of the pair (index+1, index): low word at `index`. A
+    /// pair never crosses the end of its run (a buffer memory's unit).
+    fn word_pair(&self, area: WordArea, index: u32) -> Option<i32>;
+    /// Current value of counter C200–C255 (`counter` is the device number).
+    fn wide_counter(&self, counter: u32) -> Option<i32>;
+    /// Value of the 4·`digits` consecutive bits starting at `start`
+    /// (`KnM0`): first device is bit 0.
+    fn digits(&self, area: BitArea, start: u32, digits: u32) -> Option<i32>;
+    /// The latest operation error code, when M8067 is ON.
+    fn operation_error(&self) -> Option<u16>;
+    /// The forced value of a device, or `None` when it is not forced.
+    fn forced(&self, area: BitArea, index: u32) -> Option<bool>;
+    /// The current address of pulse output Y`output` (`pulse.rs`).
+    fn current_address(&self, output: u32) -> i32;
+    /// The calendar clock's time now.
+    fn calendar(&self) -> CalendarTime;
+    /// Reads a basic device (`host.rs`).
+    fn basic(&self, device: Basic) -> Option<i32>;
+    /// Reads a device as a host would (`host.rs`).
+    fn read_device(&self, device: Device, width: Width) -> Option<i32>;
+}
+
+through_image! {
+    image:
+    /// Writes bit `index` of `area`; returns false when it is outside the area.
+    fn set_bit(&mut self, area: BitArea, index: u32, on: bool) -> bool;
+    fn set_word(&mut self, area: WordArea, index: u32, value: i16) -> bool;
+    fn set_word_pair(&mut self, area: WordArea, index: u32, value: i32) -> bool;
+    fn set_wide_counter(&mut self, counter: u32, value: i32) -> bool;
+    /// Writes the low 4·`digits` bits of `value` to the bits from `start`.
+    fn set_digits(&mut self, area: BitArea, start: u32, digits: u32, value: i32) -> bool;
+    /// Records an operation error: M8067 ON, D8067 = code, D8069 = line.
+    fn record_error(&mut self, error: OperationError, line: u32);
+    /// Steps 1 and 2 of the scan (`scan.rs`).
+    fn begin_scan(&mut self, elapsed_ms: u32);
+    /// Step 4 of the scan.
+    fn end_scan(&mut self);
+    /// A SET transfer inside the block of `source`.
+    fn schedule_state_off(&mut self, source: u32);
+    /// The loop watchdog at a NEXT (`scan.rs`).
+    fn loop_may_repeat(&mut self, line: u32) -> bool;
+    /// `OUT Tn preset` with the rung result `coil` (`timer.rs`).
+    fn timer_coil(&mut self, timer: u32, coil: bool, preset: i32);
+    /// `RST Tn`.
+    fn reset_timer(&mut self, timer: u32);
+    /// `OUT Cn preset` with the rung result `coil` (`counter.rs`).
+    fn counter_coil(&mut self, counter: u32, coil: bool, preset: i32);
+    /// `RST Cn`.
+    fn reset_counter(&mut self, counter: u32);
+    /// Forces a device (`force.rs`).
+    fn force(&mut self, area: BitArea, index: u32, on: bool) -> Result<(), ForceError>;
+    /// Ends a force.
+    fn unforce(&mut self, area: BitArea, index: u32) -> Result<(), ForceError>;
+    /// Adds rising edges of X0-X7 for the high-speed counters (`hsc.rs`).
+    fn add_pulses(&mut self, input: u32, count: u32) -> bool;
+    /// DHSCS/DHSCR/DHSZ (`hsc.rs`).
+    fn high_speed_compare(&mut self, instance: u32, kind: HscCompare, power: bool, counter: u32, values: [i32; 2], destination: u32);
+    /// One execution of a pulse instruction (`pulse.rs`).
+    fn pulse_output(&mut self, instance: u32, power: bool, request: &PulseRequest) -> bool;
+    /// A pulse instruction with its drive OFF.
+    fn pulse_stop(&mut self, instance: u32);
+    /// One execution of PWM.
+    fn pulse_width(&mut self, instance: u32, power: bool, width_ms: u32, period_ms: u32, output: u32);
+    /// Sets the calendar clock (`calendar.rs`).
+    fn set_calendar(&mut self, time: CalendarTime) -> bool;
+    /// Writes a device as a host would (`host.rs`).
+    fn write_device(&mut self, device: Device, width: Width, value: i32) -> bool;
+}
+
+impl Memory {
+    /// A whole scan around `program`, for engines that run in-process.
+    pub fn scan_with(&mut self, elapsed_ms: u32, program: impl FnOnce(&mut Memory)) {
+        self.begin_scan(elapsed_ms);
+        program(self);
+        self.end_scan();
     }
 }
 

@@ -5,6 +5,9 @@
 
 use crate::device::{BitArea, WordArea};
 use crate::host::Width;
+use crate::image::{AsImage, AsImageMut, ImageMut};
+use crate::layout::Array;
+#[cfg(test)]
 use crate::memory::Memory;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -39,7 +42,8 @@ impl Place {
     /// The value at the instruction's width: 16-bit words sign-extended,
     /// digit groups narrower than the width zero-extended. A place outside
     /// the image reads 0.
-    pub fn read(self, mem: &Memory, width: Width) -> i32 {
+    pub fn read(self, mem: &(impl AsImage + ?Sized), width: Width) -> i32 {
+        let mem = mem.as_image();
         match (self, width) {
             (Place::Constant(value), _) => value,
             (Place::Word(area, index), Width::Double) => mem.word_pair(area, index).unwrap_or(0),
@@ -59,7 +63,11 @@ impl Place {
 
     /// Writes the low bits of `value` that the place holds. A place outside
     /// the image is not written.
-    pub fn write(self, mem: &mut Memory, width: Width, value: i64) {
+    pub fn write(self, mem: &mut (impl AsImageMut + ?Sized), width: Width, value: i64) {
+        let mut mem = mem.as_image_mut();
+        if !mem.is_full() && self.lacks(&mem, width) {
+            mem.missed();
+        }
         match (self, width) {
             (Place::Constant(_), _) => {}
             (Place::Word(area, index), Width::Double) => {
@@ -84,6 +92,22 @@ impl Place {
                     mem.set_word(area, bit / 16, updated);
                 }
             }
+        }
+    }
+
+    /// Is part of the place inside its area but not in the image (a
+    /// compact layout that missed it)?
+    fn lacks(self, mem: &ImageMut<'_>, width: Width) -> bool {
+        let lacks = |array: Array, first: u32, count: u32| {
+            (first..first.saturating_add(count)).any(|n| array.segment(n).is_some() && !mem.holds(array, n))
+        };
+        match (self, width) {
+            (Place::Constant(_), _) => false,
+            (Place::Word(area, index), _) => lacks(Array::of_words(area), index, width.words()),
+            (Place::WideCounter(index), _) => lacks(Array::WideCounterValue, index, 1),
+            (Place::Digits(area, start, digits), _) => lacks(Array::of_bits(area), start, 4 * u32::from(digits)),
+            (Place::Bit(area, index), _) => lacks(Array::of_bits(area), index, 1),
+            (Place::WordBit(area, bit), _) => lacks(Array::of_words(area), bit / 16, 1),
         }
     }
 

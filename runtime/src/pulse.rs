@@ -26,7 +26,12 @@
 //! The program's instruction kernels decide the operands; this one model
 //! (the machine) is shared by every engine, as timers are.
 
-use crate::memory::{InstanceState, Memory};
+use crate::device::PULSE_OUTPUTS;
+use crate::image::{Image, ImageMut};
+use crate::layout::{Array, Scalar};
+use crate::memory::InstanceState;
+#[cfg(test)]
+use crate::memory::Memory;
 use crate::place::Place;
 use crate::Width;
 
@@ -129,35 +134,35 @@ const REFUSED: u32 = 3;
 const APPROACHING: i32 = 0;
 const CREEPING: i32 = 1;
 
-impl Memory {
+impl<B: AsRef<[u8]>> Image<'_, B> {
     fn pair(&self, first: u32) -> i32 {
-        crate::memory::join_words(self.d[first as usize], self.d[first as usize + 1])
-    }
-
-    fn set_pair(&mut self, first: u32, value: i32) {
-        let (low, high) = crate::memory::split_words(value);
-        self.d[first as usize] = low;
-        self.d[first as usize + 1] = high;
+        crate::memory::join_words(self.get_i16(Array::D, first), self.get_i16(Array::D, first + 1))
     }
 
     /// The current address of pulse output Y`output` (0-3).
     pub fn current_address(&self, output: u32) -> i32 {
         self.pair(D_CURRENT_ADDRESS + 10 * output)
     }
+}
+
+impl ImageMut<'_> {
+    fn set_pair(&mut self, first: u32, value: i32) {
+        let (low, high) = crate::memory::split_words(value);
+        self.set_i16(Array::D, first, low);
+        self.set_i16(Array::D, first + 1, high);
+    }
 
     /// One execution of pulse instruction `instance` with its rung's power.
     /// Returns false (and does nothing) when the output is not Y0-Y3.
     pub fn pulse_output(&mut self, instance: u32, power: bool, request: &PulseRequest) -> bool {
-        let index = instance as usize;
-        if request.output > 3 || index >= self.instance.len() {
+        let Some(mut state) = self.instance(instance).filter(|_| request.output <= 3) else {
             return false;
-        }
-        if power && self.instance[index].phase == IDLE && !request.can_start() {
+        };
+        if power && state.phase == IDLE && !request.can_start() {
             return false; // it would never move nor complete
         }
         let owner = instance + 1;
-        let output = request.output as usize;
-        let mut state = self.instance[index];
+        let output = request.output;
         if !power {
             if state.phase == RUNNING {
                 self.release(output);
@@ -165,33 +170,39 @@ impl Memory {
             state = InstanceState::default();
         } else {
             if state.phase == IDLE {
-                if self.pulse_owner[output] != 0 && self.pulse_owner[output] != owner {
+                let current_owner = self.get_u32(Array::PulseOwner, output);
+                if current_owner != 0 && current_owner != owner {
                     state.phase = REFUSED;
                 } else {
                     state = self.start(owner, output, request);
                 }
-                self.instance[index] = state;
+                self.set_instance(instance, state);
                 if state.phase == RUNNING {
                     // The start scan: no time has passed for the pulses yet.
                     state = self.advance(output, state, request, 0);
                 }
             } else if state.phase == RUNNING {
-                state = self.advance(output, state, request, self.elapsed_ms);
+                let elapsed = self.scalar(Scalar::ElapsedMs);
+                state = self.advance(output, state, request, elapsed);
             }
             if state.phase == RUNNING || (request.kind == PulseKind::Plsv && state.phase != REFUSED) {
                 self.write_direction(request, state);
             }
         }
-        self.instance[index] = state;
-        self.m[M_EXECUTION_COMPLETE as usize] = u8::from(power && state.phase == COMPLETE);
+        self.set_instance(instance, state);
+        self.set_u8(
+            Array::M,
+            M_EXECUTION_COMPLETE,
+            u8::from(power && state.phase == COMPLETE),
+        );
         true
     }
 
-    fn start(&mut self, owner: u32, output: usize, request: &PulseRequest) -> InstanceState {
-        self.pulse_owner[output] = owner;
-        self.pulse_remainder[output] = 0;
-        self.m[(M_BUSY + 10 * output as u32) as usize] = 1;
-        let here = self.current_address(output as u32);
+    fn start(&mut self, owner: u32, output: u32, request: &PulseRequest) -> InstanceState {
+        self.set_u32(Array::PulseOwner, output, owner);
+        self.set_u32(Array::PulseRemainder, output, 0);
+        self.set_u8(Array::M, M_BUSY + 10 * output, 1);
+        let here = self.current_address(output);
         let target = match request.kind {
             PulseKind::Drvi => here.wrapping_add(request.amount),
             PulseKind::Drva => request.amount,
@@ -211,28 +222,29 @@ impl Memory {
         }
     }
 
-    fn release(&mut self, output: usize) {
-        self.pulse_owner[output] = 0;
-        self.pulse_remainder[output] = 0;
-        self.m[(M_BUSY + 10 * output as u32) as usize] = 0;
+    fn release(&mut self, output: u32) {
+        self.set_u32(Array::PulseOwner, output, 0);
+        self.set_u32(Array::PulseRemainder, output, 0);
+        self.set_u8(Array::M, M_BUSY + 10 * output, 0);
     }
 
     /// Pulses at a constant `frequency` for `elapsed` ms, with the output's
     /// carried fraction.
-    fn steady_pulses(&mut self, output: usize, frequency: i32, elapsed: u32) -> i64 {
-        let total = u64::from(self.pulse_remainder[output]) + u64::from(frequency.unsigned_abs()) * u64::from(elapsed);
-        self.pulse_remainder[output] = (total % 1000) as u32;
+    fn steady_pulses(&mut self, output: u32, frequency: i32, elapsed: u32) -> i64 {
+        let total = u64::from(self.get_u32(Array::PulseRemainder, output))
+            + u64::from(frequency.unsigned_abs()) * u64::from(elapsed);
+        self.set_u32(Array::PulseRemainder, output, (total % 1000) as u32);
         (total / 1000) as i64
     }
 
     fn advance(
         &mut self,
-        output: usize,
+        output: u32,
         mut state: InstanceState,
         request: &PulseRequest,
         elapsed: u32,
     ) -> InstanceState {
-        let here = i64::from(self.current_address(output as u32));
+        let here = i64::from(self.current_address(output));
         let since = state.b as u32;
         state.b = since.saturating_add(elapsed).min(i32::MAX as u32) as i32;
         // (pulses this time, direction: +1 / -1, completed)
@@ -258,9 +270,9 @@ impl Memory {
                 (pulses.min(left), if target < here { -1 } else { 1 }, pulses >= left)
             }
             PulseKind::Zrn | PulseKind::Dszr => {
-                let forward = self.m[(M_ZERO_RETURN_FORWARD + 10 * output as u32) as usize] != 0;
+                let forward = self.get_u8(Array::M, M_ZERO_RETURN_FORWARD + 10 * output) != 0;
                 let (speed, creep) = match request.kind {
-                    PulseKind::Dszr => self.zero_return_speeds(output as u32),
+                    PulseKind::Dszr => self.zero_return_speeds(output),
                     PulseKind::Zrn
                     | PulseKind::Plsy
                     | PulseKind::Plsr
@@ -281,10 +293,10 @@ impl Memory {
         };
         state.a = (i64::from(state.a) + pulses).min(i64::from(i32::MAX)) as i32;
         let moved = (here + direction * pulses) as i32;
-        let address = D_CURRENT_ADDRESS + 10 * output as u32;
+        let address = D_CURRENT_ADDRESS + 10 * output;
         self.set_pair(address, moved);
         if matches!(request.kind, PulseKind::Plsy | PulseKind::Plsr) && output < 2 {
-            let count = D_PULSE_COUNT + 2 * output as u32;
+            let count = D_PULSE_COUNT + 2 * output;
             self.set_pair(count, self.pair(count).wrapping_add(pulses as i32));
             self.set_pair(D_PULSE_TOTAL, self.pair(D_PULSE_TOTAL).wrapping_add(pulses as i32));
         }
@@ -300,7 +312,7 @@ impl Memory {
 
     fn zero_return_speeds(&self, output: u32) -> (i32, i32) {
         let speed = self.pair(D_ZERO_RETURN_SPEED + 10 * output);
-        let creep = i32::from(self.d[(D_CREEP_SPEED + 10 * output) as usize]);
+        let creep = i32::from(self.get_i16(Array::D, D_CREEP_SPEED + 10 * output));
         (
             if speed == 0 { DEFAULT_ZERO_RETURN_SPEED } else { speed },
             if creep == 0 { DEFAULT_CREEP_SPEED } else { creep },
@@ -315,7 +327,7 @@ impl Memory {
         let forward = match request.kind {
             PulseKind::Plsv => request.frequency >= 0,
             PulseKind::Drvi | PulseKind::Drva => i64::from(state.c) >= here,
-            PulseKind::Zrn | PulseKind::Dszr => self.m[(M_ZERO_RETURN_FORWARD + 10 * request.output) as usize] != 0,
+            PulseKind::Zrn | PulseKind::Dszr => self.get_u8(Array::M, M_ZERO_RETURN_FORWARD + 10 * request.output) != 0,
             PulseKind::Plsy | PulseKind::Plsr => true,
         };
         place.write(self, Width::Single, i64::from(forward));
@@ -325,15 +337,15 @@ impl Memory {
     /// a running output stops at once; M8029 OFF.
     pub fn pulse_stop(&mut self, instance: u32) {
         let owner = instance + 1;
-        if let Some(output) = self.pulse_owner.iter().position(|&o| o == owner) {
-            if self.instance.get(instance as usize).is_some_and(|s| s.phase == RUNNING) {
+        if let Some(output) = (0..PULSE_OUTPUTS).find(|&o| self.get_u32(Array::PulseOwner, o) == owner) {
+            if self.instance(instance).is_some_and(|s| s.phase == RUNNING) {
                 self.release(output);
             }
         }
-        if let Some(state) = self.instance.get_mut(instance as usize) {
-            *state = InstanceState::default();
+        if self.instance(instance).is_some() {
+            self.set_instance(instance, InstanceState::default());
         }
-        self.m[M_EXECUTION_COMPLETE as usize] = 0;
+        self.set_u8(Array::M, M_EXECUTION_COMPLETE, 0);
     }
 
     /// One execution of PWM instance `instance`: with power the output bit
@@ -341,23 +353,25 @@ impl Memory {
     /// `period_ms`, counted from the scan the drive turned ON; without
     /// power it is OFF.
     pub fn pulse_width(&mut self, instance: u32, power: bool, width_ms: u32, period_ms: u32, output: u32) {
-        let (Some(state), Some(place)) = (self.instance.get_mut(instance as usize), Place::unpack(output)) else {
+        let (Some(mut state), Some(place)) = (self.instance(instance), Place::unpack(output)) else {
             return;
         };
         let on = if power && period_ms > 0 {
             let running = state.phase == RUNNING;
             state.phase = RUNNING;
+            let elapsed = self.scalar(Scalar::ElapsedMs);
             let time = if running {
-                ((u64::from(state.a as u32) + u64::from(self.elapsed_ms)) % u64::from(period_ms)) as u32
+                ((u64::from(state.a as u32) + u64::from(elapsed)) % u64::from(period_ms)) as u32
             } else {
                 0
             };
             state.a = time as i32;
             time < width_ms
         } else {
-            *state = InstanceState::default();
+            state = InstanceState::default();
             false
         };
+        self.set_instance(instance, state);
         place.write(self, Width::Single, i64::from(on));
     }
 }
@@ -516,7 +530,7 @@ mod tests {
     #[test]
     fn zero_return_completes_when_the_near_point_is_released() {
         let mut mem = Memory::new_boxed();
-        mem.set_pair(D_CURRENT_ADDRESS, 5000);
+        mem.set_word_pair(crate::WordArea::D, D_CURRENT_ADDRESS, 5000);
         let mut zrn = PulseRequest {
             creep: 100,
             ..request(PulseKind::Zrn, 10_000, 0)

@@ -8,29 +8,33 @@
 //! 4. forced Y and M are written over the results; Y goes to the output image.
 
 use crate::device::HSC_INPUTS;
-use crate::memory::Memory;
+use crate::image::ImageMut;
+use crate::layout::{Array, Scalar};
 use crate::special::{
     OperationError, CLOCK_CYCLE_MS, CLOCK_RELAYS, FIRST_ALARM_STATE, LAST_ALARM_STATE, LOOP_REPETITION_LIMIT,
     M_ALWAYS_OFF, M_ALWAYS_ON, M_FIRST_SCAN, M_NOT_FIRST_SCAN, SD_ALARM_LOWEST, SM_ALARM_ACTIVE, SM_ALARM_MONITOR,
     SM_ALWAYS_OFF, SM_ALWAYS_ON, SM_FIRST_SCAN, SM_NOT_FIRST_SCAN,
 };
 
-impl Memory {
+impl ImageMut<'_> {
     /// Steps 1 and 2: everything that happens before the program runs.
     pub fn begin_scan(&mut self, elapsed_ms: u32) {
-        self.elapsed_ms = elapsed_ms;
+        self.set_scalar(Scalar::ElapsedMs, elapsed_ms);
         // In 64 bits the sum cannot overflow; the modulus keeps t below a minute.
-        self.clock_ms = ((u64::from(self.clock_ms) + u64::from(elapsed_ms)) % u64::from(CLOCK_CYCLE_MS)) as u32;
-        self.loop_repetitions = 0;
+        let clock = (u64::from(self.scalar(Scalar::ClockMs)) + u64::from(elapsed_ms)) % u64::from(CLOCK_CYCLE_MS);
+        self.set_scalar(Scalar::ClockMs, clock as u32);
+        self.set_scalar(Scalar::LoopRepetitions, 0);
         let mut previous = [0u8; HSC_INPUTS as usize];
-        previous.copy_from_slice(&self.x[..HSC_INPUTS as usize]);
-        self.x = self.input_image;
-        if self.forced_count > 0 {
+        for (x, level) in (0..).zip(previous.iter_mut()) {
+            *level = self.get_u8(Array::X, x);
+        }
+        self.zip_bytes(Array::InputImage, Array::X, |input, x| *x = *input);
+        if self.scalar(Scalar::ForcedCount) > 0 {
             self.apply_forced_inputs();
         }
         self.refresh_high_speed_inputs(previous);
         self.advance_calendar(elapsed_ms);
-        if self.stl_pending_any != 0 {
+        if self.scalar(Scalar::StlPendingAny) != 0 {
             self.turn_off_pending_states();
         }
         self.update_system_relays();
@@ -38,29 +42,22 @@ impl Memory {
 
     /// Step 4: everything that happens after the program ran.
     pub fn end_scan(&mut self) {
-        if self.sm[SM_ALARM_MONITOR.number as usize] != 0 {
+        if self.get_u8(Array::Sm, SM_ALARM_MONITOR.number) != 0 {
             self.update_alarm_monitor();
         }
-        if self.forced_count > 0 {
+        if self.scalar(Scalar::ForcedCount) > 0 {
             self.apply_forced_outputs();
         }
-        self.output_image = self.y;
-        self.scan_count = self.scan_count.saturating_add(1);
-    }
-
-    /// A whole scan around `program`, for engines that run in-process.
-    pub fn scan_with(&mut self, elapsed_ms: u32, program: impl FnOnce(&mut Memory)) {
-        self.begin_scan(elapsed_ms);
-        program(self);
-        self.end_scan();
+        self.zip_bytes(Array::Y, Array::OutputImage, |y, output| *output = *y);
+        let scans = self.scalar(Scalar::ScanCount).saturating_add(1);
+        self.set_scalar(Scalar::ScanCount, scans);
     }
 
     /// A SET transfer inside the block of `source`: the source state turns
     /// OFF at step 2 of the next scan.
     pub fn schedule_state_off(&mut self, source: u32) {
-        if let Some(flag) = self.stl_pending_off.get_mut(source as usize) {
-            *flag = 1;
-            self.stl_pending_any = 1;
+        if self.set_u8(Array::StlPendingOff, source, 1) {
+            self.set_scalar(Scalar::StlPendingAny, 1);
         }
     }
 
@@ -68,38 +65,39 @@ impl Memory {
     /// it go back to its FOR. Past `LOOP_REPETITION_LIMIT` repetitions in
     /// this scan it records 6509H against `line` and the loop ends.
     pub fn loop_may_repeat(&mut self, line: u32) -> bool {
-        if self.loop_repetitions >= LOOP_REPETITION_LIMIT {
+        let repetitions = self.scalar(Scalar::LoopRepetitions);
+        if repetitions >= LOOP_REPETITION_LIMIT {
             self.record_error(OperationError::LoopWatchdog, line);
             return false;
         }
-        self.loop_repetitions += 1;
+        self.set_scalar(Scalar::LoopRepetitions, repetitions + 1);
         true
     }
 
     /// With SM249 ON: SM248 shows whether an alarm state S900-S999 is ON
     /// and SD249 the lowest one that is (0 when none is).
     fn update_alarm_monitor(&mut self) {
-        let lowest = (FIRST_ALARM_STATE..=LAST_ALARM_STATE).find(|&s| self.s[s as usize] != 0);
-        self.sm[SM_ALARM_ACTIVE.number as usize] = u8::from(lowest.is_some());
-        self.sd[SD_ALARM_LOWEST as usize] = lowest.map_or(0, |s| s as i16);
+        let lowest = (FIRST_ALARM_STATE..=LAST_ALARM_STATE).find(|&s| self.get_u8(Array::S, s) != 0);
+        self.set_u8(Array::Sm, SM_ALARM_ACTIVE.number, u8::from(lowest.is_some()));
+        self.set_i16(Array::Sd, SD_ALARM_LOWEST, lowest.map_or(0, |s| s as i16));
     }
 
     fn turn_off_pending_states(&mut self) {
-        for (state, pending) in self.s.iter_mut().zip(self.stl_pending_off.iter_mut()) {
+        self.zip_bytes(Array::StlPendingOff, Array::S, |pending, state| {
             if *pending != 0 {
                 *state = 0;
                 *pending = 0;
             }
-        }
-        self.stl_pending_any = 0;
+        });
+        self.set_scalar(Scalar::StlPendingAny, 0);
     }
 
     fn update_system_relays(&mut self) {
-        let first = self.scan_count == 0;
-        self.sm[SM_ALWAYS_ON as usize] = 1;
-        self.sm[SM_ALWAYS_OFF as usize] = 0;
-        self.sm[SM_FIRST_SCAN as usize] = first as u8;
-        self.sm[SM_NOT_FIRST_SCAN as usize] = (!first) as u8;
+        let first = self.scalar(Scalar::ScanCount) == 0;
+        self.set_u8(Array::Sm, SM_ALWAYS_ON, 1);
+        self.set_u8(Array::Sm, SM_ALWAYS_OFF, 0);
+        self.set_u8(Array::Sm, SM_FIRST_SCAN, first as u8);
+        self.set_u8(Array::Sm, SM_NOT_FIRST_SCAN, (!first) as u8);
         for (relays, on) in [
             (&M_ALWAYS_ON[..], true),
             (&M_ALWAYS_OFF[..], false),
@@ -107,11 +105,12 @@ impl Memory {
             (&M_NOT_FIRST_SCAN[..], !first),
         ] {
             for &n in relays {
-                self.m[n as usize] = on as u8;
+                self.set_u8(Array::M, n, on as u8);
             }
         }
+        let clock = self.scalar(Scalar::ClockMs);
         for (relay, period) in CLOCK_RELAYS {
-            self.m[relay as usize] = u8::from(self.clock_ms % period >= period / 2);
+            self.set_u8(Array::M, relay, u8::from(clock % period >= period / 2));
         }
     }
 }

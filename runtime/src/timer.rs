@@ -6,54 +6,57 @@
 //! preset; the contact is ON once the value reaches the preset.
 
 use crate::device::{TimerClass, TIMER_COUNT};
-use crate::memory::{Memory, FORCE_NONE};
+use crate::image::ImageMut;
+use crate::layout::{Array, Scalar};
+use crate::memory::FORCE_NONE;
 
-impl Memory {
+impl ImageMut<'_> {
     /// Executes `OUT Tn preset` with the rung result `coil`.
     pub fn timer_coil(&mut self, timer: u32, coil: bool, preset: i32) {
         if timer >= TIMER_COUNT {
             return;
         }
-        let n = timer as usize;
-        let was_on = self.timer_coil_was_on[n] != 0;
-        self.timer_coil_was_on[n] = coil as u8;
-        if self.force_timer[n] != FORCE_NONE {
+        let was_on = self.get_u8(Array::TimerCoilWasOn, timer) != 0;
+        self.set_u8(Array::TimerCoilWasOn, timer, coil as u8);
+        if self.get_u8(Array::ForceTimer, timer) != FORCE_NONE {
             return; // a forced timer neither times nor changes its contact
         }
         let class = TimerClass::of(timer);
         if !coil {
             if !class.retentive {
-                self.clear_timer(n);
+                self.clear_timer(timer);
             }
             return;
         }
         if was_on {
-            let total = u64::from(self.timer_remainder_ms[n]) + u64::from(self.elapsed_ms);
+            let total = u64::from(self.get_i16(Array::TimerRemainder, timer) as u16)
+                + u64::from(self.scalar(Scalar::ElapsedMs));
             let resolution = u64::from(class.resolution_ms);
-            self.timer_remainder_ms[n] = (total % resolution) as u16;
-            let value = i64::from(self.timer_value[n]);
+            self.set_i16(Array::TimerRemainder, timer, (total % resolution) as u16 as i16);
+            let value = i64::from(self.get_i16(Array::TimerValue, timer));
             let limit = i64::from(preset).min(i64::from(i16::MAX));
             if value < limit {
                 let counts = (total / resolution) as i64;
-                self.timer_value[n] = (value + counts).min(limit) as i16;
+                self.set_i16(Array::TimerValue, timer, (value + counts).min(limit) as i16);
             }
         }
-        self.timer_contact[n] = (i32::from(self.timer_value[n]) >= preset) as u8;
+        let reached = i32::from(self.get_i16(Array::TimerValue, timer)) >= preset;
+        self.set_u8(Array::TimerContact, timer, reached as u8);
     }
 
     /// `RST Tn`: value, remainder and contact cleared (a forced contact keeps
     /// its forced value). A coil that stays ON times again from the next scan.
     pub fn reset_timer(&mut self, timer: u32) {
         if timer < TIMER_COUNT {
-            self.clear_timer(timer as usize);
+            self.clear_timer(timer);
         }
     }
 
-    fn clear_timer(&mut self, n: usize) {
-        self.timer_value[n] = 0;
-        self.timer_remainder_ms[n] = 0;
-        if self.force_timer[n] == FORCE_NONE {
-            self.timer_contact[n] = 0;
+    fn clear_timer(&mut self, timer: u32) {
+        self.set_i16(Array::TimerValue, timer, 0);
+        self.set_i16(Array::TimerRemainder, timer, 0);
+        if self.get_u8(Array::ForceTimer, timer) == FORCE_NONE {
+            self.set_u8(Array::TimerContact, timer, 0);
         }
     }
 }

@@ -94,8 +94,10 @@ static void advance_calendar(LadderMemory *mem, uint32_t elapsed_ms) {
     if (!*AT(mem, OFFSET_M + 8016)) write_clock(mem);
 }
 
-void LADDER_TAGGED_BEGIN_SCAN(LadderMemory *mem, uint32_t elapsed_ms);
-void LADDER_TAGGED_BEGIN_SCAN(LadderMemory *mem, uint32_t elapsed_ms) {
+uint32_t LADDER_TAGGED_BEGIN_SCAN(LadderMemory *mem, uint32_t elapsed_ms, const uint32_t *layout);
+uint32_t LADDER_TAGGED_BEGIN_SCAN(LadderMemory *mem, uint32_t elapsed_ms, const uint32_t *layout) {
+    /* The full layout only, as the runtime: an image ladder_init made. */
+    if (mem == NULL || layout != NULL || U32(mem, OFFSET_HEADER) != FULL_MAGIC) return 0;
     U32(mem, OFFSET_ELAPSED_MS) = elapsed_ms;
     uint8_t previous[8];
     memcpy(previous, AT(mem, OFFSET_X), 8);
@@ -138,6 +140,7 @@ void LADDER_TAGGED_BEGIN_SCAN(LadderMemory *mem, uint32_t elapsed_ms) {
         set(mem, OFFSET_M, 8011 + k, U32(mem, OFFSET_CLOCK_MS) % periods[k] >= periods[k] / 2);
     }
     U32(mem, OFFSET_LOOP_REPETITIONS) = 0;
+    return 1;
 }
 
 int32_t ladder_rt_loop_repeat(LadderMemory *mem, uint32_t line) {
@@ -161,6 +164,8 @@ void ladder_end_scan(LadderMemory *mem) {
 LadderMemory *ladder_init(void *storage, size_t size) {
     if (storage == NULL || size < MEMORY_SIZE || (uintptr_t)storage % 4 != 0) return NULL;
     memset(storage, 0, MEMORY_SIZE);
+    U32(storage, OFFSET_HEADER) = FULL_MAGIC;
+    U32(storage, OFFSET_HEADER + 4) = MEMORY_SIZE;
     return storage;
 }
 

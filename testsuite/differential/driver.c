@@ -3,7 +3,8 @@
  * own --prefix, listed in programs.h as X(prefix) entries) linked with the
  * runtime library into one host. Commands on stdin, one per line:
  *
- *   P i          start program i on a freshly initialised image
+ *   P i          start program i on a freshly initialised image (its
+ *                <prefix>init: the program's layout, full or compact)
  *   I x on       ladder_set_input(x, on)
  *   W k n v      ladder_write(kind k, number n, value v)
  *   B k n b v    ladder_write_word_bit(kind k, number n, bit b, value v)
@@ -11,6 +12,7 @@
  *   F k n on     ladder_force(kind k, number n, on)
  *   U k n        ladder_unforce(kind k, number n)
  *   S ms         one scan reporting ms; prints a hash of the whole image
+ *                after its header
  *   D            prints the whole image in hex on one line
  *
  * compiler/tests/common/differential.rs does the same on the interpreter
@@ -27,12 +29,20 @@ PROGRAMS
 #undef X
 
 typedef void (*scan_fn)(LadderMemory *mem, uint32_t elapsed_ms);
+typedef LadderMemory *(*init_fn)(void *storage, size_t size);
 
 #define X(prefix) prefix##scan,
 static const scan_fn programs[] = {PROGRAMS};
 #undef X
+#define X(prefix) prefix##init,
+static const init_fn inits[] = {PROGRAMS};
+#undef X
 
+/* The full image's size: a compact one (--image compact) is smaller. */
 static uint32_t storage[LADDER_MEMORY_SIZE / 4];
+
+/* The image's size, from its header (magic, size, ...). */
+static size_t image_size(void) { return storage[1]; }
 
 int main(void) {
     char line[256];
@@ -46,7 +56,8 @@ int main(void) {
         case 'P':
             a = strtoul(line + 1, NULL, 10);
             if (a >= sizeof programs / sizeof programs[0]) return 2;
-            mem = ladder_init(storage, sizeof storage);
+            mem = inits[a](storage, sizeof storage);
+            if (mem == NULL) return 3;
             scan = programs[a];
             break;
         case 'I':
@@ -78,18 +89,20 @@ int main(void) {
         case 'S': {
             if (scan == NULL) return 2;
             scan(mem, (uint32_t)strtoul(line + 1, NULL, 10));
-            /* FNV-1a over the image's 64-bit little-endian words. */
+            /* FNV-1a over the image's 64-bit little-endian words after its
+               16-byte header, the last one padded with zeros. */
             uint64_t hash = 0xcbf29ce484222325ull;
-            for (size_t i = 0; i < LADDER_MEMORY_SIZE; i += 8) {
+            size_t size = image_size();
+            for (size_t i = 16; i < size; i += 8) {
                 uint64_t word = 0;
-                for (int b = 7; b >= 0; b--) word = (word << 8) | bytes[i + b];
+                for (int b = 7; b >= 0; b--) word = (word << 8) | (i + (size_t)b < size ? bytes[i + b] : 0u);
                 hash = (hash ^ word) * 0x100000001b3ull;
             }
             printf("%016llx\n", (unsigned long long)hash);
             break;
         }
         case 'D':
-            for (size_t i = 0; i < LADDER_MEMORY_SIZE; i++) printf("%02x", bytes[i]);
+            for (size_t i = 0; i < image_size(); i++) printf("%02x", bytes[i]);
             putchar('\n');
             break;
         default:

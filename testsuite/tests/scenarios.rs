@@ -41,7 +41,7 @@ fn every_scenario_passes_on_every_engine() {
     );
     if c_compiler_present() {
         assert!(
-            report.contains("engines: interp, jit, aot, c\n"),
+            report.contains("engines: interp, jit, aot, c, c-compact\n"),
             "aot and c must run where a C compiler exists:\n{report}"
         );
     } else {

@@ -4,6 +4,7 @@ use super::toolchain;
 use crate::codegen::ObjectOptions;
 use crate::engine::{Engine, EngineError};
 use crate::host_device::HostDevice;
+use crate::pipeline::ImageRequest;
 use crate::program::CheckedProgram;
 use ladder_runtime::calendar::CalendarTime;
 use ladder_runtime::host::{read_composite, write_composite, AccessError, Basic, BasicAccess};
@@ -33,8 +34,9 @@ pub struct AotEngine {
 
 impl AotEngine {
     /// Compiles `program` (to an object, or to C compiled by the C
-    /// compiler), links the scenario host and starts it.
-    pub fn start(program: &CheckedProgram, route: Route) -> Result<AotEngine, EngineError> {
+    /// compiler) for an image as `image` asks, links the scenario host and
+    /// starts it.
+    pub fn start(program: &CheckedProgram, route: Route, image: &ImageRequest) -> Result<AotEngine, EngineError> {
         let compiler = toolchain::c_compiler().map_err(EngineError::Unavailable)?;
         let runtime = toolchain::runtime_library().map_err(EngineError::Unavailable)?;
         let failed = |e: String| EngineError::Failed(e);
@@ -42,10 +44,13 @@ impl AotEngine {
         let options = ObjectOptions {
             target: None,
             prefix: crate::codegen::DEFAULT_PREFIX.to_string(),
+            layout: None,
         };
         let program_path = match route {
             Route::Object => {
-                let object = crate::pipeline::object(program, &options).map_err(|e| failed(e.to_string()))?;
+                let object = crate::pipeline::object(program, &options, image)
+                    .map_err(|e| failed(e.to_string()))?
+                    .output;
                 let path = work.path().join("program.o");
                 std::fs::write(&path, object).map_err(|e| failed(e.to_string()))?;
                 path
@@ -54,9 +59,10 @@ impl AotEngine {
                 let c_options = crate::cback::COptions {
                     prefix: options.prefix.clone(),
                     source_name: "scenario program".to_string(),
+                    layout: None,
                 };
                 let path = work.path().join("program.c");
-                std::fs::write(&path, crate::pipeline::c_source(program, &c_options))
+                std::fs::write(&path, crate::pipeline::c_source(program, &c_options, image).output)
                     .map_err(|e| failed(e.to_string()))?;
                 path
             }
@@ -112,10 +118,14 @@ impl AotEngine {
             "4" => Err(format!(
                 "the C API refused the value of `{command}` as not fitting the device (LADDER_STATUS_BAD_VALUE)"
             )),
+            "5" => Err(NOT_IN_IMAGE.into()),
             other => Err(format!("the host gave an unknown answer `{other}` to `{command}`")),
         }
     }
 }
+
+/// `LADDER_STATUS_NOT_IN_IMAGE` as `status` reports it.
+const NOT_IN_IMAGE: &str = "not in the program's compact image";
 
 /// The C API's (kind, number) of a basic device.
 fn kind(device: Basic) -> (u32, u32) {
@@ -129,8 +139,11 @@ impl BasicAccess for AotEngine {
         let answer = self
             .ask(&format!("r {kind} {number}"))
             .map_err(AccessError::Unreachable)?;
-        if answer.starts_with('E') {
-            return Err(AccessError::OutOfRange);
+        if let Some(status) = answer.strip_prefix('E') {
+            return Err(match status.trim() {
+                "5" => AccessError::NotInImage,
+                _ => AccessError::OutOfRange,
+            });
         }
         answer
             .parse()
@@ -142,6 +155,7 @@ impl BasicAccess for AotEngine {
         self.status(&format!("w {kind} {number} {value}"))
             .map_err(|e| match e.as_str() {
                 "out of range" => AccessError::OutOfRange,
+                NOT_IN_IMAGE => AccessError::NotInImage,
                 _ => AccessError::Unreachable(e),
             })
     }
@@ -151,6 +165,7 @@ fn describe(error: AccessError, device: HostDevice) -> String {
     match error {
         AccessError::OutOfRange => format!("{:?} is out of range", device.device),
         AccessError::ReadOnly => format!("{:?} is read-only here", device.device),
+        AccessError::NotInImage => format!("{:?} is not in the program's image", device.device),
         AccessError::Unreachable(why) => why,
     }
 }

@@ -24,9 +24,9 @@ LADDER_DECLARE_PROGRAM(ladder_program_);
 static uint32_t storage[LADDER_MEMORY_SIZE / sizeof(uint32_t) + 1];
 
 int main(void) {
-    LadderMemory *mem = ladder_init(storage, sizeof storage);
+    LadderMemory *mem = ladder_program_init(storage, sizeof storage);
     if (mem == NULL) {
-        fprintf(stderr, "ladder_init refused the storage\n");
+        fprintf(stderr, "ladder_program_init refused the storage\n");
         return 2;
     }
     char line[128];

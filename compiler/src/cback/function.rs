@@ -2,11 +2,8 @@
 
 use crate::ir::{self, BinOp, Conversion, FloatOp, FloatUnaryOp, Index, Inst, Terminator, Type, UnaryOp, Value};
 use crate::isa::CompareOp;
-use ladder_runtime::device::{FIRST_WIDE_COUNTER, WIDE_COUNTER_COUNT};
 use ladder_runtime::helpers::Helper;
-use ladder_runtime::layout::{
-    bit_area_offset, word_area_offset, EDGE_SLOT_OFFSET, STL_BLOCK_ACTIVE_OFFSET, WIDE_COUNTER_OFFSET,
-};
+use ladder_runtime::layout::{Array, Layout, Scalar};
 use std::collections::{BTreeSet, HashSet};
 use std::fmt::Write as _;
 
@@ -102,6 +99,7 @@ fn constant(ty: Type, value: i64) -> String {
 }
 
 struct Emitter<'a> {
+    layout: &'a Layout,
     function: &'a ir::Function,
     out: String,
 }
@@ -111,31 +109,66 @@ impl Emitter<'_> {
         format!("v{}", value.0)
     }
 
-    /// `m + offset` of element `index` of an array at `base` with `len`
-    /// elements of `size` bytes, the index clamped into the array.
-    fn element(&self, base: usize, size: usize, len: u32, index: Index) -> String {
+    /// `m + offset` of element `index` of `array`, the index clamped into
+    /// the `len` elements from the array's first.
+    ///
+    /// A device the layout lacks cannot occur (a compact layout is made from
+    /// this program's IR), but if it did the access would go to the scalar
+    /// that counts layout misses: inside the image, and seen by the tests.
+    fn element(&self, array: Array, len: u32, index: Index) -> String {
+        let missing = format!("m + {}", Scalar::LayoutMisses.offset());
+        let (first, size, len) = (array.first(), array.size(), len.max(1));
         match index {
-            Index::Fixed(n) => format!("m + {}", base + n.min(len - 1) as usize * size),
-            Index::Dynamic(value) => format!(
-                "m + {base} + (size_t)ld_clamp({}, {}u) * {size}",
-                self.v(value),
-                len - 1
-            ),
+            Index::Fixed(n) => match self.layout.offset(array, n.clamp(first, first + len - 1)) {
+                Some(offset) => format!("m + {offset}"),
+                None => missing,
+            },
+            Index::Dynamic(value) => {
+                let Some(base) = self.layout.whole(array) else {
+                    return missing;
+                };
+                let index = if first == 0 {
+                    self.v(value)
+                } else {
+                    format!("ld_sub32({}, {first})", self.v(value))
+                };
+                format!("m + {base} + (size_t)ld_clamp({index}, {}u) * {size}", len - 1)
+            }
         }
     }
 
-    fn wide_counter(&self, index: Index) -> String {
-        match index {
-            Index::Fixed(n) => {
-                let slot = n.saturating_sub(FIRST_WIDE_COUNTER).min(WIDE_COUNTER_COUNT - 1);
-                format!("m + {}", WIDE_COUNTER_OFFSET + slot as usize * 4)
+    /// `count` elements of `array` from `start` set to the byte `byte`
+    /// (one `memset` where the image holds the run in one piece).
+    fn fill(&self, array: Array, area_count: u32, start: Index, count: u32, byte: u8) -> String {
+        let count = count.clamp(1, area_count);
+        let size = array.size();
+        if let Index::Fixed(n) = start {
+            let n = n.clamp(array.first(), array.first() + area_count - count);
+            let ends = (self.layout.offset(array, n), self.layout.offset(array, n + count - 1));
+            if !matches!(ends, (Some(a), Some(b)) if b - a == (count as usize - 1) * size) {
+                // Apart in the image (or missing): element by element.
+                let stores: Vec<String> = (0..count)
+                    .map(|k| {
+                        let at = self.element(array, area_count, Index::Fixed(n + k));
+                        format!("memset({at}, {byte}, {size});")
+                    })
+                    .collect();
+                return stores.join(" ");
             }
-            Index::Dynamic(value) => format!(
-                "m + {WIDE_COUNTER_OFFSET} + (size_t)ld_clamp(ld_sub32({}, {FIRST_WIDE_COUNTER}), {}u) * 4",
-                self.v(value),
-                WIDE_COUNTER_COUNT - 1
-            ),
         }
+        let at = self.element(array, area_count - count + 1, start);
+        format!("memset({at}, {byte}, {});", count as usize * size)
+    }
+
+    /// A 32-bit counter by device number (C200..C255).
+    fn wide_counter(&self, index: Index) -> String {
+        let array = Array::WideCounterValue;
+        self.element(array, array.end() - array.first(), index)
+    }
+
+    /// Element `n` of a byte array of the scan's bookkeeping.
+    fn bookkeeping(&self, array: Array, n: u32) -> String {
+        self.element(array, array.end(), Index::Fixed(n))
     }
 
     /// The C expression an instruction computes, or the statement it runs
@@ -146,51 +179,51 @@ impl Emitter<'_> {
         Ok(match inst {
             Inst::Const { ty, value } => constant(*ty, *value),
             Inst::LoadBit { area, index } => {
-                format!("*({})", self.element(bit_area_offset(*area), 1, area.count(), *index))
+                format!("*({})", self.element(Array::of_bits(*area), area.count(), *index))
             }
             Inst::StoreBit { area, index, value } => {
                 return Err(format!(
                     "*({}) = {};",
-                    self.element(bit_area_offset(*area), 1, area.count(), *index),
+                    self.element(Array::of_bits(*area), area.count(), *index),
                     v(value)
                 ))
             }
             Inst::FillBits { area, start, count, on } => {
-                let count = (*count).clamp(1, area.count());
-                let at = self.element(bit_area_offset(*area), 1, area.count() - count + 1, *start);
-                return Err(format!("memset({at}, {}, {count});", u8::from(*on)));
+                return Err(self.fill(Array::of_bits(*area), area.count(), *start, *count, u8::from(*on)));
             }
             Inst::LoadWord { area, index } => {
                 format!(
                     "ld_load16({})",
-                    self.element(word_area_offset(*area), 2, area.count(), *index)
+                    self.element(Array::of_words(*area), area.count(), *index)
                 )
             }
             Inst::StoreWord { area, index, value } => {
                 return Err(format!(
                     "ld_store16({}, {});",
-                    self.element(word_area_offset(*area), 2, area.count(), *index),
+                    self.element(Array::of_words(*area), area.count(), *index),
                     v(value)
                 ))
             }
             Inst::ClearWords { area, start, count } => {
-                let count = (*count).clamp(1, area.count());
-                let at = self.element(word_area_offset(*area), 2, area.count() - count + 1, *start);
-                return Err(format!("memset({at}, 0, {});", count * 2));
+                return Err(self.fill(Array::of_words(*area), area.count(), *start, *count, 0));
             }
             Inst::LoadWideCounter { index } => format!("ld_load32({})", self.wide_counter(*index)),
             Inst::StoreWideCounter { index, value } => {
                 return Err(format!("ld_store32({}, {});", self.wide_counter(*index), v(value)))
             }
-            Inst::LoadSlot { slot } => format!("m[{}]", EDGE_SLOT_OFFSET + *slot as usize),
+            Inst::LoadSlot { slot } => format!("*({})", self.bookkeeping(Array::EdgeSlot, *slot)),
             Inst::StoreSlot { slot, value } => {
-                return Err(format!("m[{}] = {};", EDGE_SLOT_OFFSET + *slot as usize, v(value)))
+                return Err(format!(
+                    "*({}) = {};",
+                    self.bookkeeping(Array::EdgeSlot, *slot),
+                    v(value)
+                ))
             }
-            Inst::LoadBlockActive { state } => format!("m[{}]", STL_BLOCK_ACTIVE_OFFSET + *state as usize),
+            Inst::LoadBlockActive { state } => format!("*({})", self.bookkeeping(Array::StlBlockActive, *state)),
             Inst::StoreBlockActive { state, value } => {
                 return Err(format!(
-                    "m[{}] = {};",
-                    STL_BLOCK_ACTIVE_OFFSET + *state as usize,
+                    "*({}) = {};",
+                    self.bookkeeping(Array::StlBlockActive, *state),
                     v(value)
                 ))
             }
@@ -323,8 +356,9 @@ impl Emitter<'_> {
 
 /// Appends `static void name(uint8_t *m)` for `function`; subroutine `n`
 /// is `{body}_sub{n}`.
-pub fn emit(out: &mut String, function: &ir::Function, name: &str, body: &str) {
+pub fn emit(out: &mut String, layout: &Layout, function: &ir::Function, name: &str, body: &str) {
     let mut emitter = Emitter {
+        layout,
         function,
         out: String::new(),
     };

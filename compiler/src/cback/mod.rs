@@ -20,15 +20,19 @@ pub mod targets;
 
 use crate::ir::Program;
 use ladder_runtime::helpers::Helper;
+use ladder_runtime::layout::{Layout, FULL, LAYOUT_VERSION};
 use std::fmt::Write as _;
 
 /// What `ladderc build --emit c` asks of the C back end.
 #[derive(Clone, Debug)]
 pub struct COptions {
-    /// Prefix of the exported entry point `<prefix>scan`.
+    /// Prefix of the exported entry points `<prefix>scan` and `<prefix>init`.
     pub prefix: String,
     /// The program's file name, for the header comment.
     pub source_name: String,
+    /// The image's layout: `None` for the full layout, or a compact one,
+    /// which the file defines as `<prefix>layout`.
+    pub layout: Option<Layout>,
 }
 
 /// The program as one C99 source file.
@@ -44,14 +48,20 @@ pub fn emit_c(program: &Program, options: &COptions) -> String {
         options.source_name.replace("*/", "* /"),
         ladder_runtime::layout::LAYOUT_TAG
     );
+    let layout = options.layout.as_ref().unwrap_or(&FULL);
     let mut code = String::new();
     code.push_str("\n/* The runtime: begin and end of a scan, and the helpers the program calls. */\n");
     let _ = writeln!(
         code,
-        "void {}(LadderMemory *mem, uint32_t elapsed_ms);",
+        "uint32_t {}(LadderMemory *mem, uint32_t elapsed_ms, const uint32_t *layout);",
         ladder_runtime::layout::TAGGED_BEGIN_SCAN
     );
     let _ = writeln!(code, "void {}(LadderMemory *mem);", ladder_runtime::layout::END_SCAN);
+    let _ = writeln!(
+        code,
+        "LadderMemory *ladder_init(void *storage, size_t size);\n\
+         LadderMemory *ladder_init_layout(void *storage, size_t size, const uint32_t *layout);"
+    );
     for helper in function::used_helpers(program) {
         let _ = writeln!(code, "{};", helper_prototype(helper));
     }
@@ -65,21 +75,54 @@ pub fn emit_c(program: &Program, options: &COptions) -> String {
     for &number in &called {
         function::emit(
             &mut code,
+            layout,
             &program.subroutines[number],
             &format!("{body}_sub{number}"),
             &body,
         );
     }
-    function::emit(&mut code, &program.main, &body, &body);
+    function::emit(&mut code, layout, &program.main, &body, &body);
+    let prefix = &options.prefix;
+    let table = match &options.layout {
+        Some(layout) => {
+            let _ = writeln!(
+                code,
+                "/* The image's layout (rules version {LAYOUT_VERSION}, {} bytes): for each of its\n   \
+                 segments the byte offset, first device and count the image holds. */\n\
+                 const uint32_t {prefix}layout[{}] = {{",
+                layout.size,
+                layout.words().len()
+            );
+            for line in layout.words().chunks(12) {
+                let words: Vec<String> = line.iter().map(|w| format!("{w}u")).collect();
+                let _ = writeln!(code, "    {},", words.join(", "));
+            }
+            let _ = writeln!(code, "}};\n");
+            let _ = writeln!(
+                code,
+                "/* An image with the program's layout in `storage` (null when too small or misaligned). */\n\
+                 LadderMemory *{prefix}init(void *storage, size_t size) {{\n    \
+                 return ladder_init_layout(storage, size, {prefix}layout);\n}}\n"
+            );
+            format!("{prefix}layout")
+        }
+        None => {
+            let _ = writeln!(
+                code,
+                "/* An image with the full layout in `storage` (null when too small or misaligned). */\n\
+                 LadderMemory *{prefix}init(void *storage, size_t size) {{\n    \
+                 return ladder_init(storage, size);\n}}\n"
+            );
+            "0".to_string()
+        }
+    };
     let _ = writeln!(
         code,
-        "/* One whole scan; a null image does nothing, as with every function of the C API. */\n\
+        "/* One whole scan; a null image, or one of another layout, does nothing. */\n\
          void {prefix}scan(LadderMemory *mem, uint32_t elapsed_ms) {{\n    \
-         if (!mem) return;\n    \
-         {begin}(mem, elapsed_ms);\n    \
+         if (!{begin}(mem, elapsed_ms, {table})) return;\n    \
          {body}((uint8_t *)mem);\n    \
          {end}(mem);\n}}",
-        prefix = options.prefix,
         begin = ladder_runtime::layout::TAGGED_BEGIN_SCAN,
         end = ladder_runtime::layout::END_SCAN,
     );

@@ -115,6 +115,10 @@ pub enum EngineChoice {
     Jit,
     Aot,
     C,
+    /// The C route with a compact image (the devices the program and the
+    /// scenario use).
+    #[value(name = "c-compact")]
+    CCompact,
     #[default]
     All,
 }
@@ -126,6 +130,7 @@ impl EngineChoice {
             EngineChoice::Jit => vec![EngineKind::Jit],
             EngineChoice::Aot => vec![EngineKind::Aot],
             EngineChoice::C => vec![EngineKind::C],
+            EngineChoice::CCompact => vec![EngineKind::CCompact],
             EngineChoice::All => EngineKind::ALL.to_vec(),
         }
     }

@@ -108,7 +108,7 @@ pub fn run(args: &RunArgs, shown: Shown) -> u8 {
         RunEngine::Interp => EngineKind::Interp,
         RunEngine::Jit => EngineKind::Jit,
     };
-    let engine = match instantiate(kind, &program) {
+    let engine = match instantiate(kind, &program, &[]) {
         Ok(engine) => engine,
         Err(EngineError::Unavailable(reason)) => {
             say_err!("error: {reason}");

@@ -22,7 +22,14 @@ impl JitProgram {
             builder.symbol(name, address);
         }
         let mut module = JITModule::new(builder);
-        let id = define_program(&mut module, program, "ladder_program", Linkage::Local)?;
+        // The JIT runs programs on `Memory`: the full layout.
+        let id = define_program(
+            &mut module,
+            &ladder_runtime::layout::FULL,
+            program,
+            "ladder_program",
+            Linkage::Local,
+        )?;
         module.finalize_definitions()?;
         let code = module.get_finalized_function(id);
         // SAFETY: `code` is the function just defined with the signature

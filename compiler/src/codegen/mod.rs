@@ -16,6 +16,7 @@ use cranelift_codegen::settings::{self, Configurable};
 use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext};
 use cranelift_module::{FuncId, Linkage, Module, ModuleError};
 use ladder_runtime::helpers::Helper;
+use ladder_runtime::layout::Layout;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use translate::{translate, Locals};
 
@@ -132,9 +133,10 @@ pub fn set_chunk_instructions(instructions: usize) {
 
 /// Defines the program body `fn(mem)` in `module` under `name`, and each
 /// subroutine as a local function `{name}.subN` of the same signature that
-/// the body and other subroutines call.
+/// the body and other subroutines call, for an image with `layout`.
 fn define_program(
     module: &mut dyn Module,
+    layout: &Layout,
     program: &Program,
     name: &str,
     linkage: Linkage,
@@ -151,6 +153,7 @@ fn define_program(
     let mut define = |module: &mut dyn Module, function: &Function, id: FuncId, name: &str| {
         let mut values = vec![None; function.value_types.len()];
         let mut part = Part {
+            layout,
             program: function,
             helpers: &helpers,
             subroutines: &subroutines,
@@ -169,6 +172,7 @@ fn define_program(
 
 /// What translating one function of a program needs.
 struct Part<'a> {
+    layout: &'a Layout,
     program: &'a Function,
     helpers: &'a [FuncId],
     subroutines: &'a [FuncId],
@@ -253,6 +257,7 @@ impl Part<'_> {
             .map(|&subroutine| module.declare_func_in_func(subroutine, builder.func))
             .collect();
         translate(
+            self.layout,
             self.program,
             range,
             locals,

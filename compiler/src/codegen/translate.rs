@@ -1,19 +1,17 @@
 //! IR to Cranelift IR, one function. Shared by the JIT and object back ends.
 //!
 //! Every device access is a load or store at a fixed offset from the image
-//! pointer. A run-time index is clamped into its area here once more, so no
-//! generated access can leave the device image whatever the lowering did.
+//! pointer, where the image's layout (full or compact) puts the device. A
+//! run-time index is clamped into its area here once more, so no generated
+//! access can leave the device image whatever the lowering did.
 
 use crate::ir::{self, BinOp, Conversion, FloatOp, FloatUnaryOp, Index, Inst, Terminator, Type, UnaryOp};
 use crate::isa::CompareOp;
 use cranelift_codegen::ir::condcodes::{FloatCC, IntCC};
 use cranelift_codegen::ir::{types, FuncRef, InstBuilder, MemFlagsData, Value};
 use cranelift_frontend::{FunctionBuilder, Variable};
-use ladder_runtime::device::{FIRST_WIDE_COUNTER, WIDE_COUNTER_COUNT};
 use ladder_runtime::helpers::Helper;
-use ladder_runtime::layout::{
-    bit_area_offset, word_area_offset, EDGE_SLOT_OFFSET, STL_BLOCK_ACTIVE_OFFSET, WIDE_COUNTER_OFFSET,
-};
+use ladder_runtime::layout::{Array, Layout, Scalar};
 use ladder_runtime::{BitArea, WordArea};
 
 fn cl_type(ty: Type) -> types::Type {
@@ -82,9 +80,11 @@ pub fn locals_size(func: &ir::Function) -> u32 {
 /// to Cranelift values; entries this call defines are cleared again, so one
 /// vector serves every chunk.
 /// `helpers` holds the imported runtime helpers in `Helper::ALL` order,
-/// `subroutines` the program's subroutine functions by number.
+/// `subroutines` the program's subroutine functions by number; `layout` is
+/// the image's.
 #[allow(clippy::too_many_arguments)]
 pub fn translate(
+    layout: &Layout,
     func: &ir::Function,
     range: std::ops::Range<usize>,
     locals_at: Locals,
@@ -129,6 +129,7 @@ pub fn translate(
     };
     let mut t = Translator {
         builder,
+        layout,
         mem,
         pointer,
         helpers,
@@ -251,6 +252,7 @@ pub fn chunks(func: &ir::Function, size: usize) -> Vec<std::ops::Range<usize>> {
 
 struct Translator<'a, 'b> {
     builder: &'a mut FunctionBuilder<'b>,
+    layout: &'a Layout,
     mem: Value,
     pointer: types::Type,
     helpers: &'a [FuncRef],
@@ -264,16 +266,37 @@ impl Translator<'_, '_> {
         self.builder.ins().iconst(ty, value)
     }
 
-    /// The address of element `index` of an array at `base` with `len`
-    /// elements of `size` bytes, as (pointer, constant offset).
-    fn element(&mut self, base: usize, size: usize, len: u32, index: Index, values: &[Option<Value>]) -> (Value, i32) {
+    /// Where an access goes that the image's layout lacks. The layout of a
+    /// compact image was made from this program's IR, so this does not
+    /// happen; if it did, the access stays inside the image: at the scalar
+    /// that counts layout misses, where the tests would see it.
+    fn missing(&self) -> (Value, i32) {
+        (self.mem, Scalar::LayoutMisses.offset() as i32)
+    }
+
+    /// The address of element `index` of `array` (numbered from its first
+    /// element), clamped into the `len` elements from there, as (pointer,
+    /// constant offset).
+    fn element(&mut self, array: Array, len: u32, index: Index, values: &[Option<Value>]) -> (Value, i32) {
+        let (first, size) = (array.first(), array.size());
+        let len = len.max(1);
         match index {
             Index::Fixed(n) => {
-                let n = n.min(len - 1) as usize;
-                (self.mem, (base + n * size) as i32)
+                let n = n.clamp(first, first + len - 1);
+                match self.layout.offset(array, n) {
+                    Some(offset) => (self.mem, offset as i32),
+                    None => self.missing(),
+                }
             }
             Index::Dynamic(v) => {
-                let index = values[v.0 as usize].expect("defined before use");
+                // A run-time index: the layout holds the whole array in one piece.
+                let Some(base) = self.layout.whole(array) else {
+                    return self.missing();
+                };
+                let mut index = values[v.0 as usize].expect("defined before use");
+                if first != 0 {
+                    index = self.builder.ins().iadd_imm_s(index, -i64::from(first));
+                }
                 // Unsigned minimum: a negative index is huge and clamps too.
                 let last = self.iconst(types::I32, i64::from(len - 1));
                 let clamped = self.builder.ins().umin(index, last);
@@ -285,29 +308,56 @@ impl Translator<'_, '_> {
     }
 
     fn bit_address(&mut self, area: BitArea, index: Index, values: &[Option<Value>]) -> (Value, i32) {
-        self.element(bit_area_offset(area), 1, area.count(), index, values)
+        self.element(Array::of_bits(area), area.count(), index, values)
     }
 
     fn word_address(&mut self, area: WordArea, index: Index, values: &[Option<Value>]) -> (Value, i32) {
-        self.element(word_area_offset(area), 2, area.count(), index, values)
+        self.element(Array::of_words(area), area.count(), index, values)
     }
 
     /// A 32-bit counter by device number (C200..C255).
     fn wide_counter_address(&mut self, index: Index, values: &[Option<Value>]) -> (Value, i32) {
-        match index {
+        let array = Array::WideCounterValue;
+        self.element(array, array.end() - array.first(), index, values)
+    }
+
+    /// `count` elements of `array` from `start` set to `value`: one fill
+    /// where the image holds them in one piece, else element by element.
+    fn fill_run(
+        &mut self,
+        array: Array,
+        area_count: u32,
+        start: Index,
+        count: u32,
+        value: Value,
+        values: &[Option<Value>],
+    ) {
+        // The start clamped so that the whole run stays in the area.
+        let count = count.clamp(1, area_count);
+        let at = self.element(array, area_count - count + 1, start, values);
+        let contiguous = match start {
+            Index::Dynamic(_) => at != self.missing(),
             Index::Fixed(n) => {
-                let slot = n.saturating_sub(FIRST_WIDE_COUNTER).min(WIDE_COUNTER_COUNT - 1);
-                (self.mem, (WIDE_COUNTER_OFFSET + slot as usize * 4) as i32)
+                let n = n.clamp(array.first(), array.first() + area_count - count);
+                match (self.layout.offset(array, n), self.layout.offset(array, n + count - 1)) {
+                    (Some(a), Some(b)) => b - a == (count as usize - 1) * array.size(),
+                    _ => false,
+                }
             }
-            Index::Dynamic(v) => {
-                let number = values[v.0 as usize].expect("defined before use");
-                let slot = self.builder.ins().iadd_imm_s(number, -i64::from(FIRST_WIDE_COUNTER));
-                let last = self.iconst(types::I32, i64::from(WIDE_COUNTER_COUNT - 1));
-                let clamped = self.builder.ins().umin(slot, last);
-                let wide = self.builder.ins().uextend(self.pointer, clamped);
-                let scaled = self.builder.ins().imul_imm_u(wide, 4);
-                (self.builder.ins().iadd(self.mem, scaled), WIDE_COUNTER_OFFSET as i32)
+        };
+        if contiguous {
+            self.fill(at, array.size(), count, value);
+            return;
+        }
+        if let Index::Fixed(n) = start {
+            let n = n.clamp(array.first(), array.first() + area_count - count);
+            for k in 0..count {
+                let at = self.element(array, area_count, Index::Fixed(n + k), values);
+                self.store_at(value, at);
             }
+        } else {
+            let at = self.missing();
+            self.store_at(value, at);
         }
     }
 
@@ -372,11 +422,8 @@ impl Translator<'_, '_> {
                 return None;
             }
             Inst::FillBits { area, start, count, on } => {
-                // The start clamped so that the whole run stays in the area.
-                let count = (*count).clamp(1, area.count());
-                let at = self.element(bit_area_offset(*area), 1, area.count() - count + 1, *start, values);
                 let value = self.iconst(types::I8, i64::from(*on));
-                self.fill(at, 1, count, value);
+                self.fill_run(Array::of_bits(*area), area.count(), *start, *count, value, values);
                 return None;
             }
             Inst::LoadWord { area, index } => {
@@ -389,10 +436,8 @@ impl Translator<'_, '_> {
                 return None;
             }
             Inst::ClearWords { area, start, count } => {
-                let count = (*count).clamp(1, area.count());
-                let at = self.element(word_area_offset(*area), 2, area.count() - count + 1, *start, values);
                 let zero = self.iconst(types::I16, 0);
-                self.fill(at, 2, count, zero);
+                self.fill_run(Array::of_words(*area), area.count(), *start, *count, zero, values);
                 return None;
             }
             Inst::LoadWideCounter { index } => {
@@ -404,20 +449,24 @@ impl Translator<'_, '_> {
                 self.store_at(get(value), at);
                 return None;
             }
-            Inst::LoadSlot { slot } => self.load_at(types::I8, (self.mem, (EDGE_SLOT_OFFSET + *slot as usize) as i32)),
+            Inst::LoadSlot { slot } => {
+                let at = self.element(Array::EdgeSlot, Array::EdgeSlot.end(), Index::Fixed(*slot), values);
+                self.load_at(types::I8, at)
+            }
             Inst::StoreSlot { slot, value } => {
-                self.store_at(get(value), (self.mem, (EDGE_SLOT_OFFSET + *slot as usize) as i32));
+                let at = self.element(Array::EdgeSlot, Array::EdgeSlot.end(), Index::Fixed(*slot), values);
+                self.store_at(get(value), at);
                 return None;
             }
-            Inst::LoadBlockActive { state } => self.load_at(
-                types::I8,
-                (self.mem, (STL_BLOCK_ACTIVE_OFFSET + *state as usize) as i32),
-            ),
+            Inst::LoadBlockActive { state } => {
+                let array = Array::StlBlockActive;
+                let at = self.element(array, array.end(), Index::Fixed(*state), values);
+                self.load_at(types::I8, at)
+            }
             Inst::StoreBlockActive { state, value } => {
-                self.store_at(
-                    get(value),
-                    (self.mem, (STL_BLOCK_ACTIVE_OFFSET + *state as usize) as i32),
-                );
+                let array = Array::StlBlockActive;
+                let at = self.element(array, array.end(), Index::Fixed(*state), values);
+                self.store_at(get(value), at);
                 return None;
             }
             Inst::GetLocal { local } => self.builder.use_var(self.locals[local.0 as usize]),

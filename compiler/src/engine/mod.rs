@@ -19,10 +19,19 @@ pub enum EngineKind {
     /// The C back end's source compiled by the system's C compiler (-O2)
     /// into the same host process as `Aot`.
     C,
+    /// The same with a compact image (`--image compact`): the devices the
+    /// program uses and those the host names (a scenario's).
+    CCompact,
 }
 
 impl EngineKind {
-    pub const ALL: [EngineKind; 4] = [EngineKind::Interp, EngineKind::Jit, EngineKind::Aot, EngineKind::C];
+    pub const ALL: [EngineKind; 5] = [
+        EngineKind::Interp,
+        EngineKind::Jit,
+        EngineKind::Aot,
+        EngineKind::C,
+        EngineKind::CCompact,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
@@ -30,6 +39,7 @@ impl EngineKind {
             EngineKind::Jit => "jit",
             EngineKind::Aot => "aot",
             EngineKind::C => "c",
+            EngineKind::CCompact => "c-compact",
         }
     }
 }
@@ -145,8 +155,15 @@ impl<R: ProgramRunner> Engine for InProcess<R> {
     }
 }
 
-/// Builds an engine for a checked program.
-pub fn instantiate<'p>(kind: EngineKind, program: &'p CheckedProgram) -> Result<Box<dyn Engine + 'p>, EngineError> {
+/// Builds an engine for a checked program whose host reads and writes
+/// `host_devices` (a compact image holds them; the other engines hold
+/// every device).
+pub fn instantiate<'p>(
+    kind: EngineKind,
+    program: &'p CheckedProgram,
+    host_devices: &[HostDevice],
+) -> Result<Box<dyn Engine + 'p>, EngineError> {
+    use crate::pipeline::ImageRequest;
     match kind {
         EngineKind::Interp => Ok(Box::new(InProcess::new(Interpreter::new(program)))),
         EngineKind::Jit => {
@@ -156,7 +173,17 @@ pub fn instantiate<'p>(kind: EngineKind, program: &'p CheckedProgram) -> Result<
         EngineKind::Aot => Ok(Box::new(crate::aot::AotEngine::start(
             program,
             crate::aot::Route::Object,
+            &ImageRequest::full(),
         )?)),
-        EngineKind::C => Ok(Box::new(crate::aot::AotEngine::start(program, crate::aot::Route::C)?)),
+        EngineKind::C => Ok(Box::new(crate::aot::AotEngine::start(
+            program,
+            crate::aot::Route::C,
+            &ImageRequest::full(),
+        )?)),
+        EngineKind::CCompact => Ok(Box::new(crate::aot::AotEngine::start(
+            program,
+            crate::aot::Route::C,
+            &ImageRequest::compact(host_devices.to_vec()),
+        )?)),
     }
 }

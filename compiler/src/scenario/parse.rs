@@ -80,6 +80,33 @@ pub struct Scenario {
 }
 
 impl Scenario {
+    /// The devices the scenario sets, forces, expects or prints: what a
+    /// compact image must hold for it (with the inputs pulses go to).
+    pub fn host_devices(&self) -> Vec<HostDevice> {
+        let bit = |area: BitArea, index: u32| HostDevice {
+            device: ladder_runtime::Device::Bit(area, index),
+            width: ladder_runtime::Width::Single,
+        };
+        let mut devices = Vec::new();
+        for step in &self.steps {
+            match &step.directive {
+                Directive::Set { device, .. } | Directive::Expect { device, .. } => devices.push(*device),
+                Directive::ExpectReal { device, .. } => devices.push(*device),
+                Directive::Force { area, index, .. } | Directive::Unforce { area, index } => {
+                    devices.push(bit(*area, *index))
+                }
+                Directive::Print(list) => devices.extend(list.iter().map(|(_, device)| *device)),
+                Directive::Pulse { input, .. } => devices.push(bit(BitArea::X, *input)),
+                Directive::ScanMs(_)
+                | Directive::Scan(_)
+                | Directive::ExpectError(_)
+                | Directive::ExpectReject { .. }
+                | Directive::Clock(_) => {}
+            }
+        }
+        devices
+    }
+
     /// The `expect reject` expectation (program line, code) and the
     /// scenario line it is on, if the scenario expects a rejection.
     pub fn expected_reject(&self) -> Option<(u32, Option<Code>, u32)> {

@@ -231,8 +231,9 @@ pub fn run_scenario(
         recorder: signals.clone().map(Recorder::new),
         snapshots: options.snapshots.then(Vec::new),
     };
+    let host_devices = scenario.host_devices();
     for &kind in engines {
-        match instantiate(kind, &program) {
+        match instantiate(kind, &program, &host_devices) {
             Ok(mut engine) => {
                 outcome.ran.push(kind);
                 let mut observer = observe(kind);

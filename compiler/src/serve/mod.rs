@@ -448,7 +448,7 @@ fn scan_loop(
             let native = loaded.native.take().filter(|_| kind == EngineKind::Jit);
             let built = match native {
                 Some(native) => Ok(Box::new(crate::engine::InProcess::new(native)) as Box<dyn Engine>),
-                None => instantiate(kind, &loaded.program),
+                None => instantiate(kind, &loaded.program, &[]),
             };
             let mut engine = match built {
                 Ok(engine) => engine,

@@ -12,6 +12,7 @@ use ladderc::check::compile_source;
 use ladderc::codegen::ObjectOptions;
 use ladderc::diagnostics::render_all;
 use ladderc::interp::Interpreter;
+use ladderc::pipeline::ImageRequest;
 use ladderc::program::CheckedProgram;
 use ladderc::source::SourceFile;
 use proptest::prelude::*;
@@ -51,6 +52,8 @@ pub struct Totals {
     pub aot_programs: usize,
     /// Programs also run on the C route (C back end, gcc -O2).
     pub c_programs: usize,
+    /// Programs also run on the C route with a compact image.
+    pub compact_programs: usize,
 }
 
 pub fn compile(text: &str) -> CheckedProgram {
@@ -108,6 +111,64 @@ pub enum Route {
     /// The C back end's source, compiled by the system's C compiler at -O2
     /// with every warning an error.
     C,
+    /// The same with a compact image (`--image compact`, the host devices
+    /// being those the case's host calls name): every device the image
+    /// holds must equal the interpreter's.
+    CompactC,
+}
+
+/// The devices a case's host calls name: a compact image holds them.
+pub fn host_devices(case: &Case) -> Vec<ladderc::host_device::HostDevice> {
+    use ladder_runtime::capi::{basic_device, LadderDevice};
+    use ladder_runtime::{Basic, BitArea, Device, Width};
+    use stimulus::HostAction;
+    let device = |kind: LadderDevice, n: u32| {
+        let device = match basic_device(kind as u32, n)? {
+            Basic::Bit(area, n) => Device::Bit(area, n),
+            Basic::Word(area, n) => Device::Word(area, n),
+            Basic::WideCounter(n) => Device::WideCounter(n),
+        };
+        Some(ladderc::host_device::HostDevice {
+            device,
+            width: Width::Single,
+        })
+    };
+    case.steps
+        .iter()
+        .flat_map(|step| &step.actions)
+        .filter_map(|action| match *action {
+            HostAction::Input(x, _) | HostAction::Pulses(x, _) => device(LadderDevice::X, x),
+            HostAction::Write(kind, n, _) | HostAction::Force(kind, n, _) | HostAction::Unforce(kind, n) => {
+                device(kind, n)
+            }
+            HostAction::WriteWordBit(n, _, _) => device(LadderDevice::D, n),
+        })
+        .filter(|d| !matches!(d.device, Device::Bit(BitArea::X, n) if n >= 256))
+        .collect()
+}
+
+/// The compact layout of `program` for `case`'s host.
+pub fn compact_layout(case: &Case, program: &CheckedProgram) -> ladder_runtime::layout::Layout {
+    let ir = ladderc::pipeline::ir(program);
+    ImageRequest::compact(host_devices(case))
+        .layout(program, &ir)
+        .expect("a compact layout")
+}
+
+/// The interpreter's digests of `case` as a compact image of `program`
+/// would hold them.
+pub fn compact_digests(case: &Case, program: &CheckedProgram) -> Vec<u64> {
+    let layout = compact_layout(case, program);
+    let interpreter = Interpreter::new(program);
+    let mut mem = Memory::new_boxed();
+    case.steps
+        .iter()
+        .map(|step| {
+            stimulus::apply(&mut mem, step);
+            interpreter.scan(&mut mem, step.elapsed_ms);
+            image::digest_bytes(&image::project(&mem, &layout))
+        })
+        .collect()
 }
 
 /// A native engine outside the process: programs compiled with their own
@@ -145,31 +206,40 @@ impl AotHost {
         })
     }
 
-    /// Builds one driver for `programs` in `work`.
-    fn link(&self, programs: &[&CheckedProgram], work: &Path) -> Result<PathBuf, String> {
+    /// Builds one driver for the programs of `cases` in `work`.
+    fn link(&self, cases: &[(&Case, &CheckedProgram)], work: &Path) -> Result<PathBuf, String> {
         let mut sources = vec![super::tools::workspace().join("testsuite/differential/driver.c")];
         let mut list = String::from("#define PROGRAMS");
         let mut c_sources = Vec::new();
-        for (i, program) in programs.iter().enumerate() {
+        for (i, (case, program)) in cases.iter().enumerate() {
             let prefix = format!("p{i}_");
             match self.route {
                 Route::Object => {
                     let options = ObjectOptions {
                         target: None,
                         prefix: prefix.clone(),
+                        layout: None,
                     };
-                    let object = ladderc::pipeline::object(program, &options).map_err(|e| e.to_string())?;
+                    let object = ladderc::pipeline::object(program, &options, &ImageRequest::full())
+                        .map_err(|e| e.to_string())?
+                        .output;
                     let path = work.join(format!("p{i}.o"));
                     std::fs::write(&path, object).map_err(|e| e.to_string())?;
                     sources.push(path);
                 }
-                Route::C => {
+                Route::C | Route::CompactC => {
                     let options = ladderc::cback::COptions {
                         prefix: prefix.clone(),
                         source_name: format!("p{i}.il"),
+                        layout: None,
+                    };
+                    let image = match self.route {
+                        Route::CompactC => ImageRequest::compact(host_devices(case)),
+                        Route::Object | Route::C => ImageRequest::full(),
                     };
                     let path = work.join(format!("p{i}.c"));
-                    std::fs::write(&path, ladderc::pipeline::c_source(program, &options)).map_err(|e| e.to_string())?;
+                    let source = ladderc::pipeline::c_source(program, &options, &image).output;
+                    std::fs::write(&path, source).map_err(|e| e.to_string())?;
                     c_sources.push(path);
                     sources.push(work.join(format!("p{i}.o")));
                 }
@@ -236,8 +306,7 @@ impl AotHost {
     /// Image digests after every scan of every case, per case.
     pub fn digests(&self, cases: &[(&Case, &CheckedProgram)]) -> Result<Vec<Vec<u64>>, String> {
         let work = tempfile::tempdir().map_err(|e| e.to_string())?;
-        let programs: Vec<&CheckedProgram> = cases.iter().map(|(_, p)| *p).collect();
-        let host = self.link(&programs, work.path())?;
+        let host = self.link(cases, work.path())?;
         let mut script = String::new();
         for (i, (case, _)) in cases.iter().enumerate() {
             let _ = writeln!(script, "P {i}");
@@ -261,10 +330,11 @@ impl AotHost {
             .collect()
     }
 
-    /// The compiled program's whole image after `scans` scans of `case`.
+    /// The compiled program's whole image after `scans` scans of `case`
+    /// (a compact one expanded: what it does not hold is 0).
     pub fn image(&self, case: &Case, program: &CheckedProgram, scans: usize) -> Result<Box<Memory>, String> {
         let work = tempfile::tempdir().map_err(|e| e.to_string())?;
-        let host = self.link(&[program], work.path())?;
+        let host = self.link(&[(case, program)], work.path())?;
         let mut script = String::from("P 0\n");
         for step in &case.steps[..scans] {
             stimulus::driver_commands(step, &mut script);
@@ -272,15 +342,42 @@ impl AotHost {
         script.push_str("D\n");
         let lines = Self::run(&host, work.path(), &script)?;
         let hex = lines.last().ok_or("no image printed")?;
-        let mut mem = Memory::new_boxed();
-        let bytes = bytemuck::bytes_of_mut(&mut *mem);
-        if hex.len() != 2 * bytes.len() {
-            return Err(format!("the image has {} hex digits", hex.len()));
+        let bytes = (0..hex.len() / 2)
+            .map(|i| u8::from_str_radix(&hex[2 * i..2 * i + 2], 16).map_err(|e| e.to_string()))
+            .collect::<Result<Vec<u8>, String>>()?;
+        match self.route {
+            Route::CompactC => Ok(image::expand(&bytes, &compact_layout(case, program))),
+            Route::Object | Route::C => {
+                let mut mem = Memory::new_boxed();
+                let full = bytemuck::bytes_of_mut(&mut *mem);
+                if bytes.len() != full.len() {
+                    return Err(format!("the image has {} bytes", bytes.len()));
+                }
+                full.copy_from_slice(&bytes);
+                Ok(mem)
+            }
         }
-        for (i, byte) in bytes.iter_mut().enumerate() {
-            *byte = u8::from_str_radix(&hex[2 * i..2 * i + 2], 16).map_err(|e| e.to_string())?;
+    }
+
+    /// The interpreter's digests this engine must print for `case`:
+    /// `full` for the full image, else those of its compact image.
+    fn expected(&self, case: &Case, program: &CheckedProgram, full: &[u64]) -> Vec<u64> {
+        match self.route {
+            Route::Object | Route::C => full.to_vec(),
+            Route::CompactC => compact_digests(case, program),
         }
-        Ok(mem)
+    }
+
+    /// The interpreter's image as this engine holds it.
+    fn expected_image(&self, case: &Case, program: &CheckedProgram, scans: usize) -> Box<Memory> {
+        let mem = interpreter_image(case, program, scans);
+        match self.route {
+            Route::Object | Route::C => mem,
+            Route::CompactC => {
+                let layout = compact_layout(case, program);
+                image::expand(&image::project(&mem, &layout), &layout)
+            }
+        }
     }
 
     /// The engine's name in reports.
@@ -288,13 +385,14 @@ impl AotHost {
         match self.route {
             Route::Object => "aot",
             Route::C => "c",
+            Route::CompactC => "c_compact",
         }
     }
 
     /// Where this engine leaves the interpreter on `case`, if it does.
     pub fn diverges(&self, case: &Case, program: &CheckedProgram, expected: &[u64]) -> Result<Option<usize>, String> {
         let digests = self.digests(&[(case, program)])?;
-        Ok(first_difference(expected, &digests[0]))
+        Ok(first_difference(&self.expected(case, program, expected), &digests[0]))
     }
 }
 
@@ -314,7 +412,7 @@ pub fn divergence(case: &Case, hosts: &[AotHost]) -> Option<Divergence> {
             .diverges(case, &program, &expected)
             .unwrap_or_else(|e| panic!("{}: {e}", host.engine()))?;
         let differences = match host.image(case, &program, scan + 1) {
-            Ok(actual) => image::differences(&interpreter_image(case, &program, scan + 1), &actual),
+            Ok(actual) => image::differences(&host.expected_image(case, &program, scan + 1), &actual),
             Err(_) => Vec::new(),
         };
         Some(Divergence {
@@ -437,8 +535,13 @@ where
             match host.route {
                 Route::Object => totals.aot_programs += cases.len(),
                 Route::C => totals.c_programs += cases.len(),
+                Route::CompactC => totals.compact_programs += cases.len(),
             }
-            if let Some(i) = (0..size).find(|&i| first_difference(&expected[i], &digests[i]).is_some()) {
+            let diverged = |i: usize| {
+                let (case, program) = cases[i];
+                first_difference(&host.expected(case, program, &expected[i]), &digests[i]).is_some()
+            };
+            if let Some(i) = (0..size).find(|&i| diverged(i)) {
                 fail(name, seed, trees.swap_remove(i), hosts);
             }
         }
@@ -475,7 +578,7 @@ pub fn seed(test: &str) -> u64 {
 /// The engines outside the process: the object-file path and the C route
 /// (each skipped, with the reason printed, where it cannot be built).
 pub fn native_hosts(test: &str) -> Vec<AotHost> {
-    [Route::Object, Route::C]
+    [Route::Object, Route::C, Route::CompactC]
         .into_iter()
         .filter_map(|route| match AotHost::find(route) {
             Ok(host) => Some(host),

@@ -3,14 +3,68 @@
 //! where two images differ (and to write `expect` lines for it).
 
 use ladder_runtime::capi::LadderDevice;
+use ladder_runtime::layout::{Layout, FULL, HEADER_SIZE, SEGMENTS};
 use ladder_runtime::Memory;
 use std::mem::offset_of;
 
-/// FNV-1a over the image's 64-bit little-endian words (the C driver
-/// computes the same). Each step is a bijection of the hash for a given
-/// word, so two images that differ in one word always hash differently.
+/// FNV-1a over the image's 64-bit little-endian words after its header
+/// (the last one padded with zeros; the C driver computes the same). Each
+/// step is a bijection of the hash for a given word, so two images that
+/// differ in one word always hash differently. The header is left out: a
+/// compact image's names its layout table by address.
 pub fn digest(mem: &Memory) -> u64 {
-    mem.digest()
+    digest_bytes(bytemuck::bytes_of(mem))
+}
+
+/// `digest` of an image's bytes, whatever its layout.
+pub fn digest_bytes(bytes: &[u8]) -> u64 {
+    bytes[HEADER_SIZE..]
+        .chunks(8)
+        .fold(0xcbf2_9ce4_8422_2325u64, |hash, chunk| {
+            let mut word = [0u8; 8];
+            word[..chunk.len()].copy_from_slice(chunk);
+            (hash ^ u64::from_le_bytes(word)).wrapping_mul(0x0000_0100_0000_01b3)
+        })
+}
+
+/// The bytes of an image with `layout` holding what `mem` holds (header
+/// zero): what a compact image must be when the full one is `mem`.
+pub fn project(mem: &Memory, layout: &Layout) -> Vec<u8> {
+    let full = bytemuck::bytes_of(mem);
+    let mut bytes = vec![0u8; layout.size as usize];
+    let scalars = HEADER_SIZE..ladder_runtime::layout::ARRAYS_START;
+    bytes[scalars.clone()].copy_from_slice(&full[scalars]);
+    for (run, segment) in layout.runs.iter().zip(SEGMENTS) {
+        if run.count == 0 {
+            continue;
+        }
+        let length = run.count as usize * segment.array.size();
+        let from = FULL
+            .offset(segment.array, run.first)
+            .expect("the full layout holds every device");
+        bytes[run.offset as usize..run.offset as usize + length].copy_from_slice(&full[from..from + length]);
+    }
+    bytes
+}
+
+/// The full image with what a compact image's `bytes` hold, and zero
+/// elsewhere (to name the devices where two compact images differ).
+pub fn expand(bytes: &[u8], layout: &Layout) -> Box<Memory> {
+    let mut mem = Memory::new_boxed();
+    let full = bytemuck::bytes_of_mut(&mut *mem);
+    let scalars = HEADER_SIZE..ladder_runtime::layout::ARRAYS_START;
+    full[scalars.clone()].copy_from_slice(&bytes[scalars]);
+    for (run, segment) in layout.runs.iter().zip(SEGMENTS) {
+        if run.count == 0 {
+            continue;
+        }
+        let length = run.count as usize * segment.array.size();
+        let to = FULL
+            .offset(segment.array, run.first)
+            .expect("the full layout holds every device");
+        full[to..to + length].copy_from_slice(&bytes[run.offset as usize..run.offset as usize + length]);
+    }
+    mem
 }
 
 /// A field of the image: its name, where it starts, the size of one
@@ -30,6 +84,17 @@ fn fields() -> Vec<Field> {
         device,
     };
     vec![
+        field("header", offset_of!(Memory, header), 4, None),
+        field("forced_count", offset_of!(Memory, forced_count), 4, None),
+        field("stl_pending_any", offset_of!(Memory, stl_pending_any), 4, None),
+        field("elapsed_ms", offset_of!(Memory, elapsed_ms), 4, None),
+        field("scan_count", offset_of!(Memory, scan_count), 4, None),
+        field("clock_ms", offset_of!(Memory, clock_ms), 4, None),
+        field("loop_repetitions", offset_of!(Memory, loop_repetitions), 4, None),
+        field("calendar_seconds", offset_of!(Memory, calendar_seconds), 4, None),
+        field("calendar_ms", offset_of!(Memory, calendar_ms), 4, None),
+        field("calendar_flags", offset_of!(Memory, calendar_flags), 4, None),
+        field("layout_misses", offset_of!(Memory, layout_misses), 4, None),
         field("x", offset_of!(Memory, x), 1, Some((LadderDevice::X, 0))),
         field("y", offset_of!(Memory, y), 1, Some((LadderDevice::Y, 0))),
         field("m", offset_of!(Memory, m), 1, Some((LadderDevice::M, 0))),
@@ -85,22 +150,12 @@ fn fields() -> Vec<Field> {
         field("force_m", offset_of!(Memory, force_m), 1, None),
         field("force_timer", offset_of!(Memory, force_timer), 1, None),
         field("force_counter", offset_of!(Memory, force_counter), 1, None),
-        field("forced_count", offset_of!(Memory, forced_count), 4, None),
-        field("stl_pending_any", offset_of!(Memory, stl_pending_any), 4, None),
-        field("elapsed_ms", offset_of!(Memory, elapsed_ms), 4, None),
-        field("scan_count", offset_of!(Memory, scan_count), 4, None),
-        field("clock_ms", offset_of!(Memory, clock_ms), 4, None),
-        field("loop_repetitions", offset_of!(Memory, loop_repetitions), 4, None),
         field("pulses_pending", offset_of!(Memory, pulses_pending), 4, None),
         field("input_edges", offset_of!(Memory, input_edges), 4, None),
         // Four words per instance: phase, a, b, c.
         field("instance", offset_of!(Memory, instance), 4, None),
         field("pulse_owner", offset_of!(Memory, pulse_owner), 4, None),
         field("pulse_remainder", offset_of!(Memory, pulse_remainder), 4, None),
-        field("calendar_seconds", offset_of!(Memory, calendar_seconds), 4, None),
-        field("calendar_ms", offset_of!(Memory, calendar_ms), 4, None),
-        field("calendar_flags", offset_of!(Memory, calendar_flags), 4, None),
-        field("reserved", offset_of!(Memory, reserved), 4, None),
         field("buffer", offset_of!(Memory, buffer), 2, Some((LadderDevice::U, 0))),
     ]
 }

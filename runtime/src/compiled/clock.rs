@@ -4,12 +4,13 @@
 
 use crate::calendar::{full_year, CalendarTime};
 use crate::host::Width;
-use crate::memory::Memory;
+use crate::image::ImageMut;
+use crate::layout::Scalar;
 use crate::place::Place;
 
 const DAY: i64 = 86_400;
 
-fn words<const N: usize>(mem: &Memory, place: Place) -> [i64; N] {
+fn words<const N: usize>(mem: &ImageMut<'_>, place: Place) -> [i64; N] {
     let mut values = [0i64; N];
     for (unit, value) in (0..).zip(values.iter_mut()) {
         *value = i64::from(place.nth(unit, Width::Single).read(mem, Width::Single));
@@ -17,7 +18,7 @@ fn words<const N: usize>(mem: &Memory, place: Place) -> [i64; N] {
     values
 }
 
-fn write_words(mem: &mut Memory, place: Place, values: &[i64]) {
+fn write_words(mem: &mut ImageMut<'_>, place: Place, values: &[i64]) {
     for (unit, &value) in (0..).zip(values) {
         place.nth(unit, Width::Single).write(mem, Width::Single, value);
     }
@@ -38,7 +39,7 @@ fn time_of_day(seconds: i64) -> [i64; 3] {
 
 /// TWR: sets the clock from the 7 words at `source`; false when they are
 /// out of range (nothing changed).
-pub fn set_clock(mem: &mut Memory, source: Place) -> bool {
+pub fn set_clock(mem: &mut ImageMut<'_>, source: Place) -> bool {
     let [year, month, day, hour, minute, second, weekday] = words::<7>(mem, source);
     let field = |v: i64| u32::try_from(v).ok();
     let Some(year) = full_year(year as i32) else {
@@ -54,7 +55,7 @@ pub fn set_clock(mem: &mut Memory, source: Place) -> bool {
 
 /// TCMP: the time `limit` against the 3 words at `data`; three bits to
 /// `destination`. False when a time is out of range.
-pub fn time_compare(mem: &mut Memory, limit: [i64; 3], data: Place, destination: Place) -> bool {
+pub fn time_compare(mem: &mut ImageMut<'_>, limit: [i64; 3], data: Place, destination: Place) -> bool {
     let (Some(limit), Some(time)) = (day_second(limit), day_second(words(mem, data))) else {
         return false;
     };
@@ -64,7 +65,7 @@ pub fn time_compare(mem: &mut Memory, limit: [i64; 3], data: Place, destination:
 }
 
 /// TZCP: the time at `data` against the zone `low`..`high`.
-pub fn time_zone(mem: &mut Memory, low: Place, high: Place, data: Place, destination: Place) -> bool {
+pub fn time_zone(mem: &mut ImageMut<'_>, low: Place, high: Place, data: Place, destination: Place) -> bool {
     let (Some(low), Some(high), Some(time)) = (
         day_second(words(mem, low)),
         day_second(words(mem, high)),
@@ -87,7 +88,7 @@ pub const TIME_ZERO: i32 = 2;
 pub const TIME_WRAPPED: i32 = 4;
 
 /// TADD (`subtract` false) or TSUB.
-pub fn time_add(mem: &mut Memory, a: Place, b: Place, destination: Place, subtract: bool) -> i32 {
+pub fn time_add(mem: &mut ImageMut<'_>, a: Place, b: Place, destination: Place, subtract: bool) -> i32 {
     let (Some(a), Some(b)) = (day_second(words(mem, a)), day_second(words(mem, b))) else {
         return 0;
     };
@@ -100,7 +101,7 @@ pub fn time_add(mem: &mut Memory, a: Place, b: Place, destination: Place, subtra
 
 /// HTOS: the seconds of hours, minutes, seconds at `source`, or -1 when out
 /// of range or above `limit`.
-pub fn time_to_seconds(mem: &Memory, source: Place, limit: i64) -> i64 {
+pub fn time_to_seconds(mem: &ImageMut<'_>, source: Place, limit: i64) -> i64 {
     let [hour, minute, second] = words::<3>(mem, source);
     if hour < 0 || !(0..=59).contains(&minute) || !(0..=59).contains(&second) {
         return -1;
@@ -114,7 +115,7 @@ pub fn time_to_seconds(mem: &Memory, source: Place, limit: i64) -> i64 {
 }
 
 /// STOH: `seconds` as hours, minutes, seconds; false out of range.
-pub fn seconds_to_time(mem: &mut Memory, seconds: i64, destination: Place) -> bool {
+pub fn seconds_to_time(mem: &mut ImageMut<'_>, seconds: i64, destination: Place) -> bool {
     if !(0..=32_767 * 3_600 + 3_599).contains(&seconds) {
         return false;
     }
@@ -126,16 +127,17 @@ pub fn seconds_to_time(mem: &mut Memory, seconds: i64, destination: Place) -> bo
 /// scan's reported time to the hours at `hours` (a pair when `wide`) and
 /// the seconds in the word after them; the alarm bit at `alarm` turns ON
 /// once the hours reach `limit`.
-pub fn hour(mem: &mut Memory, instance: u32, limit: i64, hours: Place, alarm: Place, wide: bool) {
+pub fn hour(mem: &mut ImageMut<'_>, instance: u32, limit: i64, hours: Place, alarm: Place, wide: bool) {
     let width = if wide { Width::Double } else { Width::Single };
     let seconds_place = hours.nth(width.words(), Width::Single);
     let max_hours = if wide { i64::from(i32::MAX) } else { i64::from(i16::MAX) };
-    let elapsed = i64::from(mem.elapsed_ms);
-    let Some(state) = mem.instance.get_mut(instance as usize) else {
+    let elapsed = i64::from(mem.scalar(Scalar::ElapsedMs));
+    let Some(mut state) = mem.instance(instance) else {
         return;
     };
     let ms = i64::from(state.a) + elapsed;
     state.a = (ms % 1_000) as i32;
+    mem.set_instance(instance, state);
     let counted_hours = i64::from(hours.read(mem, width)).max(0);
     let counted_seconds = i64::from(seconds_place.read(mem, Width::Single)).clamp(0, 3_599);
     let total = (counted_hours * 3_600 + counted_seconds + ms / 1_000).min(max_hours * 3_600 + 3_599);

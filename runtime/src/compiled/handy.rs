@@ -4,29 +4,27 @@
 //! checked by the caller.
 
 use crate::host::Width;
-use crate::memory::{InstanceState, Memory};
+use crate::image::ImageMut;
+use crate::layout::{Array, Scalar};
+use crate::memory::InstanceState;
 use crate::place::Place;
 use crate::special::{M_EIGHT_BIT_MODE_FX, M_EXECUTION_COMPLETE, M_RAMP_HOLD};
 
-fn get(mem: &Memory, place: Place, unit: u32, width: Width) -> i64 {
+fn get(mem: &ImageMut<'_>, place: Place, unit: u32, width: Width) -> i64 {
     i64::from(place.nth(unit, width).read(mem, width))
 }
 
-fn set(mem: &mut Memory, place: Place, unit: u32, width: Width, value: i64) {
+fn set(mem: &mut ImageMut<'_>, place: Place, unit: u32, width: Width, value: i64) {
     place.nth(unit, width).write(mem, width, value);
 }
 
-fn complete(mem: &mut Memory, on: bool) {
-    mem.m[M_EXECUTION_COMPLETE as usize] = u8::from(on);
-}
-
-fn state(mem: &mut Memory, instance: u32) -> Option<&mut InstanceState> {
-    mem.instance.get_mut(instance as usize)
+fn complete(mem: &mut ImageMut<'_>, on: bool) {
+    mem.set_u8(Array::M, M_EXECUTION_COMPLETE, u8::from(on));
 }
 
 /// SER: count, first, last match of `key`, positions of the smallest and
 /// largest (the last of equals) among `n` values.
-pub fn search(mem: &mut Memory, table: Place, n: u32, key: i64, destination: Place, width: Width) {
+pub fn search(mem: &mut ImageMut<'_>, table: Place, n: u32, key: i64, destination: Place, width: Width) {
     let (mut count, mut first, mut last, mut low, mut high) = (0i64, None, 0i64, 0u32, 0u32);
     for i in 0..n {
         let value = get(mem, table, i, width);
@@ -50,7 +48,7 @@ pub fn search(mem: &mut Memory, table: Place, n: u32, key: i64, destination: Pla
 
 /// ABSD: output k ON for rising ≤ value < falling, wrapping when the
 /// rising point is above the falling one.
-pub fn absolute_drum(mem: &mut Memory, table: Place, n: u32, value: i64, outputs: Place, width: Width) {
+pub fn absolute_drum(mem: &mut ImageMut<'_>, table: Place, n: u32, value: i64, outputs: Place, width: Width) {
     for k in 0..n {
         let rising = get(mem, table, 2 * k, width);
         let falling = get(mem, table, 2 * k + 1, width);
@@ -63,21 +61,21 @@ pub fn absolute_drum(mem: &mut Memory, table: Place, n: u32, value: i64, outputs
 }
 
 /// INCD with counters `counter` (measure) and `counter + 1` (step).
-pub fn incremental_drum(mem: &mut Memory, table: Place, n: u32, counter: u32, outputs: Place, power: bool) {
-    let (measure, steps) = (counter as usize, counter as usize + 1);
-    if steps >= mem.counter_value.len() {
+pub fn incremental_drum(mem: &mut ImageMut<'_>, table: Place, n: u32, counter: u32, outputs: Place, power: bool) {
+    let (measure, steps) = (counter, counter + 1);
+    if steps >= Array::CounterValue.end() {
         return;
     }
     let mut finished = false;
     let active = if power {
         let last = i64::from(n) - 1;
-        let mut current = i64::from(mem.counter_value[steps]).max(0).min(last);
-        if i64::from(mem.counter_value[measure]) >= get(mem, table, current as u32, Width::Single) {
+        let mut current = i64::from(mem.get_i16(Array::CounterValue, steps)).max(0).min(last);
+        if i64::from(mem.get_i16(Array::CounterValue, measure)) >= get(mem, table, current as u32, Width::Single) {
             mem.reset_counter(counter);
             finished = current == last;
             current = if finished { 0 } else { current + 1 };
         }
-        mem.counter_value[steps] = current as i16;
+        mem.set_i16(Array::CounterValue, steps, current as i16);
         Some(current)
     } else {
         mem.reset_counter(counter);
@@ -93,19 +91,22 @@ pub fn incremental_drum(mem: &mut Memory, table: Place, n: u32, counter: u32, ou
 }
 
 /// An instance whose instruction ran with its rung OFF: it starts afresh.
-pub fn instance_off(mem: &mut Memory, instance: u32) {
-    if let Some(state) = state(mem, instance) {
-        *state = InstanceState::default();
+pub fn instance_off(mem: &mut ImageMut<'_>, instance: u32) {
+    if mem.instance(instance).is_some() {
+        mem.set_instance(instance, InstanceState::default());
     }
 }
 
 /// RAMP with its rung ON: `target` holds D and D+1.
-pub fn ramp(mem: &mut Memory, instance: u32, from: i64, to: i64, target: Place, n: i64) {
-    let Some(state) = state(mem, instance) else { return };
+pub fn ramp(mem: &mut ImageMut<'_>, instance: u32, from: i64, to: i64, target: Place, n: i64) {
+    let Some(mut state) = mem.instance(instance) else {
+        return;
+    };
     let started = state.phase == 0;
     state.phase = 1;
+    mem.set_instance(instance, state);
     let counted = get(mem, target, 1, Width::Single);
-    let hold = mem.m[M_RAMP_HOLD as usize] != 0;
+    let hold = mem.get_u8(Array::M, M_RAMP_HOLD) != 0;
     let count = if started {
         0
     } else if counted >= n {
@@ -123,9 +124,11 @@ pub fn ramp(mem: &mut Memory, instance: u32, from: i64, to: i64, target: Place, 
 }
 
 /// TTMR: D+1 = ON time in 100 ms; D = D+1 × 10^n / 10 when it turns OFF.
-pub fn teaching_timer(mem: &mut Memory, instance: u32, power: bool, target: Place, n: u32) {
-    let elapsed = i64::from(mem.elapsed_ms);
-    let Some(state) = state(mem, instance) else { return };
+pub fn teaching_timer(mem: &mut ImageMut<'_>, instance: u32, power: bool, target: Place, n: u32) {
+    let elapsed = i64::from(mem.scalar(Scalar::ElapsedMs));
+    let Some(mut state) = mem.instance(instance) else {
+        return;
+    };
     let was_on = state.phase == 1;
     state.phase = u32::from(power);
     if power {
@@ -135,21 +138,27 @@ pub fn teaching_timer(mem: &mut Memory, instance: u32, power: bool, target: Plac
             0
         };
         state.a = ms as i32;
+        mem.set_instance(instance, state);
         set(mem, target, 1, Width::Single, ms / 100);
     } else if was_on {
         state.a = 0;
+        mem.set_instance(instance, state);
         let tenths = get(mem, target, 1, Width::Single);
         let scale = [1, 10, 100][n.min(2) as usize];
         set(mem, target, 0, Width::Single, tenths * scale / 10);
         set(mem, target, 1, Width::Single, 0);
+    } else {
+        mem.set_instance(instance, state);
     }
 }
 
 /// STMR with timer `timer` (checked), `m` × 100 ms, four outputs.
-pub fn special_timer(mem: &mut Memory, instance: u32, power: bool, timer: u32, m: i64, outputs: Place) {
+pub fn special_timer(mem: &mut ImageMut<'_>, instance: u32, power: bool, timer: u32, m: i64, outputs: Place) {
     let period = m * 100;
-    let elapsed = i64::from(mem.elapsed_ms);
-    let Some(state) = state(mem, instance) else { return };
+    let elapsed = i64::from(mem.scalar(Scalar::ElapsedMs));
+    let Some(mut state) = mem.instance(instance) else {
+        return;
+    };
     // phase 0: never ON; 1: ON; 2: OFF after ON.
     let phase = if power { 1 } else { 2 };
     if state.phase == 0 && !power {
@@ -172,9 +181,8 @@ pub fn special_timer(mem: &mut Memory, instance: u32, power: bool, timer: u32, m
         1 => [true, false, timing, !timing],
         _ => [timing, timing, false, timing && on_delay_was_on],
     };
-    if let Some(value) = mem.timer_value.get_mut(timer as usize) {
-        *value = (ms / 100) as i16;
-    }
+    mem.set_instance(instance, state);
+    mem.set_i16(Array::TimerValue, timer, (ms / 100) as i16);
     for (unit, on) in (0..).zip(bits) {
         set(mem, outputs, unit, Width::Single, i64::from(on));
     }
@@ -190,14 +198,24 @@ pub fn segments(digit: u32) -> i32 {
 
 /// SEGL with its rung ON: the first `sets` of `values`, outputs from
 /// `outputs`; false (nothing written) when a value is above 9999.
-pub fn segment_latch(mem: &mut Memory, instance: u32, values: [i64; 2], sets: u32, outputs: Place, n: u32) -> bool {
+pub fn segment_latch(
+    mem: &mut ImageMut<'_>,
+    instance: u32,
+    values: [i64; 2],
+    sets: u32,
+    outputs: Place,
+    n: u32,
+) -> bool {
     let sets = sets.clamp(1, 2);
     if values[..sets as usize].iter().any(|&v| !(0..10_000).contains(&v)) {
         return false;
     }
-    let Some(state) = state(mem, instance) else { return true };
+    let Some(mut state) = mem.instance(instance) else {
+        return true;
+    };
     let phase = (state.a.rem_euclid(12)) as u32;
     state.a = ((phase + 1) % 12) as i32;
+    mem.set_instance(instance, state);
     let digit = phase / 3;
     let strobe_on = phase % 3 == 1;
     let (data_inverted, strobe_inverted) = (n & 1 == 1, n & 2 == 2);
@@ -228,9 +246,9 @@ pub fn segment_latch(mem: &mut Memory, instance: u32, values: [i64; 2], sets: u3
 
 /// ASCI (`op` 0), HEX (1), CCD (2) over `n` characters; M8161 decides one
 /// or two per word. False when HEX met a character that is not a hex digit.
-pub fn characters(mem: &mut Memory, op: u32, source: Place, destination: Place, n: u32) -> bool {
-    let eight_bit = mem.m[M_EIGHT_BIT_MODE_FX as usize] != 0;
-    let byte_at = |mem: &Memory, place: Place, i: u32| -> i64 {
+pub fn characters(mem: &mut ImageMut<'_>, op: u32, source: Place, destination: Place, n: u32) -> bool {
+    let eight_bit = mem.get_u8(Array::M, M_EIGHT_BIT_MODE_FX) != 0;
+    let byte_at = |mem: &ImageMut<'_>, place: Place, i: u32| -> i64 {
         if eight_bit {
             get(mem, place, i, Width::Single) & 0xFF
         } else {
@@ -239,10 +257,17 @@ pub fn characters(mem: &mut Memory, op: u32, source: Place, destination: Place, 
     };
     match op {
         0 => {
+            // The source words first: D may overlap S (at most 256
+            // characters, 64 words).
+            let n = n.min(256);
+            let mut words = [0i64; 64];
+            for (k, word) in (0..n.div_ceil(4)).zip(words.iter_mut()) {
+                *word = get(mem, source, k, Width::Single);
+            }
             // Character i is hex digit n-1-i of the multi-word number.
-            let character = |mem: &Memory, i: u32| {
+            let character = |i: u32| {
                 let k = n - 1 - i;
-                let digit = (get(mem, source, k / 4, Width::Single) >> (4 * (k % 4))) & 0xF;
+                let digit = (words[(k / 4) as usize] >> (4 * (k % 4))) & 0xF;
                 if digit > 9 {
                     digit - 10 + i64::from(b'A')
                 } else {
@@ -251,17 +276,12 @@ pub fn characters(mem: &mut Memory, op: u32, source: Place, destination: Place, 
             };
             if eight_bit {
                 for i in 0..n {
-                    let c = character(mem, i);
-                    set(mem, destination, i, Width::Single, c);
+                    set(mem, destination, i, Width::Single, character(i));
                 }
             } else {
                 for word in 0..n.div_ceil(2) {
-                    let low = character(mem, 2 * word);
-                    let high = if 2 * word + 1 < n {
-                        character(mem, 2 * word + 1)
-                    } else {
-                        0
-                    };
+                    let low = character(2 * word);
+                    let high = if 2 * word + 1 < n { character(2 * word + 1) } else { 0 };
                     set(mem, destination, word, Width::Single, low | (high << 8));
                 }
             }

@@ -16,16 +16,17 @@ mod real;
 
 pub use real::{decimal_to_real, real_function, real_to_decimal};
 
-use crate::device::{BitArea, WordArea, MAX_BLOCK_UNITS, MAX_SHIFT_BITS, MAX_TRANSFER_UNITS};
+use crate::device::{BitArea, WordArea, MAX_BLOCK_UNITS, MAX_SHIFT_BITS, MAX_TRANSFER_UNITS, SORT_INSTANCES};
 use crate::host::Width;
-use crate::memory::Memory;
+use crate::image::ImageMut;
+use crate::layout::Array;
 use crate::place::Place;
 
 /// BMOV (`fill` false) or FMOV (`fill` true) of `n` units. Overlapping
 /// blocks move as a whole: units of the same size are copied in the
 /// direction that reads each before it is overwritten; digit groups of
 /// different sizes in one area go through a buffer of at most 1 KiB.
-pub fn block_move(mem: &mut Memory, source: Place, destination: Place, n: u32, width: Width, fill: bool) {
+pub fn block_move(mem: &mut ImageMut<'_>, source: Place, destination: Place, n: u32, width: Width, fill: bool) {
     // BMOV/FMOV move at most 512 units, FROM/TO a whole buffer memory.
     let n = n.min(MAX_TRANSFER_UNITS);
     if fill {
@@ -71,16 +72,16 @@ pub fn block_move(mem: &mut Memory, source: Place, destination: Place, n: u32, w
 /// `n2` toward it (right) or away from it (left), and the `n2` bits from
 /// `source`, read before anything moves, fill the vacated end. The places
 /// and 1 <= n2 <= n1 <= 1024 are checked by the caller.
-pub fn shift_bits(mem: &mut Memory, source: Place, destination: Place, n1: u32, n2: u32, left: bool) {
+pub fn shift_bits(mem: &mut ImageMut<'_>, source: Place, destination: Place, n1: u32, n2: u32, left: bool) {
     let n1 = n1.min(MAX_SHIFT_BITS);
     let n2 = n2.min(n1);
-    let bit = |mem: &Memory, place: Place, k: u32| place.nth(k, Width::Single).read(mem, Width::Single) != 0;
+    let bit = |mem: &ImageMut<'_>, place: Place, k: u32| place.nth(k, Width::Single).read(mem, Width::Single) != 0;
     // The incoming bits first: the source may lie inside the shifted run.
     let mut incoming = [0u64; (MAX_SHIFT_BITS / 64) as usize];
     for k in 0..n2 {
         incoming[(k / 64) as usize] |= u64::from(bit(mem, source, k)) << (k % 64);
     }
-    let set = |mem: &mut Memory, k: u32, on: bool| {
+    let set = |mem: &mut ImageMut<'_>, k: u32, on: bool| {
         destination
             .nth(k, Width::Single)
             .write(mem, Width::Single, i64::from(on));
@@ -108,9 +109,9 @@ pub fn shift_bits(mem: &mut Memory, source: Place, destination: Place, n1: u32, 
 /// high byte of 0). WTOB (`split` true): `n` bytes of the words from `source`
 /// (low byte first) into `n` words from `destination`, high bytes 0.
 /// Overlapping ranges give what reading everything first would give.
-pub fn bytes(mem: &mut Memory, source: Place, destination: Place, n: u32, split: bool) {
-    let word = |mem: &Memory, place: Place, unit: u32| place.nth(unit, Width::Single).read(mem, Width::Single);
-    let put = |mem: &mut Memory, unit: u32, value: i32| {
+pub fn bytes(mem: &mut ImageMut<'_>, source: Place, destination: Place, n: u32, split: bool) {
+    let word = |mem: &ImageMut<'_>, place: Place, unit: u32| place.nth(unit, Width::Single).read(mem, Width::Single);
+    let put = |mem: &mut ImageMut<'_>, unit: u32, value: i32| {
         destination
             .nth(unit, Width::Single)
             .write(mem, Width::Single, i64::from(value))
@@ -120,7 +121,7 @@ pub fn bytes(mem: &mut Memory, source: Place, destination: Place, n: u32, split:
         // Output j comes from input j/2. Outputs whose writes land on inputs
         // not yet read must go first: those from the top down where the
         // destination starts at or after the source, the rest upwards.
-        let out = |mem: &mut Memory, j: u32| {
+        let out = |mem: &mut ImageMut<'_>, j: u32| {
             let value = word(mem, source, j / 2);
             put(
                 mem,
@@ -147,7 +148,7 @@ pub fn bytes(mem: &mut Memory, source: Place, destination: Place, n: u32, split:
     } else {
         // Output i comes from inputs 2i and 2i+1.
         let words = n.div_ceil(2);
-        let out = |mem: &mut Memory, i: u32| {
+        let out = |mem: &mut ImageMut<'_>, i: u32| {
             let low = word(mem, source, 2 * i) & 0xFF;
             let high = if 2 * i + 1 < n {
                 word(mem, source, 2 * i + 1) & 0xFF
@@ -183,7 +184,7 @@ fn offset(place: Place) -> i64 {
 
 /// The number (0-based) of the highest ON bit among `count` bits from
 /// `source`, or -1 when all are OFF (ENCO on bit devices).
-pub fn highest_on(mem: &Memory, source: Place, count: u32) -> i32 {
+pub fn highest_on(mem: &ImageMut<'_>, source: Place, count: u32) -> i32 {
     (0..count)
         .rev()
         .find(|&unit| source.nth(unit, Width::Single).read(mem, Width::Single) != 0)
@@ -227,7 +228,7 @@ impl Zone {
 /// ZRST (`on` false) or ZSET (`on` true) from `first` to `last` of a zone;
 /// when `last` is below `first`, `first` alone. Words are cleared, timers
 /// and counters reset.
-pub fn zone(mem: &mut Memory, zone: Zone, first: u32, last: u32, on: bool) {
+pub fn zone(mem: &mut ImageMut<'_>, zone: Zone, first: u32, last: u32, on: bool) {
     let last = last.max(first);
     for index in first..=last {
         match zone {
@@ -244,22 +245,9 @@ pub fn zone(mem: &mut Memory, zone: Zone, first: u32, last: u32, on: bool) {
     }
 }
 
-/// The `count` values of `width` from `source`: straight from the area's
-/// slice for 16-bit words (the common case), unit by unit otherwise.
-fn values(mem: &Memory, source: Place, count: u32, width: Width) -> impl Iterator<Item = i64> + '_ {
-    let words = match (source, width) {
-        (Place::Word(area, start), Width::Single) => mem
-            .words(area)
-            .get(start as usize..)
-            .map(|w| &w[..(count as usize).min(w.len())]),
-        _ => None,
-    };
-    let slow = words.is_none();
-    words
-        .into_iter()
-        .flatten()
-        .map(|&w| i64::from(w))
-        .chain((0..if slow { count } else { 0 }).map(move |unit| i64::from(source.nth(unit, width).read(mem, width))))
+/// The `count` values of `width` from `source`, unit by unit.
+fn values<'m>(mem: &'m ImageMut<'_>, source: Place, count: u32, width: Width) -> impl Iterator<Item = i64> + 'm {
+    (0..count).map(move |unit| i64::from(source.nth(unit, width).read(mem, width)))
 }
 
 /// What `table` computes over a run of values.
@@ -289,7 +277,7 @@ impl TableOp {
 /// MAX, MIN, MEAN, WSUM over `count` values of `width` from `source`,
 /// written to `destination` (WSUM at twice the width: a pair, or for DWSUM
 /// two pairs; a digit group keeps its own bits).
-pub fn table(mem: &mut Memory, op: TableOp, source: Place, count: u32, width: Width, destination: Place) {
+pub fn table(mem: &mut ImageMut<'_>, op: TableOp, source: Place, count: u32, width: Width, destination: Place) {
     if count == 0 && op != TableOp::Sum {
         return;
     }
@@ -355,47 +343,48 @@ impl SortJob {
 /// its kind are in progress: 4089H against `line`), count its scans, and in
 /// its N1-th scan (at once for the P form) sort S into D and set SM229.
 /// SM229 shows afterwards whether this instance has finished.
-pub fn sort_scan(mem: &mut Memory, instance: u32, job: &SortJob, line: u32) {
+pub fn sort_scan(mem: &mut ImageMut<'_>, instance: u32, job: &SortJob, line: u32) {
     use crate::memory::{SORT2_RUNNING, SORT_DONE, SORT_IDLE, SORT_RUNNING};
     use crate::special::{OperationError, SM_SORT_DONE};
-    let Some(index) = usize::try_from(instance).ok().filter(|&i| i < mem.sort_state.len()) else {
+    if !mem.holds(Array::SortState, instance) {
         return;
-    };
+    }
     let running = if job.row_major { SORT2_RUNNING } else { SORT_RUNNING };
-    if mem.sort_state[index] == SORT_IDLE {
+    if mem.get_u8(Array::SortState, instance) == SORT_IDLE {
         let limit = if job.row_major { SORT2_LIMIT } else { SORT_LIMIT };
-        let busy = mem.sort_state.iter().filter(|&&state| state == running).count() as u32;
+        let busy = (0..SORT_INSTANCES)
+            .filter(|&other| mem.get_u8(Array::SortState, other) == running)
+            .count() as u32;
         if busy >= limit {
             mem.record_error(OperationError::TooManyInstructions, line);
-            mem.sm[SM_SORT_DONE.number as usize] = 0;
+            mem.set_u8(Array::Sm, SM_SORT_DONE.number, 0);
             return;
         }
-        mem.sort_state[index] = running;
-        mem.sort_scans[index] = 0;
+        mem.set_u8(Array::SortState, instance, running);
+        mem.set_u8(Array::SortScans, instance, 0);
     }
-    if mem.sort_state[index] == running {
-        mem.sort_scans[index] = mem.sort_scans[index].saturating_add(1);
-        if job.at_once || u32::from(mem.sort_scans[index]) >= job.rows {
+    if mem.get_u8(Array::SortState, instance) == running {
+        let scans = mem.get_u8(Array::SortScans, instance).saturating_add(1);
+        mem.set_u8(Array::SortScans, instance, scans);
+        if job.at_once || u32::from(scans) >= job.rows {
             sort_table(mem, job);
-            mem.sort_state[index] = SORT_DONE;
+            mem.set_u8(Array::SortState, instance, SORT_DONE);
         }
     }
-    mem.sm[SM_SORT_DONE.number as usize] = u8::from(mem.sort_state[index] == SORT_DONE);
+    let done = mem.get_u8(Array::SortState, instance) == SORT_DONE;
+    mem.set_u8(Array::Sm, SM_SORT_DONE.number, u8::from(done));
 }
 
 /// The sort instruction `instance` executed with its input OFF: whatever it
 /// was doing ends, and it may start again.
-pub fn sort_stop(mem: &mut Memory, instance: u32) {
-    let Some(index) = usize::try_from(instance).ok().filter(|&i| i < mem.sort_state.len()) else {
-        return;
-    };
-    mem.sort_state[index] = crate::memory::SORT_IDLE;
-    mem.sort_scans[index] = 0;
+pub fn sort_stop(mem: &mut ImageMut<'_>, instance: u32) {
+    mem.set_u8(Array::SortState, instance, crate::memory::SORT_IDLE);
+    mem.set_u8(Array::SortScans, instance, 0);
 }
 
 /// Sorts the rows of the table by the key column, stably, from S into D
 /// (every value read before any is written, so S may be D).
-fn sort_table(mem: &mut Memory, job: &SortJob) {
+fn sort_table(mem: &mut ImageMut<'_>, job: &SortJob) {
     const CELLS: usize = (SORT_MAX_ROWS * SORT_MAX_COLUMNS) as usize;
     let rows = job.rows.min(SORT_MAX_ROWS);
     let columns = job.columns.min(SORT_MAX_COLUMNS);
@@ -437,7 +426,7 @@ fn sort_table(mem: &mut Memory, job: &SortJob) {
 /// Calls `each` with the bytes BCC and CRC work on: in 16-bit mode the low
 /// then the high byte of each word from `source`; in 8-bit mode (SM161) the
 /// low byte of each.
-fn for_each_check_byte(mem: &Memory, source: Place, count: u32, eight_bit: bool, mut each: impl FnMut(u8)) {
+fn for_each_check_byte(mem: &ImageMut<'_>, source: Place, count: u32, eight_bit: bool, mut each: impl FnMut(u8)) {
     let words = if eight_bit { count } else { count.div_ceil(2) };
     let mut left = count;
     let mut take = |word: i64| {
@@ -451,28 +440,19 @@ fn for_each_check_byte(mem: &Memory, source: Place, count: u32, eight_bit: bool,
             }
         }
     };
-    match source {
-        Place::Word(area, start) => {
-            for &word in mem.words(area).iter().skip(start as usize).take(words as usize) {
-                take(i64::from(word));
-            }
-        }
-        Place::Constant(_) | Place::WideCounter(_) | Place::Digits(..) | Place::Bit(..) | Place::WordBit(..) => {
-            for unit in 0..words {
-                take(i64::from(source.nth(unit, Width::Single).read(mem, Width::Single)));
-            }
-        }
+    for unit in 0..words {
+        take(i64::from(source.nth(unit, Width::Single).read(mem, Width::Single)));
     }
 }
 
-fn eight_bit_mode(mem: &Memory) -> bool {
-    mem.sm[crate::special::SM_EIGHT_BIT_MODE.number as usize] != 0
+fn eight_bit_mode(mem: &ImageMut<'_>) -> bool {
+    mem.get_u8(Array::Sm, crate::special::SM_EIGHT_BIT_MODE.number) != 0
 }
 
 /// BCC: the block check of `count` bytes from `source` by `method` (0 add,
 /// 1 subtract from 0, 2 exclusive OR) into the low byte of `destination`,
 /// whose high byte stays.
-pub fn block_check(mem: &mut Memory, method: u32, source: Place, count: u32, destination: Place) {
+pub fn block_check(mem: &mut ImageMut<'_>, method: u32, source: Place, count: u32, destination: Place) {
     let eight_bit = eight_bit_mode(mem);
     let (mut sum, mut xor) = (0u8, 0u8);
     for_each_check_byte(mem, source, count, eight_bit, |byte| {
@@ -492,7 +472,7 @@ pub fn block_check(mem: &mut Memory, method: u32, source: Place, count: u32, des
 /// CRC-16/MODBUS of `count` bytes from `source`: in 16-bit mode the CRC
 /// word to `destination`; in 8-bit mode its low byte to `destination` and
 /// its high byte to the next word.
-pub fn crc(mem: &mut Memory, source: Place, count: u32, destination: Place) {
+pub fn crc(mem: &mut ImageMut<'_>, source: Place, count: u32, destination: Place) {
     // Slice-by-16 tables: the fastest of the crate on 256 bytes.
     const MODBUS: crc::Crc<u16, crc::Table<16>> = crc::Crc::<u16, crc::Table<16>>::new(&crc::CRC_16_MODBUS);
     let eight_bit = eight_bit_mode(mem);
@@ -515,16 +495,17 @@ pub fn crc(mem: &mut Memory, source: Place, count: u32, destination: Place) {
 }
 
 /// ANR: the lowest alarm state S900-S999 that is ON turns OFF.
-pub fn alarm_reset(mem: &mut Memory) {
+pub fn alarm_reset(mem: &mut ImageMut<'_>) {
     use crate::special::{FIRST_ALARM_STATE, LAST_ALARM_STATE};
-    if let Some(state) = (FIRST_ALARM_STATE..=LAST_ALARM_STATE).find(|&s| mem.s[s as usize] != 0) {
-        mem.s[state as usize] = 0;
+    if let Some(state) = (FIRST_ALARM_STATE..=LAST_ALARM_STATE).find(|&s| mem.get_u8(Array::S, s) != 0) {
+        mem.set_u8(Array::S, state, 0);
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::memory::Memory;
 
     /// What BTOW/WTOB give when everything is read first.
     fn reference(words: &[i16], s: usize, d: usize, n: usize, split: bool) -> Vec<i16> {
@@ -557,7 +538,7 @@ mod tests {
                         let mut mem = Memory::new_boxed();
                         mem.d[..64].copy_from_slice(&pattern);
                         bytes(
-                            &mut mem,
+                            &mut mem.image(),
                             Place::Word(WordArea::D, s),
                             Place::Word(WordArea::D, d),
                             n,
@@ -576,7 +557,7 @@ mod tests {
         let mut mem = Memory::new_boxed();
         mem.r[..3].copy_from_slice(&[0x1234, 0x0056, 0x0078]);
         bytes(
-            &mut mem,
+            &mut mem.image(),
             Place::Word(WordArea::R, 0),
             Place::Word(WordArea::D, 0),
             3,
@@ -590,7 +571,7 @@ mod tests {
         let mut mem = Memory::new_boxed();
         mem.d[..4].copy_from_slice(&[1, 2, 3, 4]);
         block_move(
-            &mut mem,
+            &mut mem.image(),
             Place::Word(WordArea::D, 0),
             Place::Word(WordArea::D, 1),
             3,
@@ -599,7 +580,7 @@ mod tests {
         );
         assert_eq!(&mem.d[..4], &[1, 1, 2, 3]);
         block_move(
-            &mut mem,
+            &mut mem.image(),
             Place::Word(WordArea::D, 1),
             Place::Word(WordArea::D, 0),
             3,
@@ -608,7 +589,7 @@ mod tests {
         );
         assert_eq!(&mem.d[..4], &[1, 2, 3, 3]);
         block_move(
-            &mut mem,
+            &mut mem.image(),
             Place::Constant(7),
             Place::Digits(BitArea::M, 0, 1),
             2,
@@ -619,7 +600,7 @@ mod tests {
         // Digit groups of different sizes over the same relays.
         mem.set_digits(BitArea::M, 100, 2, 0xA5);
         block_move(
-            &mut mem,
+            &mut mem.image(),
             Place::Digits(BitArea::M, 100, 1),
             Place::Digits(BitArea::M, 104, 2),
             2,
@@ -633,11 +614,21 @@ mod tests {
     fn crc_of_the_seed_example() {
         let mut mem = Memory::new_boxed();
         mem.d[100..103].copy_from_slice(&[0x0301, 0x0203, 0x1400]);
-        crc(&mut mem, Place::Word(WordArea::D, 100), 6, Place::Word(WordArea::D, 0));
+        crc(
+            &mut mem.image(),
+            Place::Word(WordArea::D, 100),
+            6,
+            Place::Word(WordArea::D, 0),
+        );
         assert_eq!(mem.d[0] as u16, 0x41E4);
         mem.sm[161] = 1;
         mem.d[100..106].copy_from_slice(&[0x01, 0x03, 0x03, 0x02, 0x00, 0x14]);
-        crc(&mut mem, Place::Word(WordArea::D, 100), 6, Place::Word(WordArea::D, 0));
+        crc(
+            &mut mem.image(),
+            Place::Word(WordArea::D, 100),
+            6,
+            Place::Word(WordArea::D, 0),
+        );
         assert_eq!((mem.d[0], mem.d[1]), (0xE4, 0x41));
     }
 
@@ -649,7 +640,7 @@ mod tests {
         mem.d[6] = 0x7700;
         for (method, code) in [(2, 0x16), (0, 0x3E), (1, 0xC2)] {
             block_check(
-                &mut mem,
+                &mut mem.image(),
                 method,
                 Place::Word(WordArea::D, 0),
                 6,
@@ -686,7 +677,7 @@ mod tests {
             descending: false,
             at_once: true,
         };
-        sort_scan(&mut mem, 0, &job, 1);
+        sort_scan(&mut mem.image(), 0, &job, 1);
         let firsts: Vec<i16> = (0..5).map(|r| mem.d[100 + 4 * r]).collect();
         assert_eq!(firsts, [4, 1, 5, 3, 2], "equal keys 150 keep their order");
         assert_eq!(mem.sm[229], 1);
@@ -695,12 +686,12 @@ mod tests {
     #[test]
     fn zones_and_searches() {
         let mut mem = Memory::new_boxed();
-        zone(&mut mem, Zone::Bits(BitArea::M), 3, 1, true);
+        zone(&mut mem.image(), Zone::Bits(BitArea::M), 3, 1, true);
         assert_eq!(&mem.m[..5], &[0, 0, 0, 1, 0], "last below first: first alone");
-        zone(&mut mem, Zone::WordBits(WordArea::D), 14, 17, true);
+        zone(&mut mem.image(), Zone::WordBits(WordArea::D), 14, 17, true);
         assert_eq!((mem.d[0], mem.d[1]), (-16384, 3));
-        assert_eq!(highest_on(&mem, Place::Bit(BitArea::M, 0), 8), 3);
-        assert_eq!(highest_on(&mem, Place::Bit(BitArea::M, 4), 8), -1);
+        assert_eq!(highest_on(&mem.image(), Place::Bit(BitArea::M, 0), 8), 3);
+        assert_eq!(highest_on(&mem.image(), Place::Bit(BitArea::M, 4), 8), -1);
         for code in 0..64 {
             if let Some(zone) = Zone::from_code(code) {
                 assert_eq!(zone.code(), code);

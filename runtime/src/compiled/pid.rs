@@ -3,33 +3,34 @@
 //! the same order so that every engine agrees bit for bit.
 
 use crate::host::Width;
-use crate::memory::Memory;
+use crate::image::ImageMut;
+use crate::layout::Scalar;
 use crate::place::Place;
 use crate::special::OperationError;
 
 /// One execution of PID instance `instance` with its rung ON; `block` the
 /// checked 25-word parameter block, `mv` the checked output. The error it
 /// records (against `line`), if any.
-pub fn pid(mem: &mut Memory, instance: u32, sv: i64, pv: i64, block: Place, mv: Place, line: u32) {
+pub fn pid(mem: &mut ImageMut<'_>, instance: u32, sv: i64, pv: i64, block: Place, mv: Place, line: u32) {
     if let Err(error) = step(mem, instance, sv as f64, pv as f64, block, mv) {
         mem.record_error(error, line);
     }
 }
 
-fn word(mem: &Memory, block: Place, offset: u32) -> i64 {
+fn word(mem: &ImageMut<'_>, block: Place, offset: u32) -> i64 {
     i64::from(block.nth(offset, Width::Single).read(mem, Width::Single))
 }
 
-fn set_word(mem: &mut Memory, block: Place, offset: u32, value: i64) {
+fn set_word(mem: &mut ImageMut<'_>, block: Place, offset: u32, value: i64) {
     block.nth(offset, Width::Single).write(mem, Width::Single, value);
 }
 
-fn real(mem: &Memory, block: Place, offset: u32) -> f64 {
+fn real(mem: &ImageMut<'_>, block: Place, offset: u32) -> f64 {
     let bits = block.nth(offset, Width::Single).read(mem, Width::Double) as u32;
     f64::from(f32::from_bits(bits))
 }
 
-fn set_real(mem: &mut Memory, block: Place, offset: u32, value: f64) {
+fn set_real(mem: &mut ImageMut<'_>, block: Place, offset: u32, value: f64) {
     let bits = (value as f32).to_bits();
     block
         .nth(offset, Width::Single)
@@ -45,10 +46,18 @@ fn within(value: i64, range: core::ops::RangeInclusive<i64>, error: OperationErr
     }
 }
 
-fn step(mem: &mut Memory, instance: u32, sv: f64, pv: f64, block: Place, mv: Place) -> Result<(), OperationError> {
-    let Some(running) = mem.instance.get(instance as usize).map(|s| s.phase != 0) else {
+fn step(
+    mem: &mut ImageMut<'_>,
+    instance: u32,
+    sv: f64,
+    pv: f64,
+    block: Place,
+    mv: Place,
+) -> Result<(), OperationError> {
+    let Some(mut state) = mem.instance(instance) else {
         return Ok(());
     };
+    let running = state.phase != 0;
     let ts = word(mem, block, 0);
     let action = word(mem, block, 1);
     let alpha = word(mem, block, 2);
@@ -64,7 +73,7 @@ fn step(mem: &mut Memory, instance: u32, sv: f64, pv: f64, block: Place, mv: Pla
     within(td, 0..=i64::MAX, OperationError::PidDerivativeTime)?;
     let reverse = action & 1 != 0;
     let mut warning: Result<(), OperationError> = Ok(());
-    let mut alarm_setting = |mem: &Memory, offset: u32, bit: i64| {
+    let mut alarm_setting = |mem: &ImageMut<'_>, offset: u32, bit: i64| {
         if action & bit == 0 {
             return None;
         }
@@ -87,7 +96,8 @@ fn step(mem: &mut Memory, instance: u32, sv: f64, pv: f64, block: Place, mv: Pla
     }
     let deviation = |pvf: f64| if reverse { sv - pvf } else { pvf - sv };
     if !running {
-        mem.instance[instance as usize].phase = 1;
+        state.phase = 1;
+        mem.set_instance(instance, state);
         set_word(mem, block, 7, 0);
         set_word(mem, block, 8, 1);
         set_real(mem, block, 9, pv);
@@ -97,7 +107,7 @@ fn step(mem: &mut Memory, instance: u32, sv: f64, pv: f64, block: Place, mv: Pla
         set_real(mem, block, 17, 0.0);
         return warning;
     }
-    let waited = word(mem, block, 7) + i64::from(mem.elapsed_ms);
+    let waited = word(mem, block, 7) + i64::from(mem.scalar(Scalar::ElapsedMs));
     if waited < ts {
         set_word(mem, block, 7, waited.min(32_767));
         return warning;
