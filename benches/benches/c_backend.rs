@@ -4,23 +4,35 @@
 //! library with the runtime. Programs: 11,000 instructions of bit logic and
 //! the plant program of 100 machine units (timers, counters, arithmetic,
 //! STL). The mark: the C route within 1.2× of Cranelift; read the
-//! ratio within one run. Both routes must leave the same image first.
+//! ratio within one run. Both routes must leave the same image first. The
+//! C route also runs with the program's compact image (the runtime then
+//! finds devices through the layout table), whose devices must equal the
+//! full image's.
 //!
 //! Skipped with a message when there is no C compiler or runtime library.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use ladder_runtime::Memory;
+use ladder_runtime::layout::{Array, Layout, SEGMENTS};
+use ladder_runtime::{ImageMut, Memory};
 use ladderc::check::compile_source;
+use ladderc::pipeline::ImageRequest;
 use ladderc::source::SourceFile;
 use std::hint::black_box;
 use std::path::PathBuf;
 use std::process::Command;
 
 type Body = unsafe extern "C" fn(*mut Memory);
+type CompactBody = unsafe extern "C" fn(*mut u8);
+type Init = unsafe extern "C" fn(*mut u8, usize) -> *mut u8;
 
-/// The C of `checked` with its body exported (the back end keeps it static:
-/// hosts call `<prefix>scan`), built into a shared library with the runtime.
-fn c_library(name: &str, checked: &ladderc::program::CheckedProgram) -> Result<PathBuf, String> {
+/// The C of `checked` for an image as `image` asks, with its body exported
+/// (the back end keeps it static: hosts call `<prefix>scan`), built into a
+/// shared library with the runtime; and the compact layout, if any.
+fn c_library(
+    name: &str,
+    checked: &ladderc::program::CheckedProgram,
+    image: &ImageRequest,
+) -> Result<(PathBuf, Option<Layout>), String> {
     let folder = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/c-backend");
     std::fs::create_dir_all(&folder).map_err(|e| e.to_string())?;
     let options = ladderc::cback::COptions {
@@ -28,9 +40,14 @@ fn c_library(name: &str, checked: &ladderc::program::CheckedProgram) -> Result<P
         source_name: name.to_string(),
         layout: None,
     };
-    let source = ladderc::pipeline::c_source(checked, &options, &ladderc::pipeline::ImageRequest::full())
+    let built = ladderc::pipeline::c_source(checked, &options, image);
+    let source = built
         .output
         .replace("static void bench_body(uint8_t *m)", "void bench_body(uint8_t *m)");
+    let name = match built.layout {
+        Some(_) => format!("{name}_compact"),
+        None => name.to_string(),
+    };
     let path = folder.join(format!("{name}.c"));
     std::fs::write(&path, source).map_err(|e| e.to_string())?;
     let library = folder.join(format!("{name}.so"));
@@ -54,7 +71,7 @@ fn c_library(name: &str, checked: &ladderc::program::CheckedProgram) -> Result<P
             String::from_utf8_lossy(&output.stderr)
         ));
     }
-    Ok(library)
+    Ok((library, built.layout))
 }
 
 fn set_inputs(mem: &mut Memory, scan: u32) {
@@ -75,12 +92,16 @@ fn c_backend(c: &mut Criterion) {
         let (checked, diagnostics) = compile_source(&SourceFile::new(format!("{name}.il"), text.as_str()));
         let checked = checked.unwrap_or_else(|| panic!("{diagnostics:?}"));
         let jit = ladderc::pipeline::jit(&checked).expect("compiles");
-        let library = match c_library(name, &checked) {
-            Ok(library) => library,
-            Err(why) => {
+        let (library, compact) = match (
+            c_library(name, &checked, &ImageRequest::full()),
+            c_library(name, &checked, &ImageRequest::compact(Vec::new())),
+        ) {
+            (Ok((library, _)), Ok((compact, Some(layout)))) => (library, (compact, layout)),
+            (Err(why), _) | (_, Err(why)) => {
                 eprintln!("c_backend: skipped: {why}");
                 return;
             }
+            (Ok(_), Ok((_, None))) => panic!("a compact build has a compact layout"),
         };
         // SAFETY: the library was just built from the C back end's output;
         // `bench_body` has the declared signature.
@@ -101,6 +122,45 @@ fn c_backend(c: &mut Criterion) {
             "{name}: the C route left another image than Cranelift"
         );
 
+        // The C route with a compact image: the same body on the program's
+        // own layout, whose devices must end as the full image's did.
+        let (compact_library, layout) = compact;
+        // SAFETY: as above; `bench_init` has the declared signature.
+        let compact_library = unsafe { libloading::Library::new(&compact_library) }.expect("loads the compiled C");
+        let compact_body: CompactBody = *unsafe { compact_library.get::<CompactBody>(b"bench_body") }.expect("a body");
+        let init: Init = *unsafe { compact_library.get::<Init>(b"bench_init") }.expect("an init");
+        let mut storage = vec![0u32; layout.size as usize / 4];
+        let size = storage.len() * 4;
+        // SAFETY: writable, aligned storage of the image's size.
+        let image = unsafe { init(storage.as_mut_ptr().cast(), size) };
+        assert!(!image.is_null(), "{name}: the compact image was refused");
+        // SAFETY: the image `init` just made, used only through this view
+        // and the body below, one at a time.
+        let compact_image = || unsafe { ImageMut::from_raw(image) }.expect("an initialised image");
+        for scan in 0..50 {
+            let pattern = (scan as u32).wrapping_mul(2_654_435_761);
+            for x in 0..256 {
+                compact_image().set_u8(Array::X, x, ((pattern >> (x % 29)) & 1) as u8);
+            }
+            compact_image().set_scalar(ladder_runtime::layout::Scalar::ElapsedMs, 10);
+            // SAFETY: a valid, exclusive image of the body's layout.
+            unsafe { compact_body(image) };
+        }
+        let full = bytemuck::bytes_of(&*jit_mem);
+        let view = compact_image();
+        for (run, segment) in layout.runs.iter().zip(SEGMENTS) {
+            for n in run.first..run.first + run.count {
+                let (array, size) = (segment.array, segment.array.size());
+                let (at, held) = (ladder_runtime::layout::FULL.offset(array, n), view.offset(array, n));
+                let (Some(at), Some(held)) = (at, held) else { continue };
+                assert_eq!(
+                    &full[at..at + size],
+                    &view.bytes()[held..held + size],
+                    "{name}: {array:?}[{n}] differs on the compact image"
+                );
+            }
+        }
+
         let mut scan = 0u32;
         group.bench_function(BenchmarkId::new("cranelift", name), |b| {
             b.iter(|| {
@@ -115,6 +175,14 @@ fn c_backend(c: &mut Criterion) {
                 c_mem.x[0] = (scan & 1) as u8;
                 // SAFETY: as above.
                 unsafe { c_body(black_box(&mut *c_mem)) };
+            })
+        });
+        group.bench_function(BenchmarkId::new("c_backend_gcc_O2_compact_image", name), |b| {
+            b.iter(|| {
+                scan = scan.wrapping_add(1);
+                compact_image().set_u8(Array::X, 0, (scan & 1) as u8);
+                // SAFETY: as above.
+                unsafe { compact_body(black_box(image)) };
             })
         });
     }

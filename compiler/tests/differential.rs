@@ -7,8 +7,8 @@
 //! route (the C back end's source compiled by gcc -O2; both linked with the
 //! runtime library into a C host) must equal the interpreter's, and so must
 //! every device of the C route's compact image (`--image compact`: only the
-//! devices the program and its host use). A divergence is shrunk and
-//! written out as a scenario file.
+//! devices the program and its host use; every other batch of programs). A
+//! divergence is shrunk and written out as a scenario file.
 //!
 //! CI runs 2,000 programs (four tests of 500, so both cores work). The long
 //! run is an ignored test:

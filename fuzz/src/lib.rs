@@ -73,8 +73,15 @@ pub fn pipeline(data: &[u8]) {
     let options = ladderc::codegen::ObjectOptions {
         target: None,
         prefix: ladderc::codegen::DEFAULT_PREFIX.to_string(),
+        layout: None,
     };
-    ladderc::pipeline::object(&program, &options).expect("a checked program compiles to an object");
+    // Both images: the full one, and a compact one laid out from the program.
+    for image in [
+        ladderc::pipeline::ImageRequest::full(),
+        ladderc::pipeline::ImageRequest::compact(Vec::new()),
+    ] {
+        ladderc::pipeline::object(&program, &options, &image).expect("a checked program compiles to an object");
+    }
     let jit = ladderc::pipeline::jit(&program).expect("a checked program compiles to native code");
     let interpreter = Interpreter::new(&program);
     let mut expected = Memory::new_boxed();

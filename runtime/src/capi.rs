@@ -772,4 +772,99 @@ mod tests {
             ladder_clear_operation_error(null);
         }
     }
+
+    /// A compact image: what it holds behaves as in the full image; what it
+    /// does not is NOT_IN_IMAGE; storage never initialised is refused.
+    #[test]
+    fn compact_images_through_the_c_api() {
+        use crate::layout::LayoutBuilder;
+        let layout = LayoutBuilder::new()
+            .include_bits(BitArea::X, 0, 2)
+            .include_bits(BitArea::Y, 0, 2)
+            .include_words(WordArea::D, 100, 102)
+            .include_bits(BitArea::M, 8067, 8068)
+            .include_words(WordArea::D, 8067, 8070)
+            .build();
+        let table: *const u32 = layout.words().as_ptr();
+        let size = layout.size as usize;
+        let mut storage = vec![0u32; size / 4];
+        let mut value = 0;
+        unsafe {
+            let raw = storage.as_mut_ptr().cast::<c_void>();
+            assert_eq!(
+                ladder_set_input(raw.cast(), 0, true),
+                LadderStatus::BadArgument,
+                "never initialised"
+            );
+            assert!(ladder_init_layout(raw, size - 4, table).is_null(), "too small");
+            assert!(ladder_init_layout(raw, size, core::ptr::null()).is_null());
+            let mem = ladder_init_layout(raw, size, table);
+            assert!(!mem.is_null());
+            assert_eq!(ladder_set_input(mem, 1, true), LadderStatus::Ok);
+            assert_eq!(ladder_set_input(mem, 2, true), LadderStatus::NotInImage);
+            assert_eq!(ladder_set_input(mem, 256, true), LadderStatus::OutOfRange);
+            assert_eq!(ladder_write(mem, LadderDevice::D as u32, 101, -7), LadderStatus::Ok);
+            assert_eq!(
+                ladder_write(mem, LadderDevice::D as u32, 5, 1),
+                LadderStatus::NotInImage
+            );
+            assert_eq!(
+                ladder_write(mem, LadderDevice::D as u32, 9000, 1),
+                LadderStatus::OutOfRange
+            );
+            assert_eq!(
+                ladder_read(mem, LadderDevice::D as u32, 101, &mut value),
+                LadderStatus::Ok
+            );
+            assert_eq!(value, -7);
+            assert_eq!(
+                ladder_read(mem, LadderDevice::M as u32, 0, &mut value),
+                LadderStatus::NotInImage
+            );
+            assert_eq!(
+                ladder_write_real(mem, LadderDevice::D as u32, 100, 1.5),
+                LadderStatus::Ok
+            );
+            let mut real = 0.0f32;
+            assert_eq!(
+                ladder_read_real(mem, LadderDevice::D as u32, 100, &mut real),
+                LadderStatus::Ok
+            );
+            assert_eq!(real, 1.5);
+            assert_eq!(
+                ladder_read_real(mem, LadderDevice::D as u32, 101, &mut real),
+                LadderStatus::NotInImage,
+                "D102 is not in the image"
+            );
+            assert_eq!(ladder_force(mem, LadderDevice::Y as u32, 1, true), LadderStatus::Ok);
+            assert_eq!(
+                ladder_force(mem, LadderDevice::Y as u32, 7, true),
+                LadderStatus::NotInImage
+            );
+            assert_eq!(
+                ladder_add_pulses(mem, 3, 2),
+                LadderStatus::Ok,
+                "taken, and nothing counts them"
+            );
+            // The scan of a program with this layout runs; one built for
+            // the full layout (or another table) is refused and does nothing.
+            assert_eq!(crate::helpers::ladder_rt_begin_scan(mem, 10, core::ptr::null()), 0);
+            assert_eq!(crate::helpers::ladder_rt_begin_scan(mem, 10, table), 1);
+            ladder_end_scan(mem);
+            assert_eq!(
+                ladder_read(mem, LadderDevice::X as u32, 1, &mut value),
+                LadderStatus::Ok
+            );
+            assert_eq!(value, 1);
+            assert_eq!(ladder_get_output(mem, 1), 1, "forced ON");
+            assert_eq!(ladder_get_output(mem, 7), -1);
+            assert_eq!(ladder_scan_count(mem), 1);
+            assert_eq!(ladder_layout_misses(mem), 0);
+            // A full image refuses the compact program's scan the same way.
+            let mut full = vec![0u32; LADDER_MEMORY_SIZE / 4];
+            let full = ladder_init(full.as_mut_ptr().cast(), LADDER_MEMORY_SIZE);
+            assert_eq!(crate::helpers::ladder_rt_begin_scan(full, 10, table), 0);
+            assert_eq!(crate::helpers::ladder_rt_begin_scan(full, 10, core::ptr::null()), 1);
+        }
+    }
 }
