@@ -1,4 +1,4 @@
-//! The committed C header matches the C API in `src/capi.rs`.
+//! The committed C header matches the C API in `src/capi/mod.rs`.
 
 use std::path::Path;
 
@@ -8,7 +8,7 @@ fn c_header_is_current() {
     let config = cbindgen::Config::from_file(root.join("cbindgen.toml")).expect("cbindgen.toml");
     let bindings = cbindgen::Builder::new()
         .with_config(config)
-        .with_src(root.join("src/capi.rs"))
+        .with_src(root.join("src/capi/mod.rs"))
         .generate()
         .expect("cbindgen reads the C API");
     let mut generated = Vec::new();
