@@ -45,9 +45,9 @@ use ladder_runtime::{BitArea, Device, WordArea};
 /// Which layout `ladderc build` gives the image.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum ImageKind {
-    /// Every device, at the offsets of the runtime's `Memory`.
+    /// Every device of the machine model (666,520 bytes).
     Full,
-    /// Only the devices the program and its host use.
+    /// Only the devices the program and its host use, packed.
     Compact,
 }
 
