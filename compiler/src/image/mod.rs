@@ -24,12 +24,15 @@
 //! that there is none.
 
 mod header;
+#[cfg(test)]
+mod tests;
 
 pub use header::c_header;
 
 use crate::host_device::HostDevice;
 use crate::ir;
 use crate::isa::app::Keeps;
+use crate::isa::reach::ReachUnit;
 use crate::isa::{Family, OperandKind};
 use crate::program::{
     Address, AppInstruction, AppOperand, BitRef, CheckedProgram, Contact, CounterRef, DigitGroup, Element, Op, Output,
@@ -250,15 +253,15 @@ impl Footprint {
             self.range(first, last);
         }
         for (operand, decl) in operands.into_iter().zip(spec.operands) {
-            // The drum and display instructions (ABSD, INCD, STMR, SEGL)
-            // write a run of bits from their bit destination.
-            let run_of_bits = decl.kind == OperandKind::BitDestination && spec.family == Family::Handy;
-            let kind = if run_of_bits {
-                OperandKind::BitModified
-            } else {
-                decl.kind
-            };
-            self.app_operand(operand, kind, words);
+            match decl.reach {
+                // A run the declaration bounds: as far as it reaches when
+                // its counts are constants, its whole area when not.
+                Some(reach) => match reach.length(|name| constant_operand(app, name)) {
+                    Some(length) => self.reach(operand, reach.unit, length, decl.kind, words),
+                    None => self.unbounded_reach(operand, reach.unit, decl.kind, words),
+                },
+                None => self.app_operand(operand, decl.kind, words),
+            }
         }
         for special in spec.reads.iter().chain(spec.writes) {
             self.bits(special.area, special.number, 1);
@@ -318,23 +321,7 @@ impl Footprint {
     /// m1 when all three are constants, the unit's whole buffer when m1 is,
     /// every unit's otherwise.
     fn buffer_transfer(&mut self, app: &AppInstruction) {
-        let constant = |name: &str| {
-            app.args
-                .operands()
-                .into_iter()
-                .zip(app.args.op().spec().operands)
-                .find(|(_, decl)| decl.name == name)
-                .and_then(|(operand, _)| match operand {
-                    AppOperand::Word(WordRef::Constant(value)) => u32::try_from(value).ok(),
-                    AppOperand::Word(_)
-                    | AppOperand::Bit(_)
-                    | AppOperand::Element(_)
-                    | AppOperand::RangeEnd(_)
-                    | AppOperand::Digits(_)
-                    | AppOperand::Timer(_)
-                    | AppOperand::Counter(_) => None,
-                })
-        };
+        let constant = |name: &str| constant_operand(app, name).and_then(|value| u32::try_from(value).ok());
         let Some(unit) = constant("m1").filter(|&unit| unit < BUFFER_UNITS) else {
             self.builder.include_whole(Array::Buffer);
             return;
@@ -348,6 +335,62 @@ impl Footprint {
             _ => (0, BUFFER_WORDS_PER_UNIT),
         };
         self.words(WordArea::Buffer, start + first, count);
+    }
+
+    /// An operand whose declared reach holds `length` units (`unit`) from
+    /// its device; `words` is the instruction's width in words.
+    fn reach(&mut self, operand: AppOperand, unit: ReachUnit, length: u32, kind: OperandKind, words: u32) {
+        // A count that makes the instruction fail touches nothing; the
+        // device itself is held all the same.
+        let length = length.max(1);
+        match (operand, unit) {
+            // A word in a bit-or-word position (ENCO, DECO) is one word.
+            (AppOperand::Word(word) | AppOperand::Element(Element::Word(word)), ReachUnit::Bits) => self.word(&word, 1),
+            (AppOperand::Word(word) | AppOperand::Element(Element::Word(word)), ReachUnit::Units) => {
+                self.word_run(&word, length, words)
+            }
+            (AppOperand::Word(word) | AppOperand::Element(Element::Word(word)), ReachUnit::Words) => {
+                self.word_run(&word, length, 1)
+            }
+            (AppOperand::Bit(bit) | AppOperand::Element(Element::Bits(bit)), _) => self.bit(&bit, length),
+            // Kinds no reach is declared on: as their kind says.
+            (AppOperand::RangeEnd(_) | AppOperand::Digits(_) | AppOperand::Timer(_) | AppOperand::Counter(_), _) => {
+                self.app_operand(operand, kind, words)
+            }
+        }
+    }
+
+    /// An operand with a declared reach whose count is only known at run
+    /// time: its whole area (a word of a bit-or-word position: the word).
+    fn unbounded_reach(&mut self, operand: AppOperand, unit: ReachUnit, kind: OperandKind, words: u32) {
+        match (operand, unit) {
+            (AppOperand::Word(word) | AppOperand::Element(Element::Word(word)), ReachUnit::Bits) => self.word(&word, 1),
+            (AppOperand::Word(word) | AppOperand::Element(Element::Word(word)), _) => self.whole_of_word(&word),
+            (AppOperand::Bit(bit) | AppOperand::Element(Element::Bits(bit)), _) => self.whole_of_bit(&bit),
+            (AppOperand::RangeEnd(_) | AppOperand::Digits(_) | AppOperand::Timer(_) | AppOperand::Counter(_), _) => {
+                self.app_operand(operand, kind, words)
+            }
+        }
+    }
+
+    /// `count` units of `words` words each from a word operand (a digit
+    /// group's unit is its bits; a 32-bit counter's, the counter).
+    fn word_run(&mut self, word: &WordRef, count: u32, words: u32) {
+        match *word {
+            WordRef::Constant(_) => {}
+            WordRef::Word(area, address) => self.address_words(area, address, count.saturating_mul(words)),
+            WordRef::WideCounter(address) => match address.index_register {
+                None => self.counters(address.index, count),
+                Some(register) => {
+                    self.index_register(register);
+                    self.all_counters();
+                }
+            },
+            WordRef::Digits(area, address, digits) => self.bit(
+                &BitRef::Device(area, address),
+                (4 * u32::from(digits)).saturating_mul(count),
+            ),
+        }
     }
 
     /// An operand of an application instruction, with the units its kind
@@ -677,4 +720,23 @@ impl Footprint {
             | Helper::PulseWidth => {}
         }
     }
+}
+
+/// The value of `app`'s operand `name` when it is a constant (K, H).
+fn constant_operand(app: &AppInstruction, name: &str) -> Option<i64> {
+    app.args
+        .operands()
+        .into_iter()
+        .zip(app.args.op().spec().operands)
+        .find(|(_, decl)| decl.name == name)
+        .and_then(|(operand, _)| match operand {
+            AppOperand::Word(WordRef::Constant(value)) => Some(i64::from(value)),
+            AppOperand::Word(_)
+            | AppOperand::Bit(_)
+            | AppOperand::Element(_)
+            | AppOperand::RangeEnd(_)
+            | AppOperand::Digits(_)
+            | AppOperand::Timer(_)
+            | AppOperand::Counter(_) => None,
+        })
 }

@@ -1,7 +1,9 @@
 //! IR passes that pay for themselves on real programs:
 //!
 //! - constant folding, including the always-ON/OFF relays (SM0, M8000, M8001,
-//!   ...) when the program never writes them: `LD M8000` costs nothing;
+//!   ...) when the program never writes them: `LD M8000` costs nothing; a
+//!   run-time index that folds to a device of its area becomes a fixed one
+//!   (addressed directly, and all a compact image needs to hold);
 //! - branch folding and removal of unreachable blocks;
 //! - merging a block into its only predecessor;
 //! - removal of pure instructions whose values are never used;
@@ -9,6 +11,7 @@
 
 use super::{BinOp, Block, BlockId, Function, Index, Inst, Program, Terminator, Type, UnaryOp, Value};
 use crate::isa::CompareOp;
+use ladder_runtime::device::{FIRST_WIDE_COUNTER, WIDE_COUNTER_COUNT};
 use ladder_runtime::helpers::{Param, Writes};
 use ladder_runtime::special::{M_ALWAYS_OFF, M_ALWAYS_ON, M_OPERATION_ERROR, SM_ALWAYS_OFF, SM_ALWAYS_ON};
 use ladder_runtime::{BitArea, Place};
@@ -386,6 +389,59 @@ fn fold(
     }
 }
 
+/// Makes a run-time index that is a known constant a fixed one, when the
+/// device (or the run of `count` from it) lies inside its area: there code
+/// generation addresses both the same way, while outside it clamps a
+/// run-time index differently from a fixed one (a negative index clamps to
+/// the last device), so those stay as they are.
+fn fix_index(inst: &mut Inst, constants: &HashMap<Value, i64>) {
+    let fix = |index: &mut Index, first: u32, end: u32, count: u32| {
+        if let Index::Dynamic(value) = *index {
+            if let Some(&n) = constants.get(&value) {
+                if n >= i64::from(first) && n + i64::from(count.max(1)) <= i64::from(end) {
+                    *index = Index::Fixed(n as u32);
+                }
+            }
+        }
+    };
+    let wide_counters = (FIRST_WIDE_COUNTER, FIRST_WIDE_COUNTER + WIDE_COUNTER_COUNT);
+    match inst {
+        Inst::LoadBit { area, index } | Inst::StoreBit { area, index, .. } => fix(index, 0, area.count(), 1),
+        Inst::FillBits { area, start, count, .. } => fix(start, 0, area.count(), *count),
+        Inst::LoadWord { area, index } | Inst::StoreWord { area, index, .. } => fix(index, 0, area.count(), 1),
+        Inst::ClearWords { area, start, count } => fix(start, 0, area.count(), *count),
+        Inst::LoadWideCounter { index } | Inst::StoreWideCounter { index, .. } => {
+            fix(index, wide_counters.0, wide_counters.1, 1)
+        }
+        Inst::Const { .. }
+        | Inst::LoadSlot { .. }
+        | Inst::StoreSlot { .. }
+        | Inst::LoadBlockActive { .. }
+        | Inst::StoreBlockActive { .. }
+        | Inst::GetLocal { .. }
+        | Inst::SetLocal { .. }
+        | Inst::LoadLoopCount { .. }
+        | Inst::StoreLoopCount { .. }
+        | Inst::CallSubroutine { .. }
+        | Inst::Call { .. }
+        | Inst::RecordError { .. }
+        | Inst::Not { .. }
+        | Inst::And { .. }
+        | Inst::Or { .. }
+        | Inst::Binary { .. }
+        | Inst::Unary { .. }
+        | Inst::Compare { .. }
+        | Inst::Extend { .. }
+        | Inst::Truncate { .. }
+        | Inst::Select { .. }
+        | Inst::Float { .. }
+        | Inst::FloatUnary { .. }
+        | Inst::FloatCompare { .. }
+        | Inst::Bitcast { .. }
+        | Inst::Convert { .. } => {}
+    }
+}
+
 /// Folds instructions with constant operands to constants, and instructions
 /// that compute an existing value (`x AND 1`, `x + 0`) to that value.
 pub fn fold_constants(function: &mut Function, relays: &Relays) {
@@ -403,6 +459,7 @@ pub fn fold_constants(function: &mut Function, relays: &Relays) {
                     *v = other;
                 }
             });
+            fix_index(inst, &constants);
             let Some(result) = *result else { continue };
             let ty = types[result.0 as usize];
             if let Inst::Extend { value, .. } = inst {

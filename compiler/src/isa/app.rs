@@ -14,11 +14,16 @@
 //! with `_` where there is no 32-bit form, `no_pulse` where there is no P
 //! form, and `always` (or `job`) instead of `on` for instructions that run
 //! every scan with their rung's power (see `Runs`). Operands are in the order of the seed's instruction format line.
+//! An operand whose run its kind does not bound says how far it reaches
+//! after its device table: `s: BlockSource(ANY_WORD) [n units]`, `d:
+//! BlockDestination(REGISTERS) [7 words]` (see `reach`); the compact image
+//! holds that run instead of the operand's whole area.
 //! The semantics are written twice on purpose: once in `interp::app` (the
 //! specification) and once in `lower::app`, in files named after the family.
 
 pub use super::operand::fits;
 use super::operand::{operand_type, tables::*, DeviceClass, Devices, OperandKind};
+use super::reach::Reach;
 use crate::program::{Address, AppOperand, BitRef, CounterRef, DigitGroup, Element, RangeEnd, WordRef};
 use ladder_runtime::special::{self, SpecialBit};
 
@@ -132,6 +137,9 @@ pub struct OperandDecl {
     pub kind: OperandKind,
     /// The devices the position accepts.
     pub devices: Devices,
+    /// How far its run reaches from the device, when the kind does not say
+    /// (`None`: one unit, or the whole area for the kinds of runs).
+    pub reach: Option<Reach>,
 }
 
 /// Everything the declaration says about an instruction.
@@ -357,7 +365,7 @@ macro_rules! app_instructions {
     ($(
         $(#[doc = $doc:literal])*
         $variant:ident: $name:tt $wide:tt $pulse:ident $family:ident $runs:ident
-            ($($field:ident: $kind:ident($devices:expr)),* $(,)?)
+            ($($field:ident: $kind:ident($devices:expr) $([$($reach:tt)+])?),* $(,)?)
             reads [$($read:ident),* $(,)?] writes [$($flag:ident),* $(,)?]
             $summary:literal;
     )*) => {
@@ -388,6 +396,7 @@ macro_rules! app_instructions {
                                 name: stringify!($field),
                                 kind: OperandKind::$kind,
                                 devices: $devices,
+                                reach: reach!($($($reach)+)?),
                             }),*],
                             reads: &[$(special::$read),*],
                             writes: &[$(special::$flag),*],
@@ -464,12 +473,12 @@ app_instructions! {
         "copies S to D";
     /// BMOV S D n: n words from S to D; overlapping blocks move as a whole.
     BlockMov: "BMOV" _ pulse Move on
-        (s: BlockSource(ANY_WORD), d: BlockDestination(WRITABLE_WORD), n: Count(COUNT))
+        (s: BlockSource(ANY_WORD) [n units], d: BlockDestination(WRITABLE_WORD) [n units], n: Count(COUNT))
         reads [] writes []
         "copies n words from S to D";
     /// FMOV S D n: S into n units from D.
     FillMov: "FMOV" "DFMOV" pulse Move on
-        (s: Source(ANY_VALUE), d: BlockDestination(WRITABLE_WORD), n: Count(COUNT))
+        (s: Source(ANY_VALUE), d: BlockDestination(WRITABLE_WORD) [n units], n: Count(COUNT))
         reads [] writes []
         "writes S into n units from D";
     /// ADD S1 S2 D: D = S1 + S2, wrapping.
@@ -559,32 +568,32 @@ app_instructions! {
         "swaps the high and low byte of each word of D";
     /// ENCO S N D: D = the number of the highest ON bit among 2^N bits of S.
     Encode: "ENCO" _ pulse Convert on
-        (s: ElementSource(BITS_OR_VALUES), n: Count(COUNT), d: Destination(WRITABLE_WORD))
+        (s: ElementSource(BITS_OR_VALUES) [2 ^ n bits], n: Count(COUNT), d: Destination(WRITABLE_WORD))
         reads [] writes []
         "D = the position of the highest ON bit among 2^N bits from S";
     /// DECO S N D: turns ON bit (low N bits of S) of 2^N bits from D, the rest OFF.
     Decode: "DECO" _ pulse Convert on
-        (s: ElementSource(BITS_OR_VALUES), n: Count(COUNT), d: ElementDestination(BITS_OR_WORDS))
+        (s: ElementSource(BITS_OR_VALUES) [n bits], n: Count(COUNT), d: ElementDestination(BITS_OR_WORDS) [2 ^ n bits])
         reads [] writes []
         "of 2^N bits from D, turns ON the one numbered by the low N bits of S";
     /// BTOW S D N: the low bytes of N words packed into words.
     BytesToWords: "BTOW" _ pulse Convert on
-        (s: BlockSource(WORD_REGISTERS), d: BlockDestination(WORD_REGISTERS), n: Count(COUNT))
+        (s: BlockSource(WORD_REGISTERS) [n words], d: BlockDestination(WORD_REGISTERS) [n words], n: Count(COUNT))
         reads [] writes []
         "packs the low bytes of N words from S into words from D";
     /// WTOB S D N: N bytes of words split into words.
     WordsToBytes: "WTOB" _ pulse Convert on
-        (s: BlockSource(WORD_REGISTERS), d: BlockDestination(WORD_REGISTERS), n: Count(COUNT))
+        (s: BlockSource(WORD_REGISTERS) [n words], d: BlockDestination(WORD_REGISTERS) [n words], n: Count(COUNT))
         reads [] writes []
         "splits N bytes of words from S into N words from D";
     /// DIS S D N: the low N nibbles of S into N words.
     Distribute: "DIS" _ pulse Convert on
-        (s: Source(ANY_VALUE), d: BlockDestination(WRITABLE_WORD), n: Count(COUNT))
+        (s: Source(ANY_VALUE), d: BlockDestination(WRITABLE_WORD) [n words], n: Count(COUNT))
         reads [] writes []
         "the low N 4-bit digits of S into N words from D";
     /// UNI S D N: the low nibbles of N words combined.
     Unite: "UNI" _ pulse Convert on
-        (s: BlockSource(ANY_WORD), d: Destination(WRITABLE_WORD), n: Count(COUNT))
+        (s: BlockSource(ANY_WORD) [n words], d: Destination(WRITABLE_WORD), n: Count(COUNT))
         reads [] writes []
         "the low 4 bits of N words from S combined into D";
     /// PRUN S D: digit groups transferred with octal device numbering.
@@ -614,32 +623,32 @@ app_instructions! {
         "D = the smallest value from device S1 to device S2 (4093H, 4094H as MAX)";
     /// MEAN S D N: the mean of N values from S.
     Mean: "MEAN" "DMEAN" pulse Table on
-        (s: BlockSource(ANY_WORD), d: Destination(WRITABLE_WORD), n: Source(COUNT))
+        (s: BlockSource(ANY_WORD) [n units], d: Destination(WRITABLE_WORD), n: Source(COUNT))
         reads [] writes []
         "D = the mean of N values from S, truncated toward 0 (N ≤ 0: 4084H)";
     /// WSUM S D N: the sum of N values from S, at twice the width.
     Wsum: "WSUM" "DWSUM" pulse Table on
-        (s: BlockSource(ANY_WORD), d: DoubleDestination(MULTI_WORD_DESTINATION), n: Source(COUNT))
+        (s: BlockSource(ANY_WORD) [n units], d: DoubleDestination(MULTI_WORD_DESTINATION), n: Source(COUNT))
         reads [] writes []
         "D (twice the width) = the sum of N values from S (N < 0: 4084H)";
     /// SORT S N1 N2 D N3: the column-major table sorted by column N3.
     Sort: "SORT" _ no_pulse Table job
-        (s: BlockSource(WORDS), n1: Count(COUNT), n2: Count(COUNT), d: BlockDestination(WORDS), n3: Count(COUNT))
+        (s: BlockSource(WORDS) [n1 * n2 units], n1: Count(COUNT), n2: Count(COUNT), d: BlockDestination(WORDS) [n1 * n2 units], n3: Count(COUNT))
         reads [] writes [SM_SORT_DONE]
         "sorts the rows of an N1 × N2 table stored column by column, ascending by column N3, in N1 scans";
     /// SORT2 S N1 N2 D N3: the row-major table sorted by column N3.
     Sort2: "SORT2" "DSORT2" pulse Table job
-        (s: BlockSource(WORDS), n1: Source(COUNT), n2: Source(COUNT), d: BlockDestination(WORDS), n3: Source(COUNT))
+        (s: BlockSource(WORDS) [n1 * n2 units], n1: Source(COUNT), n2: Source(COUNT), d: BlockDestination(WORDS) [n1 * n2 units], n3: Source(COUNT))
         reads [SM_DESCENDING] writes [SM_SORT_DONE]
         "sorts the rows of an N1 × N2 table stored row by row by column N3 (SM165: descending), in N1 scans";
     /// BCC S1 S2 S3 D: the block check code of S3 bytes from S2.
     Bcc: "BCC" _ pulse Check on
-        (s1: Count(COUNT), s2: ByteSource(ANY_WORD), s3: Count(COUNT), d: Destination(WRITABLE_WORD))
+        (s1: Count(COUNT), s2: ByteSource(ANY_WORD) [s3 words], s3: Count(COUNT), d: Destination(WRITABLE_WORD))
         reads [SM_EIGHT_BIT_MODE] writes []
         "the low byte of D = the check code of S3 bytes from S2: S1 = 0 add, 1 subtract, 2 XOR";
     /// CRC S D N: the CRC-16 of N bytes from S.
     Crc: "CRC" _ pulse Check on
-        (s: ByteSource(ANY_WORD), d: Destination(WRITABLE_WORD), n: Count(COUNT))
+        (s: ByteSource(ANY_WORD) [n words], d: Destination(WRITABLE_WORD) [2 words], n: Count(COUNT))
         reads [SM_EIGHT_BIT_MODE] writes []
         "D = the CRC-16/MODBUS of N bytes from S (N 1-256)";
     /// XCH D1 D2: the two values change places.
@@ -649,7 +658,7 @@ app_instructions! {
         "exchanges D1 and D2";
     /// ALT D: toggles bit D.
     Alt: "ALT" _ pulse Logic on
-        (d: BitModified(WRITABLE_BITS))
+        (d: BitModified(WRITABLE_BITS) [1 bit])
         reads [] writes []
         "toggles bit D at every execution with power (ALTP: once per rising edge)";
     /// BCD S D: binary to BCD.
@@ -674,12 +683,12 @@ app_instructions! {
         "rotates D left by n bits (0-16, 0-32 for DROL; else 4084H); M8022 = the last bit rotated out";
     /// SFTR S D n1 n2: the n1 bits from D shift n2 toward D.
     ShiftRight: "SFTR" _ pulse Shift on
-        (s: BitSource(ANY_BIT), d: BitModified(WRITABLE_BITS), n1: Count(CONSTANT), n2: Count(COUNT))
+        (s: BitSource(ANY_BIT) [n2 bits], d: BitModified(WRITABLE_BITS) [n1 bits], n1: Count(CONSTANT), n2: Count(COUNT))
         reads [] writes []
         "shifts the n1 bits from D by n2 toward D; the n2 bits from S fill the top (1 ≤ n2 ≤ n1 ≤ 1024, else 4084H)";
     /// SFTL S D n1 n2: the n1 bits from D shift n2 away from D.
     ShiftLeft: "SFTL" _ pulse Shift on
-        (s: BitSource(ANY_BIT), d: BitModified(WRITABLE_BITS), n1: Count(CONSTANT), n2: Count(COUNT))
+        (s: BitSource(ANY_BIT) [n2 bits], d: BitModified(WRITABLE_BITS) [n1 bits], n1: Count(CONSTANT), n2: Count(COUNT))
         reads [] writes []
         "shifts the n1 bits from D by n2 away from D; the n2 bits from S fill the bottom (1 ≤ n2 ≤ n1 ≤ 1024, else 4084H)";
     /// ANS S N D: sets alarm D after the rung was ON for N × 100 ms on timer S.
@@ -814,77 +823,77 @@ app_instructions! {
         "D = the common logarithm of S (S ≤ 0 is 4084H)";
     /// TRD D: reads the clock.
     Trd: "TRD" _ pulse Clock on
-        (d: BlockDestination(REGISTERS))
+        (d: BlockDestination(REGISTERS) [7 words])
         reads [] writes []
         "D..D+6 = year, month, day, hour, minute, second, day of week of the clock (D8018, D8017, ..., D8013, D8019)";
     /// TWR S: sets the clock.
     Twr: "TWR" _ pulse Clock on
-        (s: BlockSource(REGISTERS))
+        (s: BlockSource(REGISTERS) [7 words])
         reads [] writes []
         "sets the clock to year, month, day, hour, minute, second, day of week S..S+6 (out of range: 4084H)";
     /// TCMP S1 S2 S3 S D: time comparison.
     Tcmp: "TCMP" _ pulse Clock on
-        (s1: Count(ANY_VALUE), s2: Count(ANY_VALUE), s3: Count(ANY_VALUE), s: BlockSource(WORDS), d: BitTriple(RESULT_BITS))
+        (s1: Count(ANY_VALUE), s2: Count(ANY_VALUE), s3: Count(ANY_VALUE), s: BlockSource(WORDS) [3 words], d: BitTriple(RESULT_BITS))
         reads [] writes []
         "D, D+1, D+2 = the time S1:S2:S3 is later than, the same as, earlier than the time S..S+2";
     /// TZCP S1 S2 S D: time zone comparison.
     Tzcp: "TZCP" _ pulse Clock on
-        (s1: BlockSource(WORDS), s2: BlockSource(WORDS), s: BlockSource(WORDS), d: BitTriple(RESULT_BITS))
+        (s1: BlockSource(WORDS) [3 words], s2: BlockSource(WORDS) [3 words], s: BlockSource(WORDS) [3 words], d: BitTriple(RESULT_BITS))
         reads [] writes []
         "D, D+1, D+2 = the time S is before S1, from S1 to S2, after S2 (times in 3 words)";
     /// TADD S1 S2 D: time addition.
     Tadd: "TADD" _ pulse Clock on
-        (s1: BlockSource(WORDS), s2: BlockSource(WORDS), d: BlockDestination(WORDS))
+        (s1: BlockSource(WORDS) [3 words], s2: BlockSource(WORDS) [3 words], d: BlockDestination(WORDS) [3 words])
         reads [] writes [ZERO_FLAG, CARRY_FLAG]
         "D = the time S1 + S2, wrapped to 24 hours (M8022 when it wrapped)";
     /// TSUB S1 S2 D: time subtraction.
     Tsub: "TSUB" _ pulse Clock on
-        (s1: BlockSource(WORDS), s2: BlockSource(WORDS), d: BlockDestination(WORDS))
+        (s1: BlockSource(WORDS) [3 words], s2: BlockSource(WORDS) [3 words], d: BlockDestination(WORDS) [3 words])
         reads [] writes [ZERO_FLAG, BORROW_FLAG]
         "D = the time S1 − S2, wrapped to 24 hours (M8021 when it wrapped)";
     /// HTOS S D: hours, minutes, seconds to seconds.
     Htos: "HTOS" "DHTOS" pulse Clock on
-        (s: BlockSource(WORDS), d: Destination(WRITABLE_WORD))
+        (s: BlockSource(WORDS) [3 words], d: Destination(WRITABLE_WORD))
         reads [] writes []
         "D = the hours S, minutes S+1, seconds S+2 in seconds";
     /// STOH S D: seconds to hours, minutes, seconds.
     Stoh: "STOH" "DSTOH" pulse Clock on
-        (s: Source(ANY_VALUE), d: BlockDestination(WORDS))
+        (s: Source(ANY_VALUE), d: BlockDestination(WORDS) [3 words])
         reads [] writes []
         "D, D+1, D+2 = the seconds S in hours, minutes, seconds";
     /// HOUR S D1 D2: hour meter.
     Hour: "HOUR" "DHOUR" no_pulse Clock on_state
-        (s: Source(ANY_VALUE), d1: BlockDestination(REGISTERS), d2: BitDestination(RESULT_BITS))
+        (s: Source(ANY_VALUE), d1: BlockDestination(REGISTERS) [3 words], d2: BitDestination(RESULT_BITS))
         reads [] writes []
         "while ON, counts hours in D1 and seconds in the next word; D2 turns ON at S hours";
     /// SER S1 S2 D n: data search.
     Ser: "SER" "DSER" pulse Handy on
-        (s1: BlockSource(WORDS), s2: Source(ANY_VALUE), d: BlockDestination(WRITABLE_WORD), n: Source(COUNT))
+        (s1: BlockSource(WORDS) [n units], s2: Source(ANY_VALUE), d: BlockDestination(WRITABLE_WORD) [5 units], n: Source(COUNT))
         reads [] writes []
         "searches n values from S1 for S2: D = matches, D+1 first, D+2 last, D+3 smallest, D+4 largest position";
     /// ABSD S1 S2 D n: absolute drum.
     Absd: "ABSD" "DABSD" no_pulse Handy on
-        (s1: BlockSource(WORDS), s2: Source(Devices::of(DeviceClass::C).with(Devices::of(DeviceClass::WideCounter))), d: BitDestination(RESULT_BITS), n: Count(CONSTANT))
+        (s1: BlockSource(WORDS) [2 * n units], s2: Source(Devices::of(DeviceClass::C).with(Devices::of(DeviceClass::WideCounter))), d: BitDestination(RESULT_BITS) [n bits], n: Count(CONSTANT))
         reads [] writes []
         "output k of n from D is ON while counter S2 is from S1+2k to S1+2k+1";
     /// INCD S1 S2 D n: incremental drum.
     Incd: "INCD" _ no_pulse Handy always
-        (s1: BlockSource(WORDS), s2: CounterPair(Devices::of(DeviceClass::C)), d: BitDestination(RESULT_BITS), n: Count(CONSTANT))
+        (s1: BlockSource(WORDS) [n words], s2: CounterPair(Devices::of(DeviceClass::C)), d: BitDestination(RESULT_BITS) [n bits], n: Count(CONSTANT))
         reads [] writes [EXECUTION_COMPLETE]
         "step k (counter S2+1) lasts until counter S2 reaches S1+k; output D+k ON during step k; M8029 after the last";
     /// TTMR D n: teaching timer.
     Ttmr: "TTMR" _ no_pulse Handy state
-        (d: BlockDestination(REGISTERS), n: Count(CONSTANT))
+        (d: BlockDestination(REGISTERS) [2 words], n: Count(CONSTANT))
         reads [] writes []
         "D+1 = the rung's ON time in 100 ms; when it turns OFF, D = D+1 × 10^n / 10";
     /// STMR S m D: special timer.
     Stmr: "STMR" _ no_pulse Handy state
-        (s: Timer(Devices::of(DeviceClass::T)), m: Count(COUNT), d: BitDestination(RESULT_BITS))
+        (s: Timer(Devices::of(DeviceClass::T)), m: Count(COUNT), d: BitDestination(RESULT_BITS) [4 bits])
         reads [] writes []
         "D OFF-delay, D+1 one-shot after OFF, D+2 one-shot after ON, D+3 ON- and OFF-delay, of m × 100 ms";
     /// RAMP S1 S2 D n: ramp.
     Ramp: "RAMP" _ no_pulse Handy state
-        (s1: Count(REGISTERS), s2: Count(REGISTERS), d: BlockDestination(REGISTERS), n: Count(COUNT))
+        (s1: Count(REGISTERS), s2: Count(REGISTERS), d: BlockDestination(REGISTERS) [2 words], n: Count(COUNT))
         reads [RAMP_HOLD] writes [EXECUTION_COMPLETE]
         "D moves from S1 to S2 in n scans (D+1 counts them); M8029 at the end, M8026 holds it there";
     /// SEGD S D: seven-segment decode.
@@ -894,22 +903,22 @@ app_instructions! {
         "the low byte of D = the seven segments of the hex digit in the low 4 bits of S";
     /// SEGL S D n: seven-segment with latch.
     Segl: "SEGL" _ no_pulse Handy state
-        (s: Source(ANY_VALUE), d: BitDestination(Devices::of(DeviceClass::Y)), n: Count(CONSTANT))
+        (s: Source(ANY_VALUE) [2 words], d: BitDestination(Devices::of(DeviceClass::Y)) [12 bits], n: Count(CONSTANT))
         reads [] writes [EXECUTION_COMPLETE]
         "shows S (and S+1 for n 4-7) as 4 BCD digits on D..D+3 with strobes D+4..D+7, a cycle of 12 scans";
     /// ASCI S D n: hex to ASCII.
     Asci: "ASCI" _ pulse Handy on
-        (s: BlockSource(ANY_WORD), d: BlockDestination(WRITABLE_WORD), n: Count(COUNT))
+        (s: BlockSource(ANY_WORD) [n words], d: BlockDestination(WRITABLE_WORD) [n words], n: Count(COUNT))
         reads [EIGHT_BIT_MODE_FX] writes []
         "the n lowest hex digits of S as ASCII characters from D (M8161: one per word)";
     /// HEX S D n: ASCII to hex.
     Hex: "HEX" _ pulse Handy on
-        (s: BlockSource(ANY_WORD), d: BlockDestination(WRITABLE_WORD), n: Count(COUNT))
+        (s: BlockSource(ANY_WORD) [n words], d: BlockDestination(WRITABLE_WORD) [n words], n: Count(COUNT))
         reads [EIGHT_BIT_MODE_FX] writes []
         "n ASCII hex characters from S as a number in D, D+1, ... (M8161: one per word)";
     /// CCD S D n: check code.
     Ccd: "CCD" _ pulse Handy on
-        (s: BlockSource(ANY_WORD), d: BlockDestination(WRITABLE_WORD), n: Count(COUNT))
+        (s: BlockSource(ANY_WORD) [n words], d: BlockDestination(WRITABLE_WORD) [2 words], n: Count(COUNT))
         reads [EIGHT_BIT_MODE_FX] writes []
         "D = the sum and D+1 the exclusive OR of n bytes from S (M8161: low bytes only)";
     /// DHSCS S1 S2 D: high-speed counter set.
@@ -929,7 +938,7 @@ app_instructions! {
         "D, D+1, D+2 = counter S below S1, from S1 to S2, above S2, as it counts";
     /// SPD S1 S2 D: pulse speed.
     Spd: "SPD" "DSPD" no_pulse HighSpeed on
-        (s1: BitSource(Devices::of(DeviceClass::X)), s2: Source(ANY_VALUE), d: BlockDestination(REGISTERS))
+        (s1: BitSource(Devices::of(DeviceClass::X)), s2: Source(ANY_VALUE), d: BlockDestination(REGISTERS) [3 units])
         reads [] writes []
         "D = the rising edges of S1 (X0-X5) in the last S2 ms, D+1 so far, D+2 the time left";
     /// PLSY S1 S2 D: pulse output.
@@ -974,17 +983,17 @@ app_instructions! {
         "D (Y0-Y3) is ON for S1 ms of every S2 ms while driven";
     /// FROM m1 m2 D n: reads buffer memory.
     From: "FROM" "DFROM" pulse Module on
-        (m1: Source(COUNT), m2: Source(COUNT), d: BlockDestination(WRITABLE_WORD), n: Source(COUNT))
+        (m1: Source(COUNT), m2: Source(COUNT), d: BlockDestination(WRITABLE_WORD) [n units], n: Source(COUNT))
         reads [] writes []
         "n units from buffer word m2 of unit m1 (U0-U7) to D";
     /// TO m1 m2 S n: writes buffer memory.
     To: "TO" "DTO" pulse Module on
-        (m1: Source(COUNT), m2: Source(COUNT), s: Source(ANY_VALUE), n: Source(COUNT))
+        (m1: Source(COUNT), m2: Source(COUNT), s: Source(ANY_VALUE) [n units], n: Source(COUNT))
         reads [] writes []
         "n units from S (a constant: n times) to buffer word m2 of unit m1 (U0-U7)";
     /// PID S1 S2 S3 D: PID control.
     Pid: "PID" _ no_pulse Control state
-        (s1: Count(REGISTERS), s2: Count(REGISTERS), s3: BlockSource(REGISTERS), d: Destination(REGISTERS))
+        (s1: Count(REGISTERS), s2: Count(REGISTERS), s3: BlockSource(REGISTERS) [25 words], d: Destination(REGISTERS))
         reads [] writes []
         "MV D from the set value S1 and the process value S2, with the parameter block S3..S3+24, every Ts ms";
 }
@@ -1019,6 +1028,18 @@ mod tests {
                         "{op:?} {}",
                         operand.name
                     );
+                }
+                // A reach counts by operands of the same instruction that
+                // hold counts, and bits only from bit positions.
+                if let Some(reach) = operand.reach {
+                    for count in reach.counts() {
+                        let counted = spec.operands.iter().find(|o| o.name == count);
+                        assert!(
+                            counted.is_some_and(|o| matches!(o.kind, OperandKind::Count | OperandKind::Source)),
+                            "{op:?} {} counts by {count}",
+                            operand.name
+                        );
+                    }
                 }
             }
         }

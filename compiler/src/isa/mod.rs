@@ -5,12 +5,16 @@
 //! - `app`: the application instructions, one declaration each (names, D and
 //!   P forms, operands with their kinds and device tables, flags);
 //! - `operand`: operand kinds and device tables;
+//! - `reach`: how far an operand's run reaches, where its kind does not say;
 //! - `table`: the mnemonic lookup built from both.
 //!
 //! Adding an application instruction: its declaration in `app.rs`, its
 //! kernel in `interp/app/` and in `lower/app/`, its section in
 //! docs/language.md and a scenario. See docs/architecture.md.
 
+// Before `app`, whose declarations use its macro.
+#[macro_use]
+pub mod reach;
 pub mod app;
 pub mod bits;
 pub mod fx;
