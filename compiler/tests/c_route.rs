@@ -170,12 +170,33 @@ fn thirty_two_bit_targets_go_through_the_c_back_end() {
         );
         return;
     }
+    // The object asked for is not made: status 1, and an older object is
+    // left as it was (a build script must not link it as this program's).
     let requested = dir.path().join("rv.o");
+    std::fs::write(&requested, b"an older object").unwrap();
     let output = build_for_target(&program, "riscv32imac-unknown-none-elf", &requested);
-    assert!(output.status.success(), "{}", text(&output.stderr));
+    assert_eq!(output.status.code(), Some(1), "{}", text(&output.stderr));
     let stderr = text(&output.stderr);
     assert!(stderr.contains("-march=rv32imac"), "{stderr}");
-    assert!(!requested.exists(), "no object without a compiler");
+    assert!(stderr.contains("was not built"), "{stderr}");
+    assert_eq!(std::fs::read(&requested).unwrap(), b"an older object");
     let c = std::fs::read_to_string(dir.path().join("rv.c")).expect("the C file");
     assert!(c.contains("void ladder_program_scan(LadderMemory *mem, uint32_t elapsed_ms)"));
+    // Again: the C file ladderc wrote is replaced. One it did not write is not.
+    let output = build_for_target(&program, "riscv32imac-unknown-none-elf", &requested);
+    assert_eq!(output.status.code(), Some(1), "{}", text(&output.stderr));
+    let mine = dir.path().join("mine.o");
+    std::fs::write(dir.path().join("mine.c"), "int mine(void) { return 42; }\n").unwrap();
+    let output = build_for_target(&program, "riscv32imac-unknown-none-elf", &mine);
+    assert_eq!(output.status.code(), Some(1), "{}", text(&output.stderr));
+    assert!(
+        text(&output.stderr).contains("not written by ladderc"),
+        "{}",
+        text(&output.stderr)
+    );
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("mine.c")).unwrap(),
+        "int mine(void) { return 42; }\n"
+    );
+    assert!(!dir.path().join("mine.h").exists(), "nothing written beside it");
 }

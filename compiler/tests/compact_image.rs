@@ -210,4 +210,80 @@ fn a_header_ladderc_did_not_write_is_never_replaced() {
         .unwrap()
         .contains("LADDER_PROGRAM_IMAGE_SIZE"));
     assert_eq!(std::fs::read_to_string(&mine).unwrap(), "/* my own header */\n");
+    // A header that cannot be written (no file can be made in /proc) fails
+    // the build before the object is replaced: the pair stays as it was.
+    std::fs::write(&object, b"an older object").unwrap();
+    let result = ladderc(&[
+        "build",
+        program.to_str().unwrap(),
+        "--image",
+        "compact",
+        "--header",
+        "/proc/ladderc-test-header.h",
+        "-o",
+        object.to_str().unwrap(),
+    ]);
+    assert_eq!(result.status.code(), Some(1), "{}", text(&result.stderr));
+    assert_eq!(std::fs::read(&object).unwrap(), b"an older object");
+}
+
+/// Firmware projects are often C++: the header ladderc writes declares the
+/// entry points and the layout table with C linkage there too, so a C++
+/// host links with the object as a C host does.
+#[test]
+fn a_cpp_host_links_with_the_program_and_its_header() {
+    let Some(compiler) = ["g++", "c++", "clang++"].into_iter().find(|c| {
+        Command::new(c)
+            .arg("--version")
+            .output()
+            .is_ok_and(|o| o.status.success())
+    }) else {
+        eprintln!("SKIPPED a_cpp_host_links_with_the_program_and_its_header: no C++ compiler (g++, c++, clang++)");
+        return;
+    };
+    let dir = scratch("compact-cpp");
+    let program = workspace().join("examples/traffic_light.il");
+    let (object, _header) = build_compact(&program, Route::Object, dir.path(), &[]);
+    let source = dir.path().join("host.cpp");
+    std::fs::write(
+        &source,
+        r#"#include <cstdio>
+#include "program.h"
+alignas(LADDER_PROGRAM_IMAGE_ALIGN) static unsigned char storage[LADDER_PROGRAM_IMAGE_SIZE];
+int main() {
+    LadderMemory *mem = ladder_program_init(storage, sizeof storage);
+    if (mem == nullptr || ladder_program_layout[0] == 0) return 2;
+    ladder_write(mem, LADDER_DEVICE_X, 0, 1);
+    for (int scan = 0; scan < 3; scan++) ladder_program_scan(mem, 100);
+    int32_t y0 = -1;
+    ladder_read(mem, LADDER_DEVICE_Y, 0, &y0);
+    std::printf("%d %d\n", (int)y0, (int)storage[LADDER_PROGRAM_Y0]);
+    return 0;
+}
+"#,
+    )
+    .unwrap();
+    let executable = dir.path().join("host");
+    let runtime = ladderc::aot::toolchain::runtime_library().expect("the runtime library cargo built");
+    let built = Command::new(compiler)
+        .args(["-std=c++17", "-Wall", "-Wextra", "-Werror", "-I"])
+        .arg(workspace().join("runtime/include"))
+        .arg("-I")
+        .arg(dir.path())
+        .arg(&source)
+        .arg(&object)
+        .arg(runtime)
+        .args(ladderc::aot::toolchain::NATIVE_LIBS)
+        .arg("-o")
+        .arg(&executable)
+        .output()
+        .unwrap();
+    assert!(built.status.success(), "{}", text(&built.stderr));
+    let run = Command::new(&executable).output().unwrap();
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    // Y0 as the C API reads it and as the header's offset finds it agree.
+    let answer = text(&run.stdout);
+    let values: Vec<&str> = answer.split_whitespace().collect();
+    assert_eq!(values.len(), 2, "{answer}");
+    assert_eq!(values[0], values[1], "{answer}");
 }

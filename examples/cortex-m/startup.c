@@ -4,9 +4,12 @@
 
 extern uint32_t __data_load, __data_start, __data_end, __bss_start, __bss_end, __stack_top;
 int main(void);
-void SysTick_Handler(void);
 
 static void halt(void) { for (;;) {} }
+
+/* Handlers a host may define; until it does, they halt. */
+void Default_Handler(void) { halt(); }
+void SysTick_Handler(void) __attribute__((weak, alias("Default_Handler")));
 
 void Reset_Handler(void) {
     uint32_t *from = &__data_load, *to = &__data_start;

@@ -31,10 +31,16 @@
  * `<prefix>scan` runs one whole scan (inputs, program, outputs) with
  * `elapsed_ms` since the previous scan; an image of another layout, or
  * null, does nothing.
+ * The declarations have C linkage in C++ too (`LADDER_EXTERN_C`).
  */
+#ifdef __cplusplus
+#define LADDER_EXTERN_C extern "C"
+#else
+#define LADDER_EXTERN_C extern
+#endif
 #define LADDER_DECLARE_PROGRAM(prefix) \
-    void prefix##scan(LadderMemory *mem, uint32_t elapsed_ms); \
-    LadderMemory *prefix##init(void *storage, size_t size)
+    LADDER_EXTERN_C void prefix##scan(LadderMemory *mem, uint32_t elapsed_ms); \
+    LADDER_EXTERN_C LadderMemory *prefix##init(void *storage, size_t size)
 
 
 /**

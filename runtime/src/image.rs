@@ -6,8 +6,9 @@
 //! A device that the layout does not hold reads 0 and is not written: the
 //! program never names one (its layout was made from it), the runtime's own
 //! writes to special devices nobody reads are dropped, and a host that asks
-//! for one is told (`holds`). A write by the program to a device its layout
-//! lacks counts in `Scalar::LayoutMisses` (tests insist on 0).
+//! for one is told (`holds`). A write through an instruction's operand
+//! (`Place::write`) to a device the layout lacks counts in
+//! `Scalar::LayoutMisses` (tests insist on 0).
 //!
 //! Reads and writes go through byte slices with bounds checks, so no
 //! layout, however damaged, takes them outside the image.

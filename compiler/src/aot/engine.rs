@@ -119,6 +119,11 @@ impl AotEngine {
                 "the C API refused the value of `{command}` as not fitting the device (LADDER_STATUS_BAD_VALUE)"
             )),
             "5" => Err(NOT_IN_IMAGE.into()),
+            misses if misses.starts_with("M ") => Err(format!(
+                "the program wrote {} time(s) to devices its compact image lacks (ladder_layout_misses): \
+                 a compiler error, please report it",
+                &misses[2..]
+            )),
             other => Err(format!("the host gave an unknown answer `{other}` to `{command}`")),
         }
     }

@@ -8,7 +8,8 @@
  *   w KIND N V      write a device       -> status
  *   f KIND N ON     force                -> status
  *   u KIND N        unforce              -> status
- *   s COUNT MS      run COUNT scans      -> 0
+ *   s COUNT MS      run COUNT scans      -> 0, or "M misses" when the
+ *                   program wrote devices its compact image lacks
  *   p X COUNT       add pulses to X      -> status
  *   c Y M D H MI S  set the clock        -> status
  *   q               quit
@@ -56,7 +57,10 @@ int main(void) {
         case 's':
             if (sscanf(line + 1, "%u %u", &count, &ms) != 2) return 3;
             for (unsigned i = 0; i < count; i++) ladder_program_scan(mem, ms);
-            printf("0\n");
+            /* A write by the program to a device its compact image lacks
+               is the compiler's fault: the scan fails. */
+            if (ladder_layout_misses(mem) == 0) printf("0\n");
+            else printf("M %u\n", (unsigned)ladder_layout_misses(mem));
             break;
         case 'p':
             if (sscanf(line + 1, "%u %u", &number, &count) != 2) return 3;

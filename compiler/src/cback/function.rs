@@ -115,8 +115,12 @@ impl Emitter<'_> {
     /// A device the layout lacks cannot occur (a compact layout is made from
     /// this program's IR), but if it did the access would go to the scalar
     /// that counts layout misses: inside the image, and seen by the tests.
+    fn missing(&self) -> String {
+        format!("m + {}", Scalar::LayoutMisses.offset())
+    }
+
     fn element(&self, array: Array, len: u32, index: Index) -> String {
-        let missing = format!("m + {}", Scalar::LayoutMisses.offset());
+        let missing = self.missing();
         let (first, size, len) = (array.first(), array.size(), len.max(1));
         match index {
             Index::Fixed(n) => match self.layout.offset(array, n.clamp(first, first + len - 1)) {
@@ -157,6 +161,10 @@ impl Emitter<'_> {
             }
         }
         let at = self.element(array, area_count - count + 1, start);
+        if at == self.missing() {
+            // One element's worth at the miss counter, never a run from it.
+            return format!("memset({at}, {byte}, {size});");
+        }
         format!("memset({at}, {byte}, {});", count as usize * size)
     }
 
@@ -276,8 +284,10 @@ impl Emitter<'_> {
                 let from = ty(value);
                 let source = match (from, signed) {
                     (Type::Bit, true) => format!("(int8_t){}", v(value)),
-                    (_, true) => v(value),
-                    (_, false) => format!("(uint{}_t){}", width(from), v(value)),
+                    (Type::I16 | Type::I32 | Type::I64 | Type::F32 | Type::F64, true) => v(value),
+                    (Type::Bit | Type::I16 | Type::I32 | Type::I64 | Type::F32 | Type::F64, false) => {
+                        format!("(uint{}_t){}", width(from), v(value))
+                    }
                 };
                 format!("({}){source}", c_type(*to))
             }
@@ -321,8 +331,12 @@ impl Emitter<'_> {
                 (Type::I64, Type::F64) => format!("ld_f64_bits((uint64_t){})", v(value)),
                 (Type::F32, Type::I32) => format!("ld_f32_to_i32_bits({})", v(value)),
                 (Type::F64, Type::I64) => format!("ld_f64_to_i64_bits({})", v(value)),
-                // Same-size bitcasts only; anything else keeps the value.
-                (_, to) => format!("({}){}", c_type(*to), v(value)),
+                (from, to) if from == *to => v(value),
+                // The IR makes no other bitcast (Cranelift's verifier would
+                // refuse a change of size); a value cast keeps the C valid.
+                (Type::Bit | Type::I16 | Type::I32 | Type::I64 | Type::F32 | Type::F64, to) => {
+                    format!("({}){}", c_type(*to), v(value))
+                }
             },
             Inst::Convert { value, to, conversion } => match conversion {
                 Conversion::IntToFloat | Conversion::FloatToFloat => format!("({}){}", c_type(*to), v(value)),

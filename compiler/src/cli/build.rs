@@ -84,36 +84,12 @@ pub fn run(args: &BuildArgs, shown: Shown) -> u8 {
     // A target Cranelift lacks goes through the C back end: an object from
     // the cross compiler when one is installed, else the C file and the
     // command that builds it.
-    let cross = c_target.and_then(|target| target.find_compiler().map(|compiler| (target, compiler)));
-    if let (Some(target), None, Emit::Obj) = (c_target, cross, args.emit) {
-        let output = args
-            .output
-            .clone()
-            .filter(|path| !super::is_standard_stream(path))
-            .unwrap_or_else(|| args.program.clone())
-            .with_extension("c");
-        let as_c = BuildArgs {
-            output: Some(output.clone()),
-            target: None,
-            emit: Emit::C,
-            image: Some(image.kind),
-            ..args.clone()
-        };
-        let code = run(&as_c, shown);
-        if code == status::OK {
-            say_err!(
-                "note: no compiler for {} found (tried {}; Debian package {}): wrote the program as C to {}; \
-                 build it with `{}` and link it with the runtime library built for {}",
-                target.triple,
-                target.compilers.join(", "),
-                target.package,
-                output.display(),
-                target.command_line(target.compilers[0], &output.display().to_string()),
-                target.triple
-            );
-        }
-        return code;
-    }
+    let cross = c_target.map(|target| (target, target.find_compiler()));
+    let cross = match (cross, args.emit) {
+        (Some((target, None)), Emit::Obj) => return write_c_instead(args, target, &image, shown),
+        (Some((target, Some(compiler))), Emit::Obj) => Some((target, compiler)),
+        (Some(_), Emit::Ir | Emit::C) | (None, Emit::Obj | Emit::Ir | Emit::C) => None,
+    };
     // `-o -`, and a program read from standard input without `-o`, write
     // to standard output.
     let output = match (&args.output, args.emit) {
@@ -133,7 +109,9 @@ pub fn run(args: &BuildArgs, shown: Shown) -> u8 {
             say_err!("error: --header goes with an object file or C (--emit obj or c), not the IR");
             return status::UNUSABLE;
         }
-        (None, _, _, _) => None,
+        (None, _, ImageKind::Full, Emit::Obj | Emit::C)
+        | (None, None, ImageKind::Compact, Emit::Obj | Emit::C)
+        | (None, _, ImageKind::Full | ImageKind::Compact, Emit::Ir) => None,
     };
     // Checked before compiling: a refused output is refused however the
     // program is.
@@ -157,7 +135,7 @@ pub fn run(args: &BuildArgs, shown: Shown) -> u8 {
         }
     };
     // A failed build writes nothing and removes nothing.
-    let (bytes, layout) = match produce(args, &image, shown) {
+    let (bytes, layout) = match produce(args, &image, cross, shown) {
         Ok(built) => built,
         Err(code) => return code,
     };
@@ -172,34 +150,92 @@ pub fn run(args: &BuildArgs, shown: Shown) -> u8 {
             ))
         );
     }
-    let written = match target {
-        None => {
-            use std::io::IsTerminal as _;
-            if args.emit == Emit::Obj && std::io::stdout().is_terminal() {
-                say_err!(
-                    "error: not writing an object file to a terminal; name a file with -o (or redirect the output)"
-                );
-                return status::UNUSABLE;
-            }
-            let _ = std::io::stdout().lock().write_all(&bytes);
-            status::OK
+    let header_text = c_header(&args.prefix, &source_name(args), layout.as_ref());
+    let mut files: Vec<(&Path, &[u8])> = Vec::new();
+    if let Some(path) = &target {
+        files.push((path, &bytes));
+    }
+    if let Some(path) = &header_target {
+        files.push((path, header_text.as_bytes()));
+    }
+    if target.is_none() {
+        use std::io::IsTerminal as _;
+        if args.emit == Emit::Obj && std::io::stdout().is_terminal() {
+            say_err!("error: not writing an object file to a terminal; name a file with -o (or redirect the output)");
+            return status::UNUSABLE;
         }
-        Some(path) => match output::write_atomically(&path, &bytes) {
-            Ok(()) => status::OK,
-            Err(error) => {
-                say_err!("error: cannot write {}: {error}", path.display());
-                status::FAILED
-            }
-        },
+    }
+    // Every file written and synced before any is put in place, so that a
+    // failed write leaves the old object and header as they were.
+    if let Err((path, error)) = output::write_all_atomically(&files) {
+        say_err!("error: cannot write {}: {error}", path.display());
+        return status::FAILED;
+    }
+    if target.is_none() {
+        let _ = std::io::stdout().lock().write_all(&bytes);
+    }
+    status::OK
+}
+
+/// `--target` of the C back end without its cross compiler: the C file
+/// beside the object asked for, the command that builds it, and status 1,
+/// since the object was not made (an older one stays as it was, and must
+/// not pass for this program's). A C file ladderc did not write is never
+/// replaced.
+fn write_c_instead(
+    args: &BuildArgs,
+    target: &crate::cback::targets::CTarget,
+    image: &ImageRequest,
+    shown: Shown,
+) -> u8 {
+    let missing = format!(
+        "no compiler for {} found (tried {}; Debian package {})",
+        target.triple,
+        target.compilers.join(", "),
+        target.package
+    );
+    let object = match &args.output {
+        Some(path) if super::is_standard_stream(path) => None,
+        Some(path) => Some(path.clone()),
+        None if super::is_standard_stream(&args.program) => None,
+        None => Some(args.program.with_extension("o")),
     };
-    if let (status::OK, Some(path)) = (written, header_target) {
-        let text = c_header(&args.prefix, &source_name(args), layout.as_ref());
-        if let Err(error) = output::write_atomically(&path, text.as_bytes()) {
-            say_err!("error: cannot write {}: {error}", path.display());
+    let Some(object) = object else {
+        say_err!("error: {missing}; write the program as C with `--emit c -o FILE` and build it with that compiler");
+        return status::FAILED;
+    };
+    let c_file = object.with_extension("c");
+    if let Ok(existing) = std::fs::read(&c_file) {
+        let first_line = existing.split(|&b| b == b'\n').next().unwrap_or(&[]);
+        if !String::from_utf8_lossy(first_line).contains(HEADER_MARK) {
+            say_err!(
+                "error: {missing}, and `{}` exists and was not written by ladderc; not replacing it with the program as C \
+                 (write it elsewhere with `--emit c -o FILE`)",
+                c_file.display()
+            );
             return status::FAILED;
         }
     }
-    written
+    let as_c = BuildArgs {
+        output: Some(c_file.clone()),
+        target: None,
+        emit: Emit::C,
+        image: Some(image.kind),
+        ..args.clone()
+    };
+    let code = run(&as_c, shown);
+    if code != status::OK {
+        return code;
+    }
+    say_err!(
+        "error: {missing}: {} was not built. Wrote the program as C to {}: build it with `{}` and link it with \
+         the runtime library built for {}",
+        object.display(),
+        c_file.display(),
+        target.command_line(target.compilers[0], &c_file.display().to_string()),
+        target.triple
+    );
+    status::FAILED
 }
 
 /// The image `build` gives the program: `--image`, or compact for the
@@ -215,7 +251,12 @@ fn image_request(args: &BuildArgs, c_target: bool) -> Result<ImageRequest, Strin
         .image
         .unwrap_or(if c_target { ImageKind::Compact } else { ImageKind::Full });
     match kind {
-        ImageKind::Full => Ok(ImageRequest::full()),
+        ImageKind::Full => {
+            if !devices.is_empty() {
+                say_err!("warning: --host-devices shapes a compact image; a full image holds every device already");
+            }
+            Ok(ImageRequest::full())
+        }
         ImageKind::Compact => Ok(ImageRequest::compact(devices)),
     }
 }
@@ -249,31 +290,25 @@ fn source_name(args: &BuildArgs) -> String {
         .map_or_else(|| "standard input".to_string(), |n| n.to_string_lossy().into_owned())
 }
 
-fn produce(args: &BuildArgs, image: &ImageRequest, shown: Shown) -> Result<(Vec<u8>, Option<Layout>), u8> {
+fn produce(
+    args: &BuildArgs,
+    image: &ImageRequest,
+    cross: Option<(&crate::cback::targets::CTarget, &str)>,
+    shown: Shown,
+) -> Result<(Vec<u8>, Option<Layout>), u8> {
     let program = super::compile_file(&args.program, shown)?;
     let c_options = crate::cback::COptions {
         prefix: args.prefix.clone(),
         source_name: source_name(args),
         layout: None,
     };
-    match args.emit {
-        Emit::Ir => Ok((crate::pipeline::ir(&program).to_string().into_bytes(), None)),
-        Emit::C => {
+    match (args.emit, cross) {
+        (Emit::Ir, _) => Ok((crate::pipeline::ir(&program).to_string().into_bytes(), None)),
+        (Emit::C, _) => {
             let built = crate::pipeline::c_source(&program, &c_options, image);
             Ok((built.output.into_bytes(), built.layout))
         }
-        Emit::Obj
-            if args
-                .target
-                .as_deref()
-                .and_then(crate::cback::targets::c_target)
-                .is_some() =>
-        {
-            let target = args.target.as_deref().and_then(crate::cback::targets::c_target);
-            let Some((target, compiler)) = target.and_then(|t| t.find_compiler().map(|c| (t, c))) else {
-                say_err!("error: the cross compiler went away");
-                return Err(status::FAILED);
-            };
+        (Emit::Obj, Some((target, compiler))) => {
             let built = crate::pipeline::c_source(&program, &c_options, image);
             let object = target.compile(compiler, &built.output).map_err(|error| {
                 say_err!("error: {error}");
@@ -281,7 +316,7 @@ fn produce(args: &BuildArgs, image: &ImageRequest, shown: Shown) -> Result<(Vec<
             })?;
             Ok((object, built.layout))
         }
-        Emit::Obj => {
+        (Emit::Obj, None) => {
             let options = ObjectOptions {
                 target: args.target.clone(),
                 prefix: args.prefix.clone(),

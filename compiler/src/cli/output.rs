@@ -100,6 +100,12 @@ pub fn prepare(output: &Path, inputs: &[&Path]) -> Result<PathBuf, OutputError> 
 /// replaced. On failure the temporary file is removed and `target` is left
 /// as it was.
 pub fn write_atomically(target: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    stage(target, bytes)?.persist(target).map_err(|e| e.error)?;
+    Ok(())
+}
+
+/// A temporary file beside `target` holding `bytes`, synced.
+fn stage(target: &Path, bytes: &[u8]) -> std::io::Result<tempfile::NamedTempFile> {
     let directory = match target.parent() {
         Some(parent) if !parent.as_os_str().is_empty() => parent,
         _ => Path::new("."),
@@ -115,6 +121,20 @@ pub fn write_atomically(target: &Path, bytes: &[u8]) -> std::io::Result<()> {
     let mut file = builder.tempfile_in(directory)?;
     file.write_all(bytes)?;
     file.as_file().sync_all()?;
-    file.persist(target).map_err(|e| e.error)?;
+    Ok(file)
+}
+
+/// Writes every file as `write_atomically` does, all of them written and
+/// synced before the first is renamed into place: a failed write replaces
+/// none (the files of one build, an object and its header, stay a pair).
+pub fn write_all_atomically<'p>(files: &[(&'p Path, &[u8])]) -> Result<(), (&'p Path, std::io::Error)> {
+    let mut staged = Vec::with_capacity(files.len());
+    for &(target, bytes) in files {
+        let file = stage(target, bytes).map_err(|error| (target, error))?;
+        staged.push((target, file));
+    }
+    for (target, file) in staged {
+        file.persist(target).map_err(|e| (target, e.error))?;
+    }
     Ok(())
 }

@@ -44,7 +44,7 @@ pub fn c_header(prefix: &str, source_name: &str, layout: Option<&Layout>) -> Str
     let _ = writeln!(
         out,
         "/* The layout table {prefix}init gives ladder_init_layout. */\n\
-         extern const uint32_t {prefix}layout[LADDER_LAYOUT_WORDS];\n"
+         LADDER_EXTERN_C const uint32_t {prefix}layout[LADDER_LAYOUT_WORDS];\n"
     );
     let _ = writeln!(
         out,

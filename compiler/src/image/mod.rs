@@ -20,8 +20,8 @@
 //! - the devices the host names (`--host-devices`).
 //!
 //! A device the image lacks reads 0 and is not written (`image.rs` in the
-//! runtime); a write to one by the program is counted, and the tests insist
-//! that there is none.
+//! runtime); a write to one through an instruction's operand is counted,
+//! and the tests insist that there is none.
 
 mod header;
 #[cfg(test)]
@@ -38,6 +38,7 @@ use crate::program::{
     Address, AppInstruction, AppOperand, BitRef, CheckedProgram, Contact, CounterRef, DigitGroup, Element, Op, Output,
     RangeEnd, ResetTarget, WordRef,
 };
+use ladder_runtime::calendar::D_CLOCK_FIRST;
 use ladder_runtime::device::{buffer_word, BUFFER_UNITS, BUFFER_WORDS_PER_UNIT, FIRST_WIDE_COUNTER, HSC_INPUTS};
 use ladder_runtime::helpers::Helper;
 use ladder_runtime::hsc::{FIRST_HSC, M_HSC_DIRECTION_BASE};
@@ -66,6 +67,7 @@ pub fn compact_layout(checked: &CheckedProgram, ir: &ir::Program, host: &[HostDe
     for &device in host {
         footprint.host_device(device);
     }
+    footprint.whole_clock_block();
     footprint.builder.build()
 }
 
@@ -73,6 +75,9 @@ pub fn compact_layout(checked: &CheckedProgram, ir: &ir::Program, host: &[HostDe
 #[derive(Default)]
 struct Footprint {
     builder: LayoutBuilder,
+    /// Some device of the calendar's block is used (not merely inside a
+    /// run that spans it: M8002 and M8067 hold M8015 in their run).
+    uses_clock: bool,
 }
 
 /// Special registers of the machine model around instructions.
@@ -85,21 +90,27 @@ const M_CLOCK_RELAYS: std::ops::Range<u32> = 8015..8020;
 
 impl Footprint {
     fn bits(&mut self, area: BitArea, first: u32, count: u32) {
-        self.builder.include_bits(area, first, first.saturating_add(count));
+        let end = first.saturating_add(count);
+        self.uses_clock |= area == BitArea::M && first < M_CLOCK_RELAYS.end && M_CLOCK_RELAYS.start < end;
+        self.builder.include_bits(area, first, end);
     }
 
     fn words(&mut self, area: WordArea, first: u32, count: u32) {
-        self.builder.include_words(area, first, first.saturating_add(count));
+        let end = first.saturating_add(count);
+        self.uses_clock |= area == WordArea::D && first < D_CLOCK_REGISTERS.end && D_CLOCK_FIRST < end;
+        self.builder.include_words(area, first, end);
     }
 
     /// Every device of a bit area, everything that follows them, in one piece.
     fn whole_bits(&mut self, area: BitArea) {
+        self.uses_clock |= area == BitArea::M;
         for &array in bit_arrays(area) {
             self.builder.include_whole(array);
         }
     }
 
     fn whole_words(&mut self, area: WordArea) {
+        self.uses_clock |= area == WordArea::D;
         for &array in word_arrays(area) {
             self.builder.include_whole(array);
         }
@@ -140,6 +151,16 @@ impl Footprint {
         self.bits(BitArea::X, 0, HSC_INPUTS);
         self.builder.include_whole(Array::PulsesPending);
         self.builder.include_whole(Array::InputEdges);
+    }
+
+    /// The calendar reads its registers and relays as a block (all of
+    /// D8013-D8019 when M8015 turns OFF, say): a program or host that uses
+    /// one of them, with MOV as on an FX, gets them all.
+    fn whole_clock_block(&mut self) {
+        if self.uses_clock {
+            self.words(WordArea::D, D_CLOCK_REGISTERS.start, D_CLOCK_REGISTERS.len() as u32);
+            self.bits(BitArea::M, M_CLOCK_RELAYS.start, M_CLOCK_RELAYS.len() as u32);
+        }
     }
 
     /// M8067, D8067 and D8069, which hosts read (`ladder_operation_error`).
@@ -492,9 +513,27 @@ impl Footprint {
                     _ => self.all_counters(),
                 }
             }
+            // Word bits (D0.0 to D1.F): the words from one end's to the
+            // other's (a segment holds one run, but the run may cross
+            // segments: D7998.0 to D8001.F).
+            (
+                AppOperand::RangeEnd(RangeEnd::Bit(BitRef::WordBit(area, a, _))),
+                AppOperand::RangeEnd(RangeEnd::Bit(BitRef::WordBit(other, b, _))),
+            ) if area == other => match (fixed(a), fixed(b)) {
+                (Some(a), Some(b)) => {
+                    let (start, count) = span(a, b);
+                    self.words(area, start, count);
+                }
+                _ => {
+                    for register in [a.index_register, b.index_register].into_iter().flatten() {
+                        self.index_register(register);
+                    }
+                    self.whole_words(area)
+                }
+            },
+            // Ends of different kinds (the instruction refuses them at run
+            // time, touching nothing): each end's device.
             (first, last) => {
-                // Word bits (D0.0 to D1.F), or ends of different kinds
-                // (refused by the instruction at run time): their areas.
                 for end in [first, last] {
                     match end {
                         AppOperand::RangeEnd(end) => self.range_end_area(end),

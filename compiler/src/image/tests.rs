@@ -80,3 +80,21 @@ fn bit_runs_count_bits() {
     let image = layout("LD X0\nDECO D300 D302 D301\n");
     assert_eq!(held(&image, Array::D, 299..304), vec![300, 301, 302]);
 }
+
+/// Setting the clock with MOV while M8015 is ON, as on an FX: the calendar
+/// reads all of D8013-D8019 when M8015 turns OFF.
+#[test]
+fn one_clock_register_holds_the_clock_block() {
+    let image = layout("LD X0\nOUT M8015\nLD X1\nMOV K5 D8016\n");
+    assert_eq!(held(&image, Array::D, 8013..8020), (8013..8020).collect::<Vec<_>>());
+    assert_eq!(held(&image, Array::M, 8015..8020), (8015..8020).collect::<Vec<_>>());
+    let image = layout("LD X0\nOUT Y0\n");
+    assert_eq!(held(&image, Array::D, 8013..8020), Vec::<u32>::new());
+}
+
+#[test]
+fn a_zone_of_word_bits_holds_the_words_between_across_segments() {
+    let image = layout("LD X0\nZSET D7998.0 D8001.F\n");
+    // (D8000 up holds D8067 and D8069, the operation error, too.)
+    assert_eq!(held(&image, Array::D, 7996..8002), (7998..8002).collect::<Vec<_>>());
+}
