@@ -123,10 +123,14 @@ impl Emitter<'_> {
         let missing = self.missing();
         let (first, size, len) = (array.first(), array.size(), len.max(1));
         match index {
-            Index::Fixed(n) => match self.layout.offset(array, n.clamp(first, first + len - 1)) {
-                Some(offset) => format!("m + {offset}"),
-                None => missing,
-            },
+            Index::Fixed(n) => {
+                let n = n.clamp(first, first + len - 1);
+                match self.layout.offset(array, n) {
+                    // The device named, for whoever reads the C.
+                    Some(offset) => format!("m + {offset} /* {} */", crate::image::device_name(array, n)),
+                    None => missing,
+                }
+            }
             Index::Dynamic(value) => {
                 let Some(base) = self.layout.whole(array) else {
                     return missing;

@@ -136,7 +136,7 @@ fn device_kind(array: Array) -> Option<&'static str> {
 
 /// A device as a C name: `X17`, `M8000`, `TN0` (a timer's value), `CN200`,
 /// `Z0`, `U1_G10`, `INPUT_X0`.
-fn device_name(array: Array, n: u32) -> String {
+pub(crate) fn device_name(array: Array, n: u32) -> String {
     match array {
         Array::X => format!("X{n:o}"),
         Array::Y => format!("Y{n:o}"),

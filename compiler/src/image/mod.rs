@@ -28,6 +28,7 @@ mod header;
 mod tests;
 
 pub use header::c_header;
+pub(crate) use header::device_name;
 
 use crate::host_device::HostDevice;
 use crate::ir;
