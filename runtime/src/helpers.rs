@@ -660,9 +660,7 @@ pub fn width_arg(width: Width) -> u32 {
 pub unsafe extern "C" fn ladder_rt_begin_scan(mem: *mut LadderMemory, elapsed_ms: u32, layout: *const u32) -> u32 {
     // SAFETY: the caller passes the image it was given.
     match unsafe { ImageMut::from_raw(mem.cast()) } {
-        // The table checked once a scan (48 runs) as well: a host that
-        // wrote over it gets no scan rather than runs of any length.
-        Some(mut image) if image.has_layout(layout.cast()) && image.layout().is_valid() => {
+        Some(mut image) if image.has_layout(layout.cast()) => {
             image.begin_scan(elapsed_ms);
             1
         }

@@ -33,6 +33,7 @@ int main(void) {
     char line[128];
     while (fgets(line, sizeof line, stdin) != NULL) {
         unsigned kind = 0, number = 0, count = 0, ms = 0;
+        uint32_t misses = 0;
         long value = 0;
         int32_t read = 0;
         switch (line[0]) {
@@ -59,8 +60,9 @@ int main(void) {
             for (unsigned i = 0; i < count; i++) ladder_program_scan(mem, ms);
             /* A write by the program to a device its compact image lacks
                is the compiler's fault: the scan fails. */
-            if (ladder_layout_misses(mem) == 0) printf("0\n");
-            else printf("M %u\n", (unsigned)ladder_layout_misses(mem));
+            misses = ladder_layout_misses(mem);
+            if (misses == 0) printf("0\n");
+            else printf("M %u\n", (unsigned)misses);
             break;
         case 'p':
             if (sscanf(line + 1, "%u %u", &number, &count) != 2) return 3;

@@ -278,10 +278,10 @@ impl Footprint {
             match decl.reach {
                 // A run the declaration bounds: as far as it reaches when
                 // its counts are constants, its whole area when not.
-                Some(reach) => match reach.length(|name| constant_operand(app, name)) {
-                    Some(length) => self.reach(operand, reach.unit, length, decl.kind, words),
-                    None => self.unbounded_reach(operand, reach.unit, decl.kind, words),
-                },
+                Some(reach) => {
+                    let length = reach.length(|name| constant_operand(app, name));
+                    self.reach(operand, reach.unit, length, decl.kind, words)
+                }
                 None => self.app_operand(operand, decl.kind, words),
             }
         }
@@ -360,36 +360,40 @@ impl Footprint {
     }
 
     /// An operand whose declared reach holds `length` units (`unit`) from
-    /// its device; `words` is the instruction's width in words.
-    fn reach(&mut self, operand: AppOperand, unit: ReachUnit, length: u32, kind: OperandKind, words: u32) {
+    /// its device, `None` when a count is only known at run time (then its
+    /// whole area); `words` is the instruction's width in words.
+    fn reach(&mut self, operand: AppOperand, unit: ReachUnit, length: Option<u32>, kind: OperandKind, words: u32) {
         // A count that makes the instruction fail touches nothing; the
         // device itself is held all the same.
-        let length = length.max(1);
-        match (operand, unit) {
+        let length = length.map(|length| length.max(1));
+        match (operand, unit, length) {
             // A word in a bit-or-word position (ENCO, DECO) is one word.
-            (AppOperand::Word(word) | AppOperand::Element(Element::Word(word)), ReachUnit::Bits) => self.word(&word, 1),
-            (AppOperand::Word(word) | AppOperand::Element(Element::Word(word)), ReachUnit::Units) => {
+            (AppOperand::Word(word) | AppOperand::Element(Element::Word(word)), ReachUnit::Bits, _) => {
+                self.word(&word, 1)
+            }
+            (AppOperand::Word(word) | AppOperand::Element(Element::Word(word)), ReachUnit::Units, Some(length)) => {
                 self.word_run(&word, length, words)
             }
-            (AppOperand::Word(word) | AppOperand::Element(Element::Word(word)), ReachUnit::Words) => {
+            (AppOperand::Word(word) | AppOperand::Element(Element::Word(word)), ReachUnit::Words, Some(length)) => {
                 self.word_run(&word, length, 1)
             }
-            (AppOperand::Bit(bit) | AppOperand::Element(Element::Bits(bit)), _) => self.bit(&bit, length),
+            (
+                AppOperand::Word(word) | AppOperand::Element(Element::Word(word)),
+                ReachUnit::Units | ReachUnit::Words,
+                None,
+            ) => self.whole_of_word(&word),
+            (
+                AppOperand::Bit(bit) | AppOperand::Element(Element::Bits(bit)),
+                ReachUnit::Units | ReachUnit::Words | ReachUnit::Bits,
+                Some(length),
+            ) => self.bit(&bit, length),
+            (
+                AppOperand::Bit(bit) | AppOperand::Element(Element::Bits(bit)),
+                ReachUnit::Units | ReachUnit::Words | ReachUnit::Bits,
+                None,
+            ) => self.whole_of_bit(&bit),
             // Kinds no reach is declared on: as their kind says.
-            (AppOperand::RangeEnd(_) | AppOperand::Digits(_) | AppOperand::Timer(_) | AppOperand::Counter(_), _) => {
-                self.app_operand(operand, kind, words)
-            }
-        }
-    }
-
-    /// An operand with a declared reach whose count is only known at run
-    /// time: its whole area (a word of a bit-or-word position: the word).
-    fn unbounded_reach(&mut self, operand: AppOperand, unit: ReachUnit, kind: OperandKind, words: u32) {
-        match (operand, unit) {
-            (AppOperand::Word(word) | AppOperand::Element(Element::Word(word)), ReachUnit::Bits) => self.word(&word, 1),
-            (AppOperand::Word(word) | AppOperand::Element(Element::Word(word)), _) => self.whole_of_word(&word),
-            (AppOperand::Bit(bit) | AppOperand::Element(Element::Bits(bit)), _) => self.whole_of_bit(&bit),
-            (AppOperand::RangeEnd(_) | AppOperand::Digits(_) | AppOperand::Timer(_) | AppOperand::Counter(_), _) => {
+            (AppOperand::RangeEnd(_) | AppOperand::Digits(_) | AppOperand::Timer(_) | AppOperand::Counter(_), _, _) => {
                 self.app_operand(operand, kind, words)
             }
         }
