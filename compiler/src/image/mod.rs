@@ -40,7 +40,9 @@ use crate::program::{
     RangeEnd, ResetTarget, WordRef,
 };
 use ladder_runtime::calendar::D_CLOCK_FIRST;
-use ladder_runtime::device::{buffer_word, BUFFER_UNITS, BUFFER_WORDS_PER_UNIT, FIRST_WIDE_COUNTER, HSC_INPUTS};
+use ladder_runtime::device::{
+    buffer_word, BUFFER_UNITS, BUFFER_WORDS_PER_UNIT, COUNTER_COUNT, FIRST_WIDE_COUNTER, HSC_INPUTS,
+};
 use ladder_runtime::helpers::Helper;
 use ladder_runtime::hsc::{FIRST_HSC, M_HSC_DIRECTION_BASE};
 use ladder_runtime::layout::{bit_arrays, word_arrays, Array, Layout, LayoutBuilder, COUNTER_ARRAYS};
@@ -117,8 +119,10 @@ impl Footprint {
         }
     }
 
+    /// `count` counters from `first`, as far as there are counters (a run
+    /// from C200 whose count is a large constant ends at C255).
     fn counters(&mut self, first: u32, count: u32) {
-        for counter in first..first.saturating_add(count) {
+        for counter in first..first.saturating_add(count).min(COUNTER_COUNT) {
             self.counter(counter);
         }
     }

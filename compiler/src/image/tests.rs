@@ -98,3 +98,12 @@ fn a_zone_of_word_bits_holds_the_words_between_across_segments() {
     // (D8000 up holds D8067 and D8069, the operation error, too.)
     assert_eq!(held(&image, Array::D, 7996..8002), (7998..8002).collect::<Vec<_>>());
 }
+
+/// A run of 32-bit counters with a large constant count ends at the last
+/// counter (found by the differential test: the footprint walked toward
+/// u32::MAX and overflowed).
+#[test]
+fn a_long_run_of_counters_ends_at_the_last_counter() {
+    let image = layout("LD X0\nDFMOV K1 C200 K32767\nLD X1\nDSORT2 C200 K2147483647 K2147483647 D0 K1\n");
+    assert_eq!(held(&image, Array::WideCounterValue, [200, 255]), vec![200, 255]);
+}
