@@ -588,7 +588,7 @@ impl Footprint {
                 }
             },
             BitRef::WordBit(area, address, bit) => {
-                let words = (u32::from(bit) + count).div_ceil(16).max(1);
+                let words = u32::from(bit).saturating_add(count).div_ceil(16).max(1);
                 self.address_words(area, address, words)
             }
         }

@@ -107,3 +107,11 @@ fn a_long_run_of_counters_ends_at_the_last_counter() {
     let image = layout("LD X0\nDFMOV K1 C200 K32767\nLD X1\nDSORT2 C200 K2147483647 K2147483647 D0 K1\n");
     assert_eq!(held(&image, Array::WideCounterValue, [200, 255]), vec![200, 255]);
 }
+
+/// A bit run of 2^n from a word bit with n past 31 (DECO refuses it at run
+/// time) holds the word area, without overflowing on the way.
+#[test]
+fn a_huge_run_of_word_bits_holds_the_words() {
+    let image = layout("LD X0\nDECO D0 K40 D1.1\n");
+    assert_eq!(held(&image, Array::D, [1, 7999]), vec![1, 7999]);
+}
