@@ -39,6 +39,7 @@ fn c_library(
         prefix: "bench_".to_string(),
         source_name: name.to_string(),
         layout: None,
+        ..Default::default()
     };
     let built = ladderc::pipeline::c_source(checked, &options, image);
     let source = built

@@ -3,7 +3,7 @@
 
 use crate::codegen::{emit_object, CodegenError, JitProgram, ObjectOptions};
 use crate::host_device::HostDevice;
-use crate::image::{compact_layout, ImageKind};
+use crate::image::{compact_layout, machine_use, ImageKind};
 use crate::ir::{passes, Program};
 use crate::program::CheckedProgram;
 use ladder_runtime::layout::Layout;
@@ -22,7 +22,9 @@ pub fn jit(program: &CheckedProgram) -> Result<JitProgram, CodegenError> {
 }
 
 /// The image a built program gets: the full layout, or a compact one that
-/// also holds the devices the host names.
+/// also holds the devices the host names. Either way the scan keeps up to
+/// date the parts of the machine (calendar, scan time, special relays, ...)
+/// that the program or the host's devices use.
 #[derive(Clone, Debug)]
 pub struct ImageRequest {
     pub kind: ImageKind,
@@ -38,9 +40,14 @@ impl Default for ImageRequest {
 impl ImageRequest {
     /// Every device (the runtime's `Memory`).
     pub fn full() -> ImageRequest {
+        ImageRequest::full_with(Vec::new())
+    }
+
+    /// Every device, for a host that reads and writes `host_devices`.
+    pub fn full_with(host_devices: Vec<HostDevice>) -> ImageRequest {
         ImageRequest {
             kind: ImageKind::Full,
-            host_devices: Vec::new(),
+            host_devices,
         }
     }
 
@@ -79,6 +86,7 @@ pub fn object(
     let layout = image.layout(program, &ir);
     let options = ObjectOptions {
         layout,
+        machine: machine_use(program, &ir, &image.host_devices),
         ..options.clone()
     };
     Ok(Built {
@@ -94,6 +102,7 @@ pub fn c_source(program: &CheckedProgram, options: &crate::cback::COptions, imag
     let layout = image.layout(program, &ir);
     let options = crate::cback::COptions {
         layout,
+        machine: machine_use(program, &ir, &image.host_devices),
         ..options.clone()
     };
     Built {

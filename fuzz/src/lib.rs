@@ -74,6 +74,7 @@ pub fn pipeline(data: &[u8]) {
         target: None,
         prefix: ladderc::codegen::DEFAULT_PREFIX.to_string(),
         layout: None,
+        ..Default::default()
     };
     // Both images: the full one, and a compact one laid out from the program.
     for image in [

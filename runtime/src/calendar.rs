@@ -104,13 +104,42 @@ const fn days_in_year(year: u32) -> u32 {
     }
 }
 
+/// The clock's last second, 2079-12-31 23:59:59, where it stops.
+pub const LAST_SECOND: u32 = match CalendarTime::at(LAST_YEAR, 12, 31, 23, 59, 59).to_seconds() {
+    Some(seconds) => seconds,
+    None => u32::MAX,
+};
+
+/// The fields D8013-D8017 and D8019 show, in one word: second (bits 0-5),
+/// minute (6-11), hour (12-16), day (17-21), month (22-25), day of the
+/// week (26-28).
+const fn pack(time: CalendarTime) -> u32 {
+    time.second | time.minute << 6 | time.hour << 12 | time.day << 17 | time.month << 22 | time.weekday << 26
+}
+
+/// The time `pack` packed, in `year`.
+const fn unpack(packed: u32, year: u32) -> CalendarTime {
+    CalendarTime {
+        year,
+        month: packed >> 22 & 0xf,
+        day: packed >> 17 & 0x1f,
+        hour: packed >> 12 & 0x1f,
+        minute: packed >> 6 & 0x3f,
+        second: packed & 0x3f,
+        weekday: packed >> 26 & 0x7,
+    }
+}
+
 impl CalendarTime {
     /// Seconds since 1980-01-01 00:00:00; `None` for a time that does not
     /// exist or is outside 1980-2079 (the weekday is not looked at).
-    pub fn to_seconds(self) -> Option<u32> {
-        let valid = (FIRST_YEAR..=LAST_YEAR).contains(&self.year)
-            && (1..=12).contains(&self.month)
-            && (1..=days_in_month(self.year, self.month)).contains(&self.day)
+    pub const fn to_seconds(self) -> Option<u32> {
+        let valid = self.year >= FIRST_YEAR
+            && self.year <= LAST_YEAR
+            && self.month >= 1
+            && self.month <= 12
+            && self.day >= 1
+            && self.day <= days_in_month(self.year, self.month)
             && self.hour < 24
             && self.minute < 60
             && self.second < 60;
@@ -118,11 +147,15 @@ impl CalendarTime {
             return None;
         }
         let mut days = 0u32;
-        for year in FIRST_YEAR..self.year {
+        let mut year = FIRST_YEAR;
+        while year < self.year {
             days += days_in_year(year);
+            year += 1;
         }
-        for month in 1..self.month {
+        let mut month = 1;
+        while month < self.month {
             days += days_in_month(self.year, month);
+            month += 1;
         }
         days += self.day - 1;
         Some(days * 86_400 + self.hour * 3_600 + self.minute * 60 + self.second)
@@ -200,15 +233,20 @@ impl ImageMut<'_> {
         self.set_scalar(Scalar::CalendarFlags, if on { flags | flag } else { flags & !flag });
     }
 
-    /// At the start of a scan: the clock advances by the elapsed time and
-    /// D8013-D8019 show it; D8010-D8012 take the previous scan's time.
-    pub(crate) fn advance_calendar(&mut self, elapsed_ms: u32) {
+    /// At the start of a scan: the clock advances by the elapsed time; when
+    /// the program or its host uses the calendar (`shown`), D8013-D8019
+    /// show it and M8015-M8018 act. Date arithmetic is done once per second
+    /// (`write_clock_registers`), not at every scan.
+    pub(crate) fn advance_calendar(&mut self, elapsed_ms: u32, shown: bool) {
+        if !shown {
+            self.tick_calendar(elapsed_ms);
+            return;
+        }
         self.set_u8(Array::M, M_CLOCK_PRESENT, 1);
         let stopped = self.get_u8(Array::M, M_CLOCK_STOP) != 0;
         let was_stopped = self.flag(CALENDAR_WAS_STOPPED);
-        self.set_flag(CALENDAR_WAS_STOPPED, stopped);
-        if self.scalar(Scalar::ScanCount) > 0 {
-            self.record_scan_time(elapsed_ms);
+        if stopped != was_stopped {
+            self.set_flag(CALENDAR_WAS_STOPPED, stopped);
         }
         if stopped {
             return;
@@ -219,41 +257,41 @@ impl ImageMut<'_> {
         }
         let rounding = self.get_u8(Array::M, M_CLOCK_ROUND) != 0;
         let was_rounding = self.flag(CALENDAR_WAS_ROUNDING);
-        self.set_flag(CALENDAR_WAS_ROUNDING, rounding);
-        let ms = u64::from(self.scalar(Scalar::CalendarMs)) + u64::from(elapsed_ms);
-        let seconds = u64::from(self.scalar(Scalar::CalendarSeconds)) + ms / 1000;
-        // The clock stops at the end of 2079 rather than wrapping.
-        let last = CalendarTime {
-            year: LAST_YEAR,
-            month: 12,
-            day: 31,
-            hour: 23,
-            minute: 59,
-            second: 59,
-            weekday: 0,
+        if rounding != was_rounding {
+            self.set_flag(CALENDAR_WAS_ROUNDING, rounding);
         }
-        .to_seconds()
-        .unwrap_or(u32::MAX);
-        let mut seconds = seconds.min(u64::from(last)) as u32;
-        let mut below_second = (ms % 1000) as u32;
+        self.tick_calendar(elapsed_ms);
         if rounding && !was_rounding {
+            let seconds = self.scalar(Scalar::CalendarSeconds);
             let second = seconds % 60;
             let minute_start = seconds - second;
-            seconds = if second >= 30 {
-                (minute_start + 60).min(last)
+            let rounded = if second >= 30 {
+                (minute_start + 60).min(LAST_SECOND)
             } else {
                 minute_start
             };
-            below_second = 0;
+            self.set_scalar(Scalar::CalendarSeconds, rounded);
+            self.set_scalar(Scalar::CalendarMs, 0);
         }
-        self.set_scalar(Scalar::CalendarSeconds, seconds);
-        self.set_scalar(Scalar::CalendarMs, below_second);
-        if self.get_i16(Array::D, D_CLOCK_FIRST + 5) == 2000 {
+        if !self.flag(CALENDAR_FOUR_DIGIT_YEAR) && self.get_i16(Array::D, D_CLOCK_FIRST + 5) == 2000 {
             self.set_flag(CALENDAR_FOUR_DIGIT_YEAR, true);
         }
         if self.get_u8(Array::M, M_CLOCK_HOLD) == 0 {
             self.write_clock_registers();
         }
+    }
+
+    /// The clock's own time advances by `elapsed_ms` (it stops at the end
+    /// of 2079 rather than wrapping).
+    fn tick_calendar(&mut self, elapsed_ms: u32) {
+        let ms = u64::from(self.scalar(Scalar::CalendarMs)) + u64::from(elapsed_ms);
+        if ms < 1000 {
+            self.set_scalar(Scalar::CalendarMs, ms as u32);
+            return;
+        }
+        let seconds = u64::from(self.scalar(Scalar::CalendarSeconds)) + ms / 1000;
+        self.set_scalar(Scalar::CalendarSeconds, seconds.min(u64::from(LAST_SECOND)) as u32);
+        self.set_scalar(Scalar::CalendarMs, (ms % 1000) as u32);
     }
 
     /// M8015 turned OFF: the clock takes D8013-D8019.
@@ -276,8 +314,23 @@ impl ImageMut<'_> {
         }
     }
 
+    /// D8013-D8019 show the clock's time, worked out from its seconds once
+    /// per second and kept in the image (`Scalar::CalendarCache*`).
     fn write_clock_registers(&mut self) {
-        let time = self.calendar();
+        let seconds = self.scalar(Scalar::CalendarSeconds);
+        let cached = self.scalar(Scalar::CalendarCacheAt) == seconds.wrapping_add(1);
+        let time = if cached {
+            unpack(
+                self.scalar(Scalar::CalendarCacheTime),
+                self.scalar(Scalar::CalendarCacheYear),
+            )
+        } else {
+            let time = CalendarTime::from_seconds(seconds);
+            self.set_scalar(Scalar::CalendarCacheAt, seconds.wrapping_add(1));
+            self.set_scalar(Scalar::CalendarCacheTime, pack(time));
+            self.set_scalar(Scalar::CalendarCacheYear, time.year);
+            time
+        };
         let year = if self.flag(CALENDAR_FOUR_DIGIT_YEAR) {
             time.year
         } else {
@@ -299,7 +352,7 @@ impl ImageMut<'_> {
 
     /// D8010 = the scan's time; D8011/D8012 the shortest and longest so
     /// far (0.1 ms units, at most 32767).
-    fn record_scan_time(&mut self, elapsed_ms: u32) {
+    pub(crate) fn record_scan_time(&mut self, elapsed_ms: u32) {
         let tenths = elapsed_ms.saturating_mul(10).min(i16::MAX as u32) as i16;
         let first = self.scalar(Scalar::ScanCount) == 1;
         self.set_i16(Array::D, D_SCAN_TIME, tenths);

@@ -18,6 +18,7 @@ use crate::device::BitArea;
 use crate::host::Width;
 use crate::image::ImageMut;
 use crate::layout::Array;
+use crate::machine::MachineUse;
 use crate::place::Place;
 use crate::special::OperationError;
 
@@ -649,22 +650,41 @@ pub fn width_arg(width: Width) -> u32 {
 
 /// Steps 1-2 of the scan, for the scan entry point of compiled objects,
 /// which passes the layout table it was compiled for (null: the full
-/// layout). Returns 1 when the image has that layout and the scan may go
-/// on; 0, doing nothing, for an image of another layout (or none), whose
-/// devices the program's code would miss. The symbol carries the layout
-/// rules' tag (`layout::TAGGED_BEGIN_SCAN`).
+/// layout) and the parts of the machine the program and its host use
+/// (`MachineUse::bits`). Returns 1 when the image has that layout and the
+/// scan may go on; 0, doing nothing, for an image of another layout (or
+/// none), whose devices the program's code would miss. The symbol carries
+/// the layout rules' tag (`layout::TAGGED_BEGIN_SCAN`).
 ///
 /// # Safety
 /// `mem` is null or the program's device image.
-#[export_name = "ladder_rt_begin_scan_v5_666520"]
-pub unsafe extern "C" fn ladder_rt_begin_scan(mem: *mut LadderMemory, elapsed_ms: u32, layout: *const u32) -> u32 {
+#[export_name = "ladder_rt_begin_scan_v6_666532"]
+pub unsafe extern "C" fn ladder_rt_begin_scan(
+    mem: *mut LadderMemory,
+    elapsed_ms: u32,
+    layout: *const u32,
+    machine: u32,
+) -> u32 {
     // SAFETY: the caller passes the image it was given.
     match unsafe { ImageMut::from_raw(mem.cast()) } {
         Some(mut image) if image.has_layout(layout.cast()) => {
-            image.begin_scan(elapsed_ms);
+            image.begin_scan_for(elapsed_ms, MachineUse::from_bits(machine));
             1
         }
         _ => 0,
+    }
+}
+
+/// Step 4 of the scan, for the scan entry point of compiled objects, after
+/// the program ran on an image the begin-scan accepted; `machine` as there.
+///
+/// # Safety
+/// `mem` is null or the program's device image.
+#[export_name = "ladder_rt_end_scan_v6_666532"]
+pub unsafe extern "C" fn ladder_rt_end_scan(mem: *mut LadderMemory, machine: u32) {
+    // SAFETY: the caller passes the image it was given.
+    if let Some(mut image) = unsafe { ImageMut::from_raw(mem.cast()) } {
+        image.end_scan_for(MachineUse::from_bits(machine));
     }
 }
 
@@ -677,7 +697,8 @@ pub fn symbols() -> Vec<(&'static str, *const u8)> {
         .chain([
             (crate::layout::TAGGED_BEGIN_SCAN, ladder_rt_begin_scan as *const u8),
             ("ladder_begin_scan", crate::capi::ladder_begin_scan as *const u8),
-            (crate::layout::END_SCAN, crate::capi::ladder_end_scan as *const u8),
+            (crate::layout::TAGGED_END_SCAN, ladder_rt_end_scan as *const u8),
+            ("ladder_end_scan", crate::capi::ladder_end_scan as *const u8),
         ])
         .collect()
 }

@@ -149,6 +149,7 @@ impl<'a> ImageMut<'a> {
     /// `ladder_init`/`ladder_init_layout`), is valid for its size, and no
     /// other reference to it is used while the result lives; a compact
     /// image's layout table is still where it was.
+    #[inline(always)]
     pub unsafe fn from_raw(image: *mut u8) -> Option<ImageMut<'a>> {
         // SAFETY: the caller's contract.
         let (size, layout) = unsafe { describe(image)? };
@@ -181,6 +182,7 @@ impl<'a> ImageRef<'a> {
 ///
 /// # Safety
 /// `image` is null or points at an initialised image (at least a header).
+#[inline(always)]
 unsafe fn describe<'a>(image: *const u8) -> Option<(usize, Which<'a>)> {
     if image.is_null() {
         return None;
@@ -220,6 +222,7 @@ impl<B: AsRef<[u8]>> Image<'_, B> {
     }
 
     /// Has the image the layout table at `table` (null: the full layout)?
+    #[inline(always)]
     pub fn has_layout(&self, table: *const Layout) -> bool {
         match self.layout {
             Which::Full => table.is_null(),
@@ -232,7 +235,7 @@ impl<B: AsRef<[u8]>> Image<'_, B> {
         self.bytes.as_ref()
     }
 
-    #[inline]
+    #[inline(always)]
     fn run(&self, segment: usize) -> Run {
         match self.layout {
             Which::Full => FULL.runs[segment],
@@ -291,7 +294,7 @@ impl<B: AsRef<[u8]>> Image<'_, B> {
     }
 
     /// A scalar of the scan.
-    #[inline]
+    #[inline(always)]
     pub fn scalar(&self, scalar: Scalar) -> u32 {
         let at = scalar.offset();
         self.bytes
@@ -370,9 +373,15 @@ impl ImageMut<'_> {
         let Some(at) = self.offset(array, n) else {
             return false;
         };
-        match self.bytes.get_mut(at..at + N) {
+        // Through a fixed-size array: a plain store, not a call to a
+        // slice copy (which an image built for size keeps out of line).
+        match self
+            .bytes
+            .get_mut(at..at + N)
+            .and_then(|cell| <&mut [u8; N]>::try_from(cell).ok())
+        {
             Some(cell) => {
-                cell.copy_from_slice(&value);
+                *cell = value;
                 true
             }
             None => false,
@@ -411,11 +420,15 @@ impl ImageMut<'_> {
     }
 
     /// Writes a scalar of the scan.
-    #[inline]
+    #[inline(always)]
     pub fn set_scalar(&mut self, scalar: Scalar, value: u32) {
         let at = scalar.offset();
-        if let Some(cell) = self.bytes.get_mut(at..at + 4) {
-            cell.copy_from_slice(&value.to_ne_bytes());
+        if let Some(cell) = self
+            .bytes
+            .get_mut(at..at + 4)
+            .and_then(|cell| <&mut [u8; 4]>::try_from(cell).ok())
+        {
+            *cell = value.to_ne_bytes();
         }
     }
 
@@ -478,6 +491,48 @@ impl ImageMut<'_> {
         self.set_i16(Array::D, D_ERROR_CODE, error.code() as i16);
         // D8069 is one word: lines past 32767 keep their low 16 bits.
         self.set_i16(Array::D, D_ERROR_LINE, line as u16 as i16);
+    }
+
+    /// Copies every element of byte array `from` that the image holds onto
+    /// the same element of byte array `to` (arrays numbered alike, such as
+    /// the input image and X), where `to` holds it too.
+    #[inline(always)]
+    pub(crate) fn copy_bytes(&mut self, from: Array, to: Array) {
+        let (mut sa, mut sb) = (from.segments(), to.segments());
+        // Parallel arrays have the same segments; these have one each.
+        if sa.len() == 1 && sb.len() == 1 {
+            return self.copy_run(from, sa.start, to, sb.start);
+        }
+        while let (Some(a), Some(b)) = (sa.next(), sb.next()) {
+            self.copy_run(from, a, to, b);
+        }
+    }
+
+    /// `copy_bytes` for segment `a` of `from` and `b` of `to`: one move
+    /// when both hold the same devices (every layout lays parallel arrays
+    /// out alike).
+    #[inline(always)]
+    fn copy_run(&mut self, from: Array, a: usize, to: Array, b: usize) {
+        let (ra, rb) = (self.run(a), self.run(b));
+        if ra.first == rb.first && ra.count == rb.count {
+            let (ao, bo, count) = (ra.offset as usize, rb.offset as usize, ra.count as usize);
+            let fits = |o: usize| o.checked_add(count).is_some_and(|end| end <= self.bytes.len());
+            if fits(ao) && fits(bo) {
+                let base = self.bytes.as_mut_ptr();
+                // SAFETY: both ranges lie inside the image's bytes (checked
+                // just above); `copy` allows them to overlap. (`copy_within`
+                // does the same, but a runtime built for size calls it out of
+                // line at every scan.)
+                unsafe { core::ptr::copy(base.add(ao), base.add(bo), count) };
+            }
+            return;
+        }
+        for n in rb.first..rb.first.saturating_add(rb.count) {
+            if self.holds(from, n) {
+                let value = self.get_u8(from, n);
+                self.set_u8(to, n, value);
+            }
+        }
     }
 
     /// Calls `each` with element n of byte array `a` and element n of byte

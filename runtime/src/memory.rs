@@ -17,6 +17,7 @@ use crate::host::{Basic, Device, Width};
 use crate::hsc::HscCompare;
 use crate::image::{AsImage, AsImageMut, ImageMut, ImageRef};
 use crate::layout::ImageHeader;
+use crate::machine::MachineUse;
 use crate::pulse::PulseRequest;
 use crate::special::OperationError;
 use bytemuck::{Pod, Zeroable};
@@ -61,6 +62,13 @@ pub struct Memory {
     /// Writes by the program to devices the image lacks (only a compact
     /// layout can lack one; see `image.rs`).
     pub layout_misses: u32,
+    /// The calendar's time as D8013-D8019 show it, worked out once per
+    /// second: for `calendar_cache_at` - 1 seconds (0: nothing yet), the
+    /// second, minute, hour, day, month and day of the week packed as
+    /// `calendar::pack` does, and the year.
+    pub calendar_cache_at: u32,
+    pub calendar_cache_time: u32,
+    pub calendar_cache_year: u32,
 
     // ---- bit devices ----
     pub x: [u8; IO_POINTS],
@@ -310,6 +318,10 @@ through_image! {
     fn begin_scan(&mut self, elapsed_ms: u32);
     /// Step 4 of the scan.
     fn end_scan(&mut self);
+    /// Steps 1 and 2 keeping the parts `machine` of the machine (`machine.rs`).
+    fn begin_scan_for(&mut self, elapsed_ms: u32, machine: MachineUse);
+    /// Step 4 keeping the parts `machine` of the machine.
+    fn end_scan_for(&mut self, machine: MachineUse);
     /// A SET transfer inside the block of `source`.
     fn schedule_state_off(&mut self, source: u32);
     /// The loop watchdog at a NEXT (`scan.rs`).
@@ -343,11 +355,18 @@ through_image! {
 }
 
 impl Memory {
-    /// A whole scan around `program`, for engines that run in-process.
+    /// A whole scan around `program`, for engines that run in-process,
+    /// keeping every part of the machine up to date.
     pub fn scan_with(&mut self, elapsed_ms: u32, program: impl FnOnce(&mut Memory)) {
-        self.begin_scan(elapsed_ms);
+        self.scan_using(elapsed_ms, MachineUse::ALL, program);
+    }
+
+    /// A whole scan around `program` keeping the parts `machine` of the
+    /// machine up to date (what a compiled program using them does).
+    pub fn scan_using(&mut self, elapsed_ms: u32, machine: MachineUse, program: impl FnOnce(&mut Memory)) {
+        self.begin_scan_for(elapsed_ms, machine);
         program(self);
-        self.end_scan();
+        self.end_scan_for(machine);
     }
 }
 

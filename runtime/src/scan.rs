@@ -10,6 +10,7 @@
 use crate::device::HSC_INPUTS;
 use crate::image::ImageMut;
 use crate::layout::{Array, Scalar};
+use crate::machine::MachineUse;
 use crate::special::{
     OperationError, CLOCK_CYCLE_MS, CLOCK_RELAYS, FIRST_ALARM_STATE, LAST_ALARM_STATE, LOOP_REPETITION_LIMIT,
     M_ALWAYS_OFF, M_ALWAYS_ON, M_FIRST_SCAN, M_NOT_FIRST_SCAN, SD_ALARM_LOWEST, SM_ALARM_ACTIVE, SM_ALARM_MONITOR,
@@ -17,38 +18,73 @@ use crate::special::{
 };
 
 impl ImageMut<'_> {
-    /// Steps 1 and 2: everything that happens before the program runs.
+    /// Steps 1 and 2: everything that happens before the program runs,
+    /// with every part of the machine kept up to date.
     pub fn begin_scan(&mut self, elapsed_ms: u32) {
+        self.begin_scan_for(elapsed_ms, MachineUse::ALL);
+    }
+
+    /// Steps 1 and 2 for a program that uses the parts `machine` of the
+    /// machine (`machine.rs`): the others are left as they are.
+    pub fn begin_scan_for(&mut self, elapsed_ms: u32, machine: MachineUse) {
         self.set_scalar(Scalar::ElapsedMs, elapsed_ms);
-        // In 64 bits the sum cannot overflow; the modulus keeps t below a minute.
-        let clock = (u64::from(self.scalar(Scalar::ClockMs)) + u64::from(elapsed_ms)) % u64::from(CLOCK_CYCLE_MS);
+        // The sum cannot overflow in 64 bits; the clock stays below a minute.
+        let clock = u64::from(self.scalar(Scalar::ClockMs)) + u64::from(elapsed_ms);
+        let clock = if clock < u64::from(CLOCK_CYCLE_MS) {
+            clock
+        } else {
+            clock % u64::from(CLOCK_CYCLE_MS)
+        };
         self.set_scalar(Scalar::ClockMs, clock as u32);
         self.set_scalar(Scalar::LoopRepetitions, 0);
+        // A compact image of a program without high-speed counters has no
+        // edge counts to keep.
+        let high_speed = machine.contains(MachineUse::HIGH_SPEED) && self.holds(Array::InputEdges, 0);
         let mut previous = [0u8; HSC_INPUTS as usize];
-        for (x, level) in (0..).zip(previous.iter_mut()) {
-            *level = self.get_u8(Array::X, x);
+        if high_speed {
+            for (x, level) in (0..).zip(previous.iter_mut()) {
+                *level = self.get_u8(Array::X, x);
+            }
         }
-        self.zip_bytes(Array::InputImage, Array::X, |input, x| *x = *input);
+        self.copy_bytes(Array::InputImage, Array::X);
         if self.scalar(Scalar::ForcedCount) > 0 {
             self.apply_forced_inputs();
         }
-        self.refresh_high_speed_inputs(previous);
-        self.advance_calendar(elapsed_ms);
+        if high_speed {
+            self.refresh_high_speed_inputs(previous);
+        }
+        if machine.contains(MachineUse::SCAN_TIME) && self.scalar(Scalar::ScanCount) > 0 {
+            self.record_scan_time(elapsed_ms);
+        }
+        self.advance_calendar(elapsed_ms, machine.contains(MachineUse::CALENDAR));
         if self.scalar(Scalar::StlPendingAny) != 0 {
             self.turn_off_pending_states();
         }
-        self.update_system_relays();
+        if machine.contains(MachineUse::SYSTEM_RELAYS) {
+            self.update_system_relays();
+        }
+        if machine.contains(MachineUse::CLOCK_RELAYS) {
+            for (relay, period) in CLOCK_RELAYS {
+                self.set_u8(Array::M, relay, u8::from(clock as u32 % period >= period / 2));
+            }
+        }
     }
 
-    /// Step 4: everything that happens after the program ran.
+    /// Step 4: everything that happens after the program ran, with every
+    /// part of the machine kept up to date.
     pub fn end_scan(&mut self) {
-        if self.get_u8(Array::Sm, SM_ALARM_MONITOR.number) != 0 {
+        self.end_scan_for(MachineUse::ALL);
+    }
+
+    /// Step 4 for a program that uses the parts `machine` of the machine.
+    pub fn end_scan_for(&mut self, machine: MachineUse) {
+        if machine.contains(MachineUse::ALARMS) && self.get_u8(Array::Sm, SM_ALARM_MONITOR.number) != 0 {
             self.update_alarm_monitor();
         }
         if self.scalar(Scalar::ForcedCount) > 0 {
             self.apply_forced_outputs();
         }
-        self.zip_bytes(Array::Y, Array::OutputImage, |y, output| *output = *y);
+        self.copy_bytes(Array::Y, Array::OutputImage);
         let scans = self.scalar(Scalar::ScanCount).saturating_add(1);
         self.set_scalar(Scalar::ScanCount, scans);
     }
@@ -107,10 +143,6 @@ impl ImageMut<'_> {
             for &n in relays {
                 self.set_u8(Array::M, n, on as u8);
             }
-        }
-        let clock = self.scalar(Scalar::ClockMs);
-        for (relay, period) in CLOCK_RELAYS {
-            self.set_u8(Array::M, relay, u8::from(clock % period >= period / 2));
         }
     }
 }

@@ -4,7 +4,8 @@
  * use no other runtime helper (nor high-speed counters), so that
  * cross-compiled program code can run under qemu-user where the Rust runtime
  * cannot be built. Forces are not supported (the driver uses none). Offsets
- * come from layout.h, generated from the runtime's layout by the test.
+ * and the parts of the machine (runtime/src/machine.rs) come from layout.h,
+ * generated from the runtime by the test.
  */
 #include <stdint.h>
 #include <stdio.h>
@@ -44,24 +45,41 @@ static void write_clock(LadderMemory *mem) {
     unsigned shown = (U32(mem, OFFSET_CALENDAR_FLAGS) & 1) ? year : year % 100;
     unsigned fields[7] = {in_day % 60, in_day % 3600 / 60, in_day / 3600, days + 1, month, shown, weekday};
     for (unsigned k = 0; k < 7; k++) *dw(mem, 8013 + k) = (int16_t)fields[k];
+    /* The runtime keeps the time it showed, worked out once per second. */
+    U32(mem, OFFSET_CALENDAR_CACHE_AT) = seconds + 1;
+    U32(mem, OFFSET_CALENDAR_CACHE_TIME) = fields[0] | fields[1] << 6 | fields[2] << 12 | fields[3] << 17 |
+                                           fields[4] << 22 | fields[6] << 26;
+    U32(mem, OFFSET_CALENDAR_CACHE_YEAR) = year;
 }
 static unsigned full_year(int y) {
     if (y >= 0 && y <= 79) return 2000u + (unsigned)y;
     if (y >= 80 && y <= 99) return 1900u + (unsigned)y;
     return (unsigned)y;
 }
-static void advance_calendar(LadderMemory *mem, uint32_t elapsed_ms) {
+static void record_scan_time(LadderMemory *mem, uint32_t elapsed_ms) {
+    uint64_t tenths = (uint64_t)elapsed_ms * 10u;
+    int16_t now = (int16_t)(tenths > 32767u ? 32767u : tenths);
+    int first = U32(mem, OFFSET_SCAN_COUNT) == 1;
+    *dw(mem, 8010) = now;
+    if (first || now < *dw(mem, 8011)) *dw(mem, 8011) = now;
+    if (first || now > *dw(mem, 8012)) *dw(mem, 8012) = now;
+}
+static void tick_calendar(LadderMemory *mem, uint32_t elapsed_ms) {
+    uint32_t last = 0;
+    to_seconds(2079, 12, 31, 23, 59, 59, &last);
+    uint64_t ms = (uint64_t)U32(mem, OFFSET_CALENDAR_MS) + elapsed_ms;
+    uint64_t seconds = (uint64_t)U32(mem, OFFSET_CALENDAR_SECONDS) + ms / 1000u;
+    U32(mem, OFFSET_CALENDAR_SECONDS) = (uint32_t)(seconds < last ? seconds : last);
+    U32(mem, OFFSET_CALENDAR_MS) = (uint32_t)(ms % 1000u);
+}
+static void advance_calendar(LadderMemory *mem, uint32_t elapsed_ms, uint32_t machine) {
+    if (!(machine & MACHINE_CALENDAR)) {
+        tick_calendar(mem, elapsed_ms);
+        return;
+    }
     set(mem, OFFSET_M, 8018, 1);
     int stopped = *AT(mem, OFFSET_M + 8015) != 0, was_stopped = (U32(mem, OFFSET_CALENDAR_FLAGS) & 2) != 0;
     U32(mem, OFFSET_CALENDAR_FLAGS) = (U32(mem, OFFSET_CALENDAR_FLAGS) & ~2u) | (stopped ? 2u : 0u);
-    if (U32(mem, OFFSET_SCAN_COUNT) > 0) {
-        uint64_t tenths = (uint64_t)elapsed_ms * 10u;
-        int16_t now = (int16_t)(tenths > 32767u ? 32767u : tenths);
-        int first = U32(mem, OFFSET_SCAN_COUNT) == 1;
-        *dw(mem, 8010) = now;
-        if (first || now < *dw(mem, 8011)) *dw(mem, 8011) = now;
-        if (first || now > *dw(mem, 8012)) *dw(mem, 8012) = now;
-    }
     if (stopped) return;
     if (was_stopped) {
         uint32_t seconds = 0;
@@ -79,12 +97,9 @@ static void advance_calendar(LadderMemory *mem, uint32_t elapsed_ms) {
     }
     int rounding = *AT(mem, OFFSET_M + 8017) != 0, was_rounding = (U32(mem, OFFSET_CALENDAR_FLAGS) & 4) != 0;
     U32(mem, OFFSET_CALENDAR_FLAGS) = (U32(mem, OFFSET_CALENDAR_FLAGS) & ~4u) | (rounding ? 4u : 0u);
-    uint64_t ms = (uint64_t)U32(mem, OFFSET_CALENDAR_MS) + elapsed_ms;
-    uint64_t seconds = (uint64_t)U32(mem, OFFSET_CALENDAR_SECONDS) + ms / 1000u;
+    tick_calendar(mem, elapsed_ms);
     uint32_t last = 0;
     to_seconds(2079, 12, 31, 23, 59, 59, &last);
-    U32(mem, OFFSET_CALENDAR_SECONDS) = (uint32_t)(seconds < last ? seconds : last);
-    U32(mem, OFFSET_CALENDAR_MS) = (uint32_t)(ms % 1000u);
     if (rounding && !was_rounding) {
         uint32_t now = U32(mem, OFFSET_CALENDAR_SECONDS), minute = now - now % 60;
         U32(mem, OFFSET_CALENDAR_SECONDS) = now % 60 >= 30 ? (minute + 60 < last ? minute + 60 : last) : minute;
@@ -94,8 +109,8 @@ static void advance_calendar(LadderMemory *mem, uint32_t elapsed_ms) {
     if (!*AT(mem, OFFSET_M + 8016)) write_clock(mem);
 }
 
-uint32_t LADDER_TAGGED_BEGIN_SCAN(LadderMemory *mem, uint32_t elapsed_ms, const uint32_t *layout);
-uint32_t LADDER_TAGGED_BEGIN_SCAN(LadderMemory *mem, uint32_t elapsed_ms, const uint32_t *layout) {
+uint32_t LADDER_TAGGED_BEGIN_SCAN(LadderMemory *mem, uint32_t elapsed_ms, const uint32_t *layout, uint32_t machine);
+uint32_t LADDER_TAGGED_BEGIN_SCAN(LadderMemory *mem, uint32_t elapsed_ms, const uint32_t *layout, uint32_t machine) {
     /* The full layout only, as the runtime: an image ladder_init made. */
     if (mem == NULL || layout != NULL || U32(mem, OFFSET_HEADER) != FULL_MAGIC) return 0;
     U32(mem, OFFSET_ELAPSED_MS) = elapsed_ms;
@@ -103,14 +118,15 @@ uint32_t LADDER_TAGGED_BEGIN_SCAN(LadderMemory *mem, uint32_t elapsed_ms, const 
     memcpy(previous, AT(mem, OFFSET_X), 8);
     memcpy(AT(mem, OFFSET_X), AT(mem, OFFSET_INPUT_IMAGE), 256);
     /* The edges the input refresh saw (the high-speed counters' inputs). */
-    for (unsigned x = 0; x < 8; x++) {
+    for (unsigned x = 0; x < 8 && (machine & MACHINE_HIGH_SPEED); x++) {
         uint32_t rose = *AT(mem, OFFSET_X + x) && !previous[x];
         uint32_t *pending = (uint32_t *)AT(mem, OFFSET_PULSES_PENDING + 4 * x);
         uint64_t edges = (uint64_t)rose + *pending;
         *(uint32_t *)AT(mem, OFFSET_INPUT_EDGES + 4 * x) = edges > UINT32_MAX ? UINT32_MAX : (uint32_t)edges;
         *pending = 0;
     }
-    advance_calendar(mem, elapsed_ms);
+    if ((machine & MACHINE_SCAN_TIME) && U32(mem, OFFSET_SCAN_COUNT) > 0) record_scan_time(mem, elapsed_ms);
+    advance_calendar(mem, elapsed_ms, machine);
     if (U32(mem, OFFSET_STL_PENDING_ANY) != 0) {
         for (unsigned s = 0; s < 4096; s++) {
             if (*AT(mem, OFFSET_STL_PENDING_OFF + s)) {
@@ -121,22 +137,24 @@ uint32_t LADDER_TAGGED_BEGIN_SCAN(LadderMemory *mem, uint32_t elapsed_ms, const 
         U32(mem, OFFSET_STL_PENDING_ANY) = 0;
     }
     int first = U32(mem, OFFSET_SCAN_COUNT) == 0;
-    set(mem, OFFSET_SM, 0, 1);
-    set(mem, OFFSET_SM, 1, 0);
-    set(mem, OFFSET_SM, 2, first);
-    set(mem, OFFSET_SM, 3, !first);
-    set(mem, OFFSET_M, 8000, 1);
-    set(mem, OFFSET_M, 8151, 1);
-    set(mem, OFFSET_M, 8160, 1);
-    set(mem, OFFSET_M, 8001, 0);
-    set(mem, OFFSET_M, 8002, first);
-    set(mem, OFFSET_M, 8150, first);
-    set(mem, OFFSET_M, 8003, !first);
+    if (machine & MACHINE_SYSTEM_RELAYS) {
+        set(mem, OFFSET_SM, 0, 1);
+        set(mem, OFFSET_SM, 1, 0);
+        set(mem, OFFSET_SM, 2, first);
+        set(mem, OFFSET_SM, 3, !first);
+        set(mem, OFFSET_M, 8000, 1);
+        set(mem, OFFSET_M, 8151, 1);
+        set(mem, OFFSET_M, 8160, 1);
+        set(mem, OFFSET_M, 8001, 0);
+        set(mem, OFFSET_M, 8002, first);
+        set(mem, OFFSET_M, 8150, first);
+        set(mem, OFFSET_M, 8003, !first);
+    }
     /* Clock relays M8011-M8014 from the accumulated time, and the loop
        watchdog's count, as runtime/src/scan.rs does. */
     U32(mem, OFFSET_CLOCK_MS) = (uint32_t)(((uint64_t)U32(mem, OFFSET_CLOCK_MS) + elapsed_ms) % 60000u);
     static const uint32_t periods[4] = {10, 100, 1000, 60000};
-    for (unsigned k = 0; k < 4; k++) {
+    for (unsigned k = 0; k < 4 && (machine & MACHINE_CLOCK_RELAYS); k++) {
         set(mem, OFFSET_M, 8011 + k, U32(mem, OFFSET_CLOCK_MS) % periods[k] >= periods[k] / 2);
     }
     U32(mem, OFFSET_LOOP_REPETITIONS) = 0;
@@ -154,7 +172,14 @@ int32_t ladder_rt_loop_repeat(LadderMemory *mem, uint32_t line) {
     return 1;
 }
 
-void ladder_end_scan(LadderMemory *mem) {
+void LADDER_TAGGED_END_SCAN(LadderMemory *mem, uint32_t machine);
+void LADDER_TAGGED_END_SCAN(LadderMemory *mem, uint32_t machine) {
+    if ((machine & MACHINE_ALARMS) && *AT(mem, OFFSET_SM + 249)) {
+        unsigned lowest = 0;
+        for (unsigned s = 900; s <= 999 && !lowest; s++) lowest = *AT(mem, OFFSET_S + s) ? s : 0;
+        set(mem, OFFSET_SM, 248, lowest != 0);
+        *(int16_t *)AT(mem, OFFSET_SD + 2 * 249) = (int16_t)lowest;
+    }
     memcpy(AT(mem, OFFSET_OUTPUT_IMAGE), AT(mem, OFFSET_Y), 256);
     if (U32(mem, OFFSET_SCAN_COUNT) != UINT32_MAX) U32(mem, OFFSET_SCAN_COUNT) += 1;
 }

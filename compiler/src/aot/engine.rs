@@ -45,6 +45,7 @@ impl AotEngine {
             target: None,
             prefix: crate::codegen::DEFAULT_PREFIX.to_string(),
             layout: None,
+            ..Default::default()
         };
         let program_path = match route {
             Route::Object => {
@@ -60,6 +61,7 @@ impl AotEngine {
                     prefix: options.prefix.clone(),
                     source_name: "scenario program".to_string(),
                     layout: None,
+                    ..Default::default()
                 };
                 let path = work.path().join("program.c");
                 std::fs::write(&path, crate::pipeline::c_source(program, &c_options, image).output)

@@ -21,10 +21,11 @@ pub mod targets;
 use crate::ir::Program;
 use ladder_runtime::helpers::Helper;
 use ladder_runtime::layout::{Layout, FULL, LAYOUT_VERSION};
+use ladder_runtime::MachineUse;
 use std::fmt::Write as _;
 
 /// What `ladderc build --emit c` asks of the C back end.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub struct COptions {
     /// Prefix of the exported entry points `<prefix>scan` and `<prefix>init`.
     pub prefix: String,
@@ -33,6 +34,9 @@ pub struct COptions {
     /// The image's layout: `None` for the full layout, or a compact one,
     /// which the file defines as `<prefix>layout`.
     pub layout: Option<Layout>,
+    /// The parts of the machine the scan keeps up to date
+    /// (`image::machine_use`).
+    pub machine: MachineUse,
 }
 
 /// The program as one C99 source file.
@@ -53,10 +57,14 @@ pub fn emit_c(program: &Program, options: &COptions) -> String {
     code.push_str("\n/* The runtime: begin and end of a scan, and the helpers the program calls. */\n");
     let _ = writeln!(
         code,
-        "uint32_t {}(LadderMemory *mem, uint32_t elapsed_ms, const uint32_t *layout);",
+        "uint32_t {}(LadderMemory *mem, uint32_t elapsed_ms, const uint32_t *layout, uint32_t machine);",
         ladder_runtime::layout::TAGGED_BEGIN_SCAN
     );
-    let _ = writeln!(code, "void {}(LadderMemory *mem);", ladder_runtime::layout::END_SCAN);
+    let _ = writeln!(
+        code,
+        "void {}(LadderMemory *mem, uint32_t machine);",
+        ladder_runtime::layout::TAGGED_END_SCAN
+    );
     let _ = writeln!(
         code,
         "LadderMemory *ladder_init(void *storage, size_t size);\n\
@@ -116,15 +124,23 @@ pub fn emit_c(program: &Program, options: &COptions) -> String {
             "0".to_string()
         }
     };
+    let parts: Vec<&str> = options.machine.names().collect();
     let _ = writeln!(
         code,
-        "/* One whole scan; a null image, or one of another layout, does nothing. */\n\
+        "/* One whole scan; a null image, or one of another layout, does nothing.\n   \
+         The parts of the machine it keeps up to date beyond inputs and outputs: {parts}. */\n\
          void {prefix}scan(LadderMemory *mem, uint32_t elapsed_ms) {{\n    \
-         if (!{begin}(mem, elapsed_ms, {table})) return;\n    \
+         if (!{begin}(mem, elapsed_ms, {table}, {machine}u)) return;\n    \
          {body}((uint8_t *)mem);\n    \
-         {end}(mem);\n}}",
+         {end}(mem, {machine}u);\n}}",
+        parts = if parts.is_empty() {
+            "none".to_string()
+        } else {
+            parts.join(", ")
+        },
+        machine = options.machine.bits(),
         begin = ladder_runtime::layout::TAGGED_BEGIN_SCAN,
-        end = ladder_runtime::layout::END_SCAN,
+        end = ladder_runtime::layout::TAGGED_END_SCAN,
     );
     out.push_str(&prelude::prelude_for(&code));
     out.push_str(&code);

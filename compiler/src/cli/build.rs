@@ -41,8 +41,12 @@ pub struct BuildArgs {
     /// the 32-bit targets of the C back end, full otherwise.
     #[arg(long, value_enum)]
     image: Option<ImageKind>,
-    /// Devices the host reads or writes that the program does not use, for
-    /// a compact image: a list as `run --watch` takes it (`Y0..Y7,D100..D109,D200:32`).
+    /// Devices the host reads or writes that the program does not use: a
+    /// list as `run --watch` takes it (`Y0..Y7,D100..D109,D200:32`). A
+    /// compact image holds them; on any image, the scan keeps the parts of
+    /// the machine they belong to up to date (the calendar for D8013-D8019,
+    /// the scan time for D8010-D8012, the special relays for M8000, ...),
+    /// as it does for those the program uses.
     #[arg(long = "host-devices", value_name = "LIST", value_delimiter = ',')]
     host_devices: Vec<String>,
     /// Write the C header of the program (entry points, image size and,
@@ -246,7 +250,8 @@ fn write_c_instead(
 
 /// The image `build` gives the program: `--image`, or compact for the
 /// 32-bit targets of the C back end; with the devices `--host-devices`
-/// names.
+/// names (held by a compact image; on either, their parts of the machine
+/// are kept up to date).
 fn image_request(args: &BuildArgs, c_target: bool) -> Result<ImageRequest, String> {
     let mut devices = Vec::new();
     for entry in args.host_devices.iter().filter(|e| !e.trim().is_empty()) {
@@ -257,12 +262,7 @@ fn image_request(args: &BuildArgs, c_target: bool) -> Result<ImageRequest, Strin
         .image
         .unwrap_or(if c_target { ImageKind::Compact } else { ImageKind::Full });
     match kind {
-        ImageKind::Full => {
-            if !devices.is_empty() {
-                say_err!("warning: --host-devices shapes a compact image; a full image holds every device already");
-            }
-            Ok(ImageRequest::full())
-        }
+        ImageKind::Full => Ok(ImageRequest::full_with(devices)),
         ImageKind::Compact => Ok(ImageRequest::compact(devices)),
     }
 }
@@ -304,6 +304,7 @@ fn produce(
         prefix: args.prefix.clone(),
         source_name: source_name(args),
         layout: None,
+        ..Default::default()
     };
     match (args.emit, cross) {
         (Emit::Ir, _) => Ok((crate::pipeline::ir(&program).to_string().into_bytes(), None)),
@@ -324,6 +325,7 @@ fn produce(
                 target: args.target.clone(),
                 prefix: args.prefix.clone(),
                 layout: None,
+                ..Default::default()
             };
             let built = crate::pipeline::object(&program, &options, image).map_err(|error| {
                 say_err!("error: {error}");

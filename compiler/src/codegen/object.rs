@@ -7,6 +7,7 @@ use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext};
 use cranelift_module::{default_libcall_names, DataDescription, DataId, Linkage, Module};
 use cranelift_object::{ObjectBuilder, ObjectModule};
 use ladder_runtime::layout::{Layout, FULL};
+use ladder_runtime::MachineUse;
 
 /// What `ladderc build` asks of the object back end.
 #[derive(Clone, Debug, Default)]
@@ -18,6 +19,9 @@ pub struct ObjectOptions {
     /// The image's layout: `None` for the full layout, or a compact one
     /// (`image::compact_layout`), which the object defines as `<prefix>layout`.
     pub layout: Option<Layout>,
+    /// The parts of the machine the scan keeps up to date
+    /// (`image::machine_use`).
+    pub machine: MachineUse,
 }
 
 /// The default prefix: the entry point is `ladder_program_scan`.
@@ -58,18 +62,18 @@ pub fn emit_object(program: &Program, options: &ObjectOptions) -> Result<Vec<u8>
 
     let pointer = module.target_config().pointer_type();
     let begin_signature = {
-        let mut signature = signature(module.isa(), &[pointer, types::I32, pointer]);
+        let mut signature = signature(module.isa(), &[pointer, types::I32, pointer, types::I32]);
         signature.returns.push(AbiParam::new(types::I32));
         signature
     };
     let scan_signature = signature(module.isa(), &[pointer, types::I32]);
-    let end_signature = signature(module.isa(), &[pointer]);
+    let end_signature = signature(module.isa(), &[pointer, types::I32]);
     let begin = module.declare_function(
         ladder_runtime::layout::TAGGED_BEGIN_SCAN,
         Linkage::Import,
         &begin_signature,
     )?;
-    let end = module.declare_function(ladder_runtime::layout::END_SCAN, Linkage::Import, &end_signature)?;
+    let end = module.declare_function(ladder_runtime::layout::TAGGED_END_SCAN, Linkage::Import, &end_signature)?;
     let entry = module.declare_function(&format!("{}scan", options.prefix), Linkage::Export, &scan_signature)?;
 
     let mut context = module.make_context();
@@ -96,12 +100,14 @@ pub fn emit_object(program: &Program, options: &ObjectOptions) -> Result<Vec<u8>
         let end = module.declare_func_in_func(end, builder.func);
         // A null image, or one of another layout, is refused by the
         // begin-scan and then left alone.
-        let call = builder.ins().call(begin, &[mem, elapsed, table]);
+        let machine = builder.ins().iconst(types::I32, i64::from(options.machine.bits()));
+        let call = builder.ins().call(begin, &[mem, elapsed, table, machine]);
         let accepted = builder.inst_results(call)[0];
         builder.ins().brif(accepted, scan, &[], done, &[]);
         builder.switch_to_block(scan);
         builder.ins().call(body, &[mem]);
-        builder.ins().call(end, &[mem]);
+        let machine = builder.ins().iconst(types::I32, i64::from(options.machine.bits()));
+        builder.ins().call(end, &[mem, machine]);
         builder.ins().jump(done, &[]);
         builder.switch_to_block(done);
         builder.ins().return_(&[]);

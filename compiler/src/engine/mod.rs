@@ -157,7 +157,9 @@ impl<R: ProgramRunner> Engine for InProcess<R> {
 
 /// Builds an engine for a checked program whose host reads and writes
 /// `host_devices` (a compact image holds them; the other engines hold
-/// every device).
+/// every device). Compiled programs keep up to date the parts of the
+/// machine that the program and those devices use (`image::machine_use`);
+/// in-process engines keep all of them.
 pub fn instantiate<'p>(
     kind: EngineKind,
     program: &'p CheckedProgram,
@@ -173,12 +175,12 @@ pub fn instantiate<'p>(
         EngineKind::Aot => Ok(Box::new(crate::aot::AotEngine::start(
             program,
             crate::aot::Route::Object,
-            &ImageRequest::full(),
+            &ImageRequest::full_with(host_devices.to_vec()),
         )?)),
         EngineKind::C => Ok(Box::new(crate::aot::AotEngine::start(
             program,
             crate::aot::Route::C,
-            &ImageRequest::full(),
+            &ImageRequest::full_with(host_devices.to_vec()),
         )?)),
         EngineKind::CCompact => Ok(Box::new(crate::aot::AotEngine::start(
             program,

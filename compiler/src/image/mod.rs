@@ -47,7 +47,7 @@ use ladder_runtime::helpers::Helper;
 use ladder_runtime::hsc::{FIRST_HSC, M_HSC_DIRECTION_BASE};
 use ladder_runtime::layout::{bit_arrays, word_arrays, Array, Layout, LayoutBuilder, COUNTER_ARRAYS};
 use ladder_runtime::special::{FIRST_ALARM_STATE, LAST_ALARM_STATE, M_COUNTER_DIRECTION_BASE};
-use ladder_runtime::{BitArea, Device, WordArea};
+use ladder_runtime::{BitArea, Device, MachineUse, WordArea};
 
 /// Which layout `ladderc build` gives the image.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -74,13 +74,30 @@ pub fn compact_layout(checked: &CheckedProgram, ir: &ir::Program, host: &[HostDe
     footprint.builder.build()
 }
 
+/// The parts of the machine around the program that `checked` (optimised
+/// as `ir`) and a host naming `host` use: what its scan keeps up to date
+/// (`ladder_runtime::machine`). Decided from the devices they name, as the
+/// compact layout is, for any image.
+pub fn machine_use(checked: &CheckedProgram, ir: &ir::Program, host: &[HostDevice]) -> MachineUse {
+    let mut footprint = Footprint::default();
+    footprint.checked_program(checked);
+    for function in std::iter::once(&ir.main).chain(&ir.subroutines) {
+        footprint.ir_function(function);
+    }
+    for &device in host {
+        footprint.host_device(device);
+    }
+    footprint.machine
+}
+
 /// What the image must hold, as it is found.
 #[derive(Default)]
 struct Footprint {
     builder: LayoutBuilder,
-    /// Some device of the calendar's block is used (not merely inside a
-    /// run that spans it: M8002 and M8067 hold M8015 in their run).
-    uses_clock: bool,
+    /// The parts of the machine the devices named so far use (not merely
+    /// devices inside a run that spans them: M8002 and M8067 hold M8015 in
+    /// their run, but only a program naming M8015 uses the calendar).
+    machine: MachineUse,
 }
 
 /// Special registers of the machine model around instructions.
@@ -88,32 +105,32 @@ const D_PULSE_REGISTERS: std::ops::Range<u32> = 8136..8144;
 const D_POSITIONING_REGISTERS: std::ops::Range<u32> = 8340..8380;
 const M_POSITIONING_RELAYS: std::ops::Range<u32> = 8340..8380;
 const M_EXECUTION_COMPLETE: u32 = ladder_runtime::special::M_EXECUTION_COMPLETE;
-const D_CLOCK_REGISTERS: std::ops::Range<u32> = 8010..8020;
+const D_CLOCK_REGISTERS: std::ops::Range<u32> = D_CLOCK_FIRST..8020;
 const M_CLOCK_RELAYS: std::ops::Range<u32> = 8015..8020;
 
 impl Footprint {
     fn bits(&mut self, area: BitArea, first: u32, count: u32) {
         let end = first.saturating_add(count);
-        self.uses_clock |= area == BitArea::M && first < M_CLOCK_RELAYS.end && M_CLOCK_RELAYS.start < end;
+        self.machine |= MachineUse::of_bits(area, first, end);
         self.builder.include_bits(area, first, end);
     }
 
     fn words(&mut self, area: WordArea, first: u32, count: u32) {
         let end = first.saturating_add(count);
-        self.uses_clock |= area == WordArea::D && first < D_CLOCK_REGISTERS.end && D_CLOCK_FIRST < end;
+        self.machine |= MachineUse::of_words(area, first, end);
         self.builder.include_words(area, first, end);
     }
 
     /// Every device of a bit area, everything that follows them, in one piece.
     fn whole_bits(&mut self, area: BitArea) {
-        self.uses_clock |= area == BitArea::M;
+        self.machine |= MachineUse::of_bits(area, 0, area.count());
         for &array in bit_arrays(area) {
             self.builder.include_whole(array);
         }
     }
 
     fn whole_words(&mut self, area: WordArea) {
-        self.uses_clock |= area == WordArea::D;
+        self.machine |= MachineUse::of_words(area, 0, area.count());
         for &array in word_arrays(area) {
             self.builder.include_whole(array);
         }
@@ -153,6 +170,7 @@ impl Footprint {
 
     /// X0-X7 and what the input refresh counts of them.
     fn high_speed_inputs(&mut self) {
+        self.machine |= MachineUse::HIGH_SPEED;
         self.bits(BitArea::X, 0, HSC_INPUTS);
         self.builder.include_whole(Array::PulsesPending);
         self.builder.include_whole(Array::InputEdges);
@@ -162,7 +180,7 @@ impl Footprint {
     /// D8013-D8019 when M8015 turns OFF, say): a program or host that uses
     /// one of them, with MOV as on an FX, gets them all.
     fn whole_clock_block(&mut self) {
-        if self.uses_clock {
+        if self.machine.contains(MachineUse::CALENDAR) {
             self.words(WordArea::D, D_CLOCK_REGISTERS.start, D_CLOCK_REGISTERS.len() as u32);
             self.bits(BitArea::M, M_CLOCK_RELAYS.start, M_CLOCK_RELAYS.len() as u32);
         }

@@ -30,6 +30,12 @@ impl<'p> Interpreter<'p> {
         mem.scan_with(elapsed_ms, |mem| self.run_program(mem));
     }
 
+    /// A whole scan keeping only the parts `machine` of the machine up to
+    /// date, as a program compiled with that set does.
+    pub fn scan_using(&self, mem: &mut Memory, elapsed_ms: u32, machine: ladder_runtime::MachineUse) {
+        mem.scan_using(elapsed_ms, machine, |mem| self.run_program(mem));
+    }
+
     /// Step 3 of the scan: the program from top to END.
     pub fn run_program(&self, mem: &mut Memory) {
         let mut run = Run {

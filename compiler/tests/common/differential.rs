@@ -67,19 +67,28 @@ pub fn compile(text: &str) -> CheckedProgram {
     })
 }
 
+/// The parts of the machine the scans of `case` keep up to date, on every
+/// engine: those its program and its host's devices use, as a compiled
+/// program's scan keeps them (whole images are compared, so the in-process
+/// engines keep the same).
+pub fn machine(case: &Case, program: &CheckedProgram) -> ladder_runtime::MachineUse {
+    ladderc::image::machine_use(program, &ladderc::pipeline::ir(program), &host_devices(case))
+}
+
 /// Runs `case` on the interpreter and the JIT, comparing whole images after
 /// every scan; returns the interpreter's image digests.
 pub fn in_process(case: &Case, program: &CheckedProgram) -> Result<Vec<u64>, Divergence> {
     let jit = ladderc::pipeline::jit(program).expect("generated programs compile to native code");
     let interpreter = Interpreter::new(program);
+    let machine = machine(case, program);
     let mut expected = Memory::new_boxed();
     let mut actual = Memory::new_boxed();
     let mut digests = Vec::with_capacity(case.steps.len());
     for (scan, step) in case.steps.iter().enumerate() {
         stimulus::apply(&mut expected, step);
         stimulus::apply(&mut actual, step);
-        interpreter.scan(&mut expected, step.elapsed_ms);
-        actual.scan_with(step.elapsed_ms, |mem| jit.run(mem));
+        interpreter.scan_using(&mut expected, step.elapsed_ms, machine);
+        actual.scan_using(step.elapsed_ms, machine, |mem| jit.run(mem));
         if bytemuck::bytes_of(&*expected) != bytemuck::bytes_of(&*actual) {
             return Err(Divergence {
                 engine: "jit",
@@ -95,10 +104,11 @@ pub fn in_process(case: &Case, program: &CheckedProgram) -> Result<Vec<u64>, Div
 /// The interpreter's image after `scans` scans of `case`.
 pub fn interpreter_image(case: &Case, program: &CheckedProgram, scans: usize) -> Box<Memory> {
     let interpreter = Interpreter::new(program);
+    let machine = machine(case, program);
     let mut mem = Memory::new_boxed();
     for step in &case.steps[..scans] {
         stimulus::apply(&mut mem, step);
-        interpreter.scan(&mut mem, step.elapsed_ms);
+        interpreter.scan_using(&mut mem, step.elapsed_ms, machine);
     }
     mem
 }
@@ -160,12 +170,13 @@ pub fn compact_layout(case: &Case, program: &CheckedProgram) -> ladder_runtime::
 pub fn compact_digests(case: &Case, program: &CheckedProgram) -> Vec<u64> {
     let layout = compact_layout(case, program);
     let interpreter = Interpreter::new(program);
+    let machine = machine(case, program);
     let mut mem = Memory::new_boxed();
     case.steps
         .iter()
         .map(|step| {
             stimulus::apply(&mut mem, step);
-            interpreter.scan(&mut mem, step.elapsed_ms);
+            interpreter.scan_using(&mut mem, step.elapsed_ms, machine);
             image::digest_bytes(&image::project(&mem, &layout))
         })
         .collect()
@@ -219,8 +230,10 @@ impl AotHost {
                         target: None,
                         prefix: prefix.clone(),
                         layout: None,
+                        ..Default::default()
                     };
-                    let object = ladderc::pipeline::object(program, &options, &ImageRequest::full())
+                    let image = ImageRequest::full_with(host_devices(case));
+                    let object = ladderc::pipeline::object(program, &options, &image)
                         .map_err(|e| e.to_string())?
                         .output;
                     let path = work.join(format!("p{i}.o"));
@@ -232,10 +245,11 @@ impl AotHost {
                         prefix: prefix.clone(),
                         source_name: format!("p{i}.il"),
                         layout: None,
+                        ..Default::default()
                     };
                     let image = match self.route {
                         Route::CompactC => ImageRequest::compact(host_devices(case)),
-                        Route::Object | Route::C => ImageRequest::full(),
+                        Route::Object | Route::C => ImageRequest::full_with(host_devices(case)),
                     };
                     let path = work.join(format!("p{i}.c"));
                     let source = ladderc::pipeline::c_source(program, &options, &image).output;

@@ -232,6 +232,10 @@ pub fn layout_header() -> String {
         ("CALENDAR_SECONDS", offset_of!(Memory, calendar_seconds)),
         ("CALENDAR_MS", offset_of!(Memory, calendar_ms)),
         ("CALENDAR_FLAGS", offset_of!(Memory, calendar_flags)),
+        ("CALENDAR_CACHE_AT", offset_of!(Memory, calendar_cache_at)),
+        ("CALENDAR_CACHE_TIME", offset_of!(Memory, calendar_cache_time)),
+        ("CALENDAR_CACHE_YEAR", offset_of!(Memory, calendar_cache_year)),
+        ("SD", offset_of!(Memory, sd)),
     ];
     for (name, offset) in fields {
         writeln!(header, "#define OFFSET_{name} {offset}ul").unwrap();
@@ -245,6 +249,18 @@ pub fn layout_header() -> String {
     )
     .unwrap();
     writeln!(header, "#define LADDER_TAGGED_BEGIN_SCAN {}", layout::TAGGED_BEGIN_SCAN).unwrap();
+    writeln!(header, "#define LADDER_TAGGED_END_SCAN {}", layout::TAGGED_END_SCAN).unwrap();
+    use ladder_runtime::MachineUse;
+    for (name, part) in [
+        ("SYSTEM_RELAYS", MachineUse::SYSTEM_RELAYS),
+        ("CLOCK_RELAYS", MachineUse::CLOCK_RELAYS),
+        ("CALENDAR", MachineUse::CALENDAR),
+        ("SCAN_TIME", MachineUse::SCAN_TIME),
+        ("HIGH_SPEED", MachineUse::HIGH_SPEED),
+        ("ALARMS", MachineUse::ALARMS),
+    ] {
+        writeln!(header, "#define MACHINE_{name} {}u", part.bits()).unwrap();
+    }
     header
 }
 
@@ -254,6 +270,8 @@ pub fn interpreter_digests(program: &Path, scans: u32) -> String {
     let (checked, diagnostics) = ladderc::check::compile_source(&source);
     let checked = checked.unwrap_or_else(|| panic!("{diagnostics:?}"));
     let interpreter = ladderc::interp::Interpreter::new(&checked);
+    // The parts of the machine the built object's scan keeps.
+    let machine = ladderc::image::machine_use(&checked, &ladderc::pipeline::ir(&checked), &[]);
     let mut mem = Memory::new_boxed();
     let mut out = String::new();
     for scan in 1..=scans {
@@ -261,7 +279,7 @@ pub fn interpreter_digests(program: &Path, scans: u32) -> String {
         for x in 0..8 {
             mem.input_image[x] = ((pattern >> x) & 1) as u8;
         }
-        interpreter.scan(&mut mem, 10);
+        interpreter.scan_using(&mut mem, 10, machine);
         let hash = bytemuck::bytes_of(&*mem).iter().fold(0xcbf29ce484222325u64, |h, &b| {
             (h ^ u64::from(b)).wrapping_mul(0x100000001b3)
         });

@@ -209,8 +209,11 @@ fn compact_images_through_the_c_api() {
         );
         // The scan of a program with this layout runs; one built for
         // the full layout (or another table) is refused and does nothing.
-        assert_eq!(crate::helpers::ladder_rt_begin_scan(mem, 10, core::ptr::null()), 0);
-        assert_eq!(crate::helpers::ladder_rt_begin_scan(mem, 10, table), 1);
+        assert_eq!(
+            crate::helpers::ladder_rt_begin_scan(mem, 10, core::ptr::null(), u32::MAX),
+            0
+        );
+        assert_eq!(crate::helpers::ladder_rt_begin_scan(mem, 10, table, u32::MAX), 1);
         ladder_end_scan(mem);
         assert_eq!(
             ladder_read(mem, LadderDevice::X as u32, 1, &mut value),
@@ -224,7 +227,10 @@ fn compact_images_through_the_c_api() {
         // A full image refuses the compact program's scan the same way.
         let mut full = vec![0u32; LADDER_MEMORY_SIZE / 4];
         let full = ladder_init(full.as_mut_ptr().cast(), LADDER_MEMORY_SIZE);
-        assert_eq!(crate::helpers::ladder_rt_begin_scan(full, 10, table), 0);
-        assert_eq!(crate::helpers::ladder_rt_begin_scan(full, 10, core::ptr::null()), 1);
+        assert_eq!(crate::helpers::ladder_rt_begin_scan(full, 10, table, u32::MAX), 0);
+        assert_eq!(
+            crate::helpers::ladder_rt_begin_scan(full, 10, core::ptr::null(), u32::MAX),
+            1
+        );
     }
 }

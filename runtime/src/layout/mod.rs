@@ -27,19 +27,19 @@ pub const MEMORY_ALIGN: usize = align_of::<Memory>();
 
 /// The version of this file's rules: arrays, segments, header, scalars.
 /// Layout tables carry it; the runtime refuses a table of another version.
-pub const LAYOUT_VERSION: u32 = 5;
+pub const LAYOUT_VERSION: u32 = 6;
 
 /// Names the layout rules in the symbol that compiled objects import
 /// (`ladder_rt_begin_scan_<tag>`), so that an object linked against a runtime
 /// with other rules fails to link instead of corrupting memory. Change it
 /// whenever an offset changes; `layout_fingerprint_is_recorded` insists.
-pub const LAYOUT_TAG: &str = "v5_666520";
+pub const LAYOUT_TAG: &str = "v6_666532";
 
 /// The begin-scan entry compiled objects call; carries the layout tag.
-pub const TAGGED_BEGIN_SCAN: &str = "ladder_rt_begin_scan_v5_666520";
+pub const TAGGED_BEGIN_SCAN: &str = "ladder_rt_begin_scan_v6_666532";
 
-/// The end-scan entry compiled objects call (the C API's `ladder_end_scan`).
-pub const END_SCAN: &str = "ladder_end_scan";
+/// The end-scan entry compiled objects call; carries the layout tag.
+pub const TAGGED_END_SCAN: &str = "ladder_rt_end_scan_v6_666532";
 
 /// `ImageHeader::magic` of an image with the full layout ("LDRF").
 pub const FULL_MAGIC: u32 = u32::from_le_bytes(*b"LDRF");
@@ -99,6 +99,11 @@ pub enum Scalar {
     /// Accesses by the program to devices its image does not hold (a
     /// compact layout that missed one; tests insist on 0).
     LayoutMisses,
+    /// The calendar's time as shown, worked out once per second: for which
+    /// second (plus one; 0 when none), the packed fields, the year.
+    CalendarCacheAt,
+    CalendarCacheTime,
+    CalendarCacheYear,
 }
 
 impl Scalar {
@@ -115,6 +120,9 @@ impl Scalar {
             Scalar::CalendarMs => offset_of!(Memory, calendar_ms),
             Scalar::CalendarFlags => offset_of!(Memory, calendar_flags),
             Scalar::LayoutMisses => offset_of!(Memory, layout_misses),
+            Scalar::CalendarCacheAt => offset_of!(Memory, calendar_cache_at),
+            Scalar::CalendarCacheTime => offset_of!(Memory, calendar_cache_time),
+            Scalar::CalendarCacheYear => offset_of!(Memory, calendar_cache_year),
         }
     }
 }
@@ -317,6 +325,9 @@ mod tests {
                 Scalar::CalendarMs,
                 Scalar::CalendarFlags,
                 Scalar::LayoutMisses,
+                Scalar::CalendarCacheAt,
+                Scalar::CalendarCacheTime,
+                Scalar::CalendarCacheYear,
             ]
             .map(|s| s.offset().to_string()),
         );
@@ -329,10 +340,11 @@ mod tests {
     fn layout_fingerprint_is_recorded() {
         assert_eq!(
             fingerprint(),
-            "56,312,568,9080,13176,14200,14712,14968,31992,34040,99576,100600,101000,101224,101256,102280,102792,103048,107144,111240,127624,127688,127752,128008,128264,128520,128776,137288,137800,138056,138088,138120,142216,142232,142248,16,20,24,28,32,36,40,44,48,52,48,666520",
+            "68,324,580,9092,13188,14212,14724,14980,32004,34052,99588,100612,101012,101236,101268,102292,102804,103060,107156,111252,127636,127700,127764,128020,128276,128532,128788,137300,137812,138068,138100,138132,142228,142244,142260,16,20,24,28,32,36,40,44,48,52,56,60,64,48,666532",
             "the memory layout changed: bump LAYOUT_TAG (and the tagged symbol) and record the new fingerprint"
         );
         assert_eq!(TAGGED_BEGIN_SCAN, format!("ladder_rt_begin_scan_{LAYOUT_TAG}"));
+        assert_eq!(TAGGED_END_SCAN, format!("ladder_rt_end_scan_{LAYOUT_TAG}"));
         assert!(LAYOUT_TAG.ends_with(&MEMORY_SIZE.to_string()));
     }
 
