@@ -4,6 +4,12 @@
 //! pointer, where the image's layout (full or compact) puts the device. A
 //! run-time index is clamped into its area here once more, so no generated
 //! access can leave the device image whatever the lowering did.
+//!
+//! Bit values are `i8` (0 or 1), except on x86-64, where they are "wide
+//! bits" (`wide.rs`): `i32` values whose byte 0 is the bit, so that a
+//! contact's load becomes the memory operand of its AND or OR. Wherever a
+//! bit leaves bit logic (stored, tested, widened to a number, compared,
+//! passed on) it is taken from byte 0.
 
 use crate::ir::{self, BinOp, Conversion, FloatOp, FloatUnaryOp, Index, Inst, Terminator, Type, UnaryOp};
 use crate::isa::CompareOp;
@@ -13,7 +19,10 @@ use cranelift_frontend::{FunctionBuilder, Variable};
 use ladder_runtime::helpers::Helper;
 use ladder_runtime::layout::{Array, Layout, Scalar};
 use ladder_runtime::{BitArea, WordArea};
+use std::collections::HashMap;
 
+/// The Cranelift type of an IR type; a bit is an `i8` (see
+/// `Translator::bit_type` for wide bits).
 fn cl_type(ty: Type) -> types::Type {
     match ty {
         Type::Bit => types::I8,
@@ -82,6 +91,7 @@ pub fn locals_size(func: &ir::Function) -> u32 {
 /// `helpers` holds the imported runtime helpers in `Helper::ALL` order,
 /// `subroutines` the program's subroutine functions by number; `layout` is
 /// the image's.
+/// With `wide_bits`, bit values are wide (x86-64, `wide.rs`).
 #[allow(clippy::too_many_arguments)]
 pub fn translate(
     layout: &Layout,
@@ -93,7 +103,11 @@ pub fn translate(
     subroutines: &[FuncRef],
     pointer: types::Type,
     values: &mut [Option<Value>],
+    wide_bits: bool,
 ) {
+    let wide_loads = wide_bits.then(|| super::wide::wide_bit_loads(layout, func, range.clone()));
+    let folded_nots = folded_nots(func, range.clone());
+    let bit_type = if wide_bits { types::I32 } else { types::I8 };
     let entry = builder.create_block();
     let blocks: Vec<_> = range.clone().map(|_| builder.create_block()).collect();
     let exit = builder.create_block();
@@ -104,11 +118,15 @@ pub fn translate(
         Locals::Variables => None,
         Locals::Memory => Some(builder.block_params(entry)[1]),
     };
-    let locals: Vec<Variable> = (0..func.locals).map(|_| builder.declare_var(types::I8)).collect();
+    let locals: Vec<Variable> = (0..func.locals).map(|_| builder.declare_var(bit_type)).collect();
     let loop_counts: Vec<Variable> = (0..func.loop_levels).map(|_| builder.declare_var(types::I32)).collect();
     if let Some(at) = locals_pointer {
         for (offset, &local) in locals.iter().enumerate() {
-            let value = builder.ins().load(types::I8, flags(), at, offset as i32);
+            let value = if wide_bits {
+                builder.ins().uload8(types::I32, flags(), at, offset as i32)
+            } else {
+                builder.ins().load(types::I8, flags(), at, offset as i32)
+            };
             builder.def_var(local, value);
         }
         for (level, &count) in (0u8..).zip(&loop_counts) {
@@ -136,13 +154,23 @@ pub fn translate(
         subroutines,
         locals,
         loop_counts,
+        value_types: &func.value_types,
+        wide_bits,
+        folded_nots,
+        negations: HashMap::new(),
     };
     let mut defined = Vec::new();
     for number in range.clone() {
         let block = &func.blocks[number];
         t.builder.switch_to_block(blocks[number - range.start]);
-        for (result, inst) in &block.insts {
-            let value = t.inst(inst, values);
+        for (position, (result, inst)) in block.insts.iter().enumerate() {
+            if result.is_some_and(|result| t.folded_nots.contains_key(&result)) {
+                continue;
+            }
+            let wide_load = wide_loads
+                .as_ref()
+                .is_some_and(|wide| wide[number - range.start][position]);
+            let value = t.inst(inst, values, wide_load);
             if let (Some(result), Some(value)) = (result, value) {
                 values[result.0 as usize] = Some(value);
                 defined.push(*result);
@@ -158,9 +186,10 @@ pub fn translate(
                 then,
                 otherwise,
             } => {
+                let condition = t.clean(*condition, get(*condition));
                 t.builder
                     .ins()
-                    .brif(get(*condition), target(*then), &[], target(*otherwise), &[]);
+                    .brif(condition, target(*then), &[], target(*otherwise), &[]);
             }
             Terminator::Return => {
                 t.builder.ins().jump(exit, &[]);
@@ -169,8 +198,9 @@ pub fn translate(
     }
     t.builder.switch_to_block(exit);
     if let Some(at) = locals_pointer {
-        for (offset, &local) in t.locals.iter().enumerate() {
+        for (offset, local) in t.locals.clone().into_iter().enumerate() {
             let value = t.builder.use_var(local);
+            let value = t.bit_byte(value);
             t.builder.ins().store(flags(), value, at, offset as i32);
         }
         for (level, &count) in (0u8..).zip(&t.loop_counts) {
@@ -185,6 +215,45 @@ pub fn translate(
     for value in defined {
         values[value.0 as usize] = None;
     }
+}
+
+/// The NOTs among blocks `range` of `func` whose one use is an operand of
+/// an AND or an OR there (one per AND or OR), with the value each inverts:
+/// the AND or OR takes its operand inverted (`Translator::and_not`), and
+/// the NOT is not made on its own.
+fn folded_nots(func: &ir::Function, range: std::ops::Range<usize>) -> HashMap<ir::Value, ir::Value> {
+    let mut uses = vec![0u32; func.value_types.len()];
+    for block in &func.blocks {
+        for (_, inst) in &block.insts {
+            for operand in inst.operands() {
+                uses[operand.0 as usize] += 1;
+            }
+        }
+        if let Terminator::Branch { condition, .. } = block.terminator {
+            uses[condition.0 as usize] += 1;
+        }
+    }
+    let mut nots = HashMap::new();
+    for block in &func.blocks[range.clone()] {
+        for (result, inst) in &block.insts {
+            if let (Some(result), Inst::Not { value }) = (result, inst) {
+                if uses[result.0 as usize] == 1 {
+                    nots.insert(*result, *value);
+                }
+            }
+        }
+    }
+    let mut folded = HashMap::new();
+    for block in &func.blocks[range] {
+        for (_, inst) in &block.insts {
+            if let Inst::And { a, b } | Inst::Or { a, b } = inst {
+                if let Some(not) = [*b, *a].into_iter().find(|operand| nots.contains_key(operand)) {
+                    folded.insert(not, nots[&not]);
+                }
+            }
+        }
+    }
+    folded
 }
 
 /// Splits the blocks of `func` into ranges of about `size` IR instructions
@@ -259,9 +328,85 @@ struct Translator<'a, 'b> {
     subroutines: &'a [FuncRef],
     locals: Vec<Variable>,
     loop_counts: Vec<Variable>,
+    /// The IR type of every value of the function.
+    value_types: &'a [Type],
+    /// Bits are wide `i32` values (see the module).
+    wide_bits: bool,
+    /// NOTs whose one use is an AND or an OR, with what they invert
+    /// (`folded_nots`).
+    folded_nots: HashMap<ir::Value, ir::Value>,
+    /// Bits made as `x ^ 1`, with their `x`: a later AND-NOT of one takes
+    /// `x` instead, and the XOR goes if nothing else uses it.
+    negations: HashMap<Value, Value>,
 }
 
 impl Translator<'_, '_> {
+    /// The Cranelift type of an IR type here: `cl_type`, with wide bits.
+    fn ty(&self, ty: Type) -> types::Type {
+        match ty {
+            Type::Bit if self.wide_bits => types::I32,
+            Type::Bit | Type::I16 | Type::I32 | Type::I64 | Type::F32 | Type::F64 => cl_type(ty),
+        }
+    }
+
+    /// A bit as an `i8` 0 or 1: byte 0 of a wide bit (free: its low byte).
+    fn bit_byte(&mut self, bit: Value) -> Value {
+        if self.wide_bits {
+            self.builder.ins().ireduce(types::I8, bit)
+        } else {
+            bit
+        }
+    }
+
+    /// `value` (IR value `ir`) as its type's clean value: a bit as an `i8`
+    /// 0 or 1, anything else as it is.
+    fn clean(&mut self, ir: ir::Value, value: Value) -> Value {
+        match self.value_types[ir.0 as usize] {
+            Type::Bit => self.bit_byte(value),
+            Type::I16 | Type::I32 | Type::I64 | Type::F32 | Type::F64 => value,
+        }
+    }
+
+    /// A bit made by a comparison (`i8` 0 or 1) as this function's bits.
+    fn bit_of_byte(&mut self, bit: Value) -> Value {
+        if self.wide_bits {
+            self.builder.ins().uextend(types::I32, bit)
+        } else {
+            bit
+        }
+    }
+
+    /// NOT `bit`: `bit ^ 1` (the low byte stays 0 or 1), or what `bit`
+    /// was made from by a NOT.
+    fn not(&mut self, bit: Value) -> Value {
+        if let Some(&original) = self.negations.get(&bit) {
+            return original;
+        }
+        let inverse = self.builder.ins().bxor_imm_u(bit, 1);
+        self.negations.insert(inverse, bit);
+        inverse
+    }
+
+    /// `a AND NOT c` (`andn` on x86 with BMI1): the low byte stays 0 or 1
+    /// (c's bits 1-7 inverted meet a's zeros). Of a `c` made by a NOT, the
+    /// AND of what it inverted.
+    fn and_not(&mut self, a: Value, c: Value) -> Value {
+        match self.negations.get(&c) {
+            Some(&original) => self.builder.ins().band(a, original),
+            None => self.builder.ins().band_not(a, c),
+        }
+    }
+
+    /// A bit of bookkeeping (edge slot, block flag) loaded as this
+    /// function's bits.
+    fn load_bit_byte(&mut self, at: (Value, i32)) -> Value {
+        if self.wide_bits {
+            self.builder.ins().uload8(types::I32, flags(), at.0, at.1)
+        } else {
+            self.load_at(types::I8, at)
+        }
+    }
+
     fn iconst(&mut self, ty: types::Type, value: i64) -> Value {
         self.builder.ins().iconst(ty, value)
     }
@@ -406,19 +551,33 @@ impl Translator<'_, '_> {
         self.builder.inst_results(call).first().copied()
     }
 
-    fn inst(&mut self, inst: &Inst, values: &[Option<Value>]) -> Option<Value> {
+    /// Translates one instruction; `wide_load`: a `LoadBit` that reads four
+    /// bytes (`wide.rs`).
+    fn inst(&mut self, inst: &Inst, values: &[Option<Value>], wide_load: bool) -> Option<Value> {
         let get = |v: &ir::Value| values[v.0 as usize].expect("defined before use");
         let ins_value = match inst {
             Inst::Const { ty: Type::F32, value } => self.builder.ins().f32const(f32::from_bits(*value as u32)),
             Inst::Const { ty: Type::F64, value } => self.builder.ins().f64const(f64::from_bits(*value as u64)),
-            Inst::Const { ty, value } => self.iconst(cl_type(*ty), *value),
+            Inst::Const { ty, value } => {
+                let ty = self.ty(*ty);
+                self.iconst(ty, *value)
+            }
             Inst::LoadBit { area, index } => {
-                let at = self.bit_address(*area, *index, values);
-                self.load_at(types::I8, at)
+                let (address, offset) = self.bit_address(*area, *index, values);
+                if wide_load {
+                    // Unaligned, and reading three bytes past the device.
+                    let flags = MemFlagsData::new().with_notrap();
+                    self.builder.ins().load(types::I32, flags, address, offset)
+                } else if self.wide_bits {
+                    self.builder.ins().uload8(types::I32, flags(), address, offset)
+                } else {
+                    self.load_at(types::I8, (address, offset))
+                }
             }
             Inst::StoreBit { area, index, value } => {
                 let at = self.bit_address(*area, *index, values);
-                self.store_at(get(value), at);
+                let value = self.bit_byte(get(value));
+                self.store_at(value, at);
                 return None;
             }
             Inst::FillBits { area, start, count, on } => {
@@ -451,22 +610,24 @@ impl Translator<'_, '_> {
             }
             Inst::LoadSlot { slot } => {
                 let at = self.element(Array::EdgeSlot, Array::EdgeSlot.end(), Index::Fixed(*slot), values);
-                self.load_at(types::I8, at)
+                self.load_bit_byte(at)
             }
             Inst::StoreSlot { slot, value } => {
                 let at = self.element(Array::EdgeSlot, Array::EdgeSlot.end(), Index::Fixed(*slot), values);
-                self.store_at(get(value), at);
+                let value = self.bit_byte(get(value));
+                self.store_at(value, at);
                 return None;
             }
             Inst::LoadBlockActive { state } => {
                 let array = Array::StlBlockActive;
                 let at = self.element(array, array.end(), Index::Fixed(*state), values);
-                self.load_at(types::I8, at)
+                self.load_bit_byte(at)
             }
             Inst::StoreBlockActive { state, value } => {
                 let array = Array::StlBlockActive;
                 let at = self.element(array, array.end(), Index::Fixed(*state), values);
-                self.store_at(get(value), at);
+                let value = self.bit_byte(get(value));
+                self.store_at(value, at);
                 return None;
             }
             Inst::GetLocal { local } => self.builder.use_var(self.locals[local.0 as usize]),
@@ -484,13 +645,33 @@ impl Translator<'_, '_> {
                 self.builder.ins().call(self.subroutines[*subroutine as usize], &[mem]);
                 return None;
             }
-            Inst::Not { value } => self.builder.ins().bxor_imm_u(get(value), 1),
-            Inst::And { a, b } => self.builder.ins().band(get(a), get(b)),
-            Inst::Or { a, b } => self.builder.ins().bor(get(a), get(b)),
+            Inst::Not { value } => self.not(get(value)),
+            // a AND NOT c: `andn` with BMI1 (the NOT is not made).
+            Inst::And { a, b } => match (self.folded_nots.get(a), self.folded_nots.get(b)) {
+                (_, Some(inverted)) => self.and_not(get(a), get(inverted)),
+                (Some(inverted), None) => self.and_not(get(b), get(inverted)),
+                (None, None) => self.builder.ins().band(get(a), get(b)),
+            },
+            // a OR NOT c = NOT (c AND NOT a): `andn` and one XOR, instead of
+            // materialising NOT c (a constant and an XOR) and an OR.
+            Inst::Or { a, b } => match (self.folded_nots.get(a), self.folded_nots.get(b)) {
+                (_, Some(inverted)) => {
+                    let inverse = self.and_not(get(inverted), get(a));
+                    self.not(inverse)
+                }
+                (Some(inverted), None) => {
+                    let inverse = self.and_not(get(inverted), get(b));
+                    self.not(inverse)
+                }
+                (None, None) => self.builder.ins().bor(get(a), get(b)),
+            },
             Inst::Binary { op, a, b } => {
-                let (a, b) = (get(a), get(b));
+                // Arithmetic on bits (not made by the lowering today) on
+                // their clean bytes.
+                let bits = self.value_types[a.0 as usize] == Type::Bit;
+                let (a, b) = (self.clean(*a, get(a)), self.clean(*b, get(b)));
                 let ins = self.builder.ins();
-                match op {
+                let result = match op {
                     BinOp::Add => ins.iadd(a, b),
                     BinOp::Sub => ins.isub(a, b),
                     BinOp::Mul => ins.imul(a, b),
@@ -502,10 +683,15 @@ impl Translator<'_, '_> {
                     BinOp::Shl => ins.ishl(a, b),
                     BinOp::Shr => ins.sshr(a, b),
                     BinOp::UShr => ins.ushr(a, b),
+                };
+                if bits {
+                    self.bit_of_byte(result)
+                } else {
+                    result
                 }
             }
             Inst::Unary { op, value } => {
-                let value = get(value);
+                let value = self.clean(*value, get(value));
                 match op {
                     UnaryOp::PopCount => self.builder.ins().popcnt(value),
                     UnaryOp::LeadingZeros => self.builder.ins().clz(value),
@@ -518,21 +704,34 @@ impl Translator<'_, '_> {
                     }
                 }
             }
-            Inst::Compare { op, a, b } => self.builder.ins().icmp(condition(*op), get(a), get(b)),
+            Inst::Compare { op, a, b } => {
+                let (a, b) = (self.clean(*a, get(a)), self.clean(*b, get(b)));
+                let bit = self.builder.ins().icmp(condition(*op), a, b);
+                self.bit_of_byte(bit)
+            }
             Inst::Extend { value, to, signed } => {
-                let to = cl_type(*to);
+                let (value, to) = (self.clean(*value, get(value)), cl_type(*to));
                 if *signed {
-                    self.builder.ins().sextend(to, get(value))
+                    self.builder.ins().sextend(to, value)
                 } else {
-                    self.builder.ins().uextend(to, get(value))
+                    self.builder.ins().uextend(to, value)
                 }
             }
-            Inst::Truncate { value, to } => self.builder.ins().ireduce(cl_type(*to), get(value)),
+            Inst::Truncate { value, to } => {
+                let narrow = self.builder.ins().ireduce(cl_type(*to), get(value));
+                match to {
+                    Type::Bit => self.bit_of_byte(narrow),
+                    Type::I16 | Type::I32 | Type::I64 | Type::F32 | Type::F64 => narrow,
+                }
+            }
             Inst::Select {
                 condition,
                 if_true,
                 if_false,
-            } => self.builder.ins().select(get(condition), get(if_true), get(if_false)),
+            } => {
+                let condition = self.clean(*condition, get(condition));
+                self.builder.ins().select(condition, get(if_true), get(if_false))
+            }
             Inst::Float { op, a, b } => {
                 let (a, b) = (get(a), get(b));
                 let ins = self.builder.ins();
@@ -552,7 +751,10 @@ impl Translator<'_, '_> {
                     FloatUnaryOp::Abs => ins.fabs(value),
                 }
             }
-            Inst::FloatCompare { op, a, b } => self.builder.ins().fcmp(float_condition(*op), get(a), get(b)),
+            Inst::FloatCompare { op, a, b } => {
+                let bit = self.builder.ins().fcmp(float_condition(*op), get(a), get(b));
+                self.bit_of_byte(bit)
+            }
             Inst::Bitcast { value, to } => self
                 .builder
                 .ins()
@@ -575,7 +777,7 @@ impl Translator<'_, '_> {
                 return None;
             }
             Inst::Call { helper, args } => {
-                let args: Vec<Value> = args.iter().map(get).collect();
+                let args: Vec<Value> = args.iter().map(|arg| self.clean(*arg, get(arg))).collect();
                 return self.call(*helper, &args);
             }
         };

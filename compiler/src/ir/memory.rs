@@ -113,12 +113,20 @@ fn call_footprint(helper: Helper) -> Footprint {
     Footprint::Regions(regions)
 }
 
-/// How far (in IR instructions) a device value is carried in a register
-/// instead of being loaded again. Carrying every value across the whole
-/// program makes long live ranges that the register allocator spills to the
-/// stack, which costs more than the load it saves; a load of the image is
-/// one L1 hit.
-const CARRY_DISTANCE: u64 = 32;
+/// How many device values may be carried in registers past any point of a
+/// function (beyond the values a rung computes with). Carrying every value
+/// across the whole program makes more live ranges than there are
+/// registers, and the register allocator then spills to the stack (a store
+/// and a load), which costs more than the load it saves: a load of the
+/// image is one L1 hit, and on x86-64 not even an instruction of its own
+/// (the AND or OR takes it as its memory operand, `codegen/wide.rs`).
+/// Measured on the benchmarks' 11k-instruction bit logic (x86-64): 0 to 2
+/// carried values are as fast, 6 is 5 % slower, unlimited 50 %. Which
+/// values are carried is decided as each load is met (in the order of
+/// where the carried ranges end): a range is taken when no point it spans
+/// already carries this many, which keeps the most ranges (the greedy
+/// choice is optimal for intervals taken by their end).
+const CARRIED_VALUES: i32 = 2;
 
 /// What is known at a point of a block.
 #[derive(Clone, Default)]
@@ -206,6 +214,8 @@ pub fn forward_memory(function: &mut Function) {
         .collect();
     let mut replaced: HashMap<Value, Value> = HashMap::new();
     let mut now = 0u64;
+    let positions: usize = function.blocks.iter().map(|b| b.insts.len()).sum();
+    let mut carried = Pressure::new(positions + 1);
 
     for (position, &block) in order.iter().enumerate() {
         let preds = &predecessors[block.0 as usize];
@@ -237,7 +247,7 @@ pub fn forward_memory(function: &mut Function) {
             }
         }
         let block_data = &mut function.blocks[block.0 as usize];
-        optimise_block(block_data, &mut known, &mut replaced, &mut now);
+        optimise_block(block_data, &mut known, &mut replaced, &mut now, &mut carried);
         if successors_left[block.0 as usize] > 0 {
             at_end[block.0 as usize] = Some(known);
         }
@@ -334,7 +344,13 @@ fn access(inst: &Inst) -> Access {
     }
 }
 
-fn optimise_block(block: &mut Block, known: &mut Known, replaced: &mut HashMap<Value, Value>, now: &mut u64) {
+fn optimise_block(
+    block: &mut Block,
+    known: &mut Known,
+    replaced: &mut HashMap<Value, Value>,
+    now: &mut u64,
+    carried: &mut Pressure,
+) {
     let mut waiting = Waiting::default();
     let mut remove = vec![false; block.insts.len()];
     // Blocks come in reverse postorder, so every use of a replaced load is
@@ -353,7 +369,7 @@ fn optimise_block(block: &mut Block, known: &mut Known, replaced: &mut HashMap<V
                 let Some(result) = *result else { continue };
                 match known.values.get_mut(&place) {
                     // Forwarded: the load goes, and with it its read.
-                    Some((value, last_use)) if *now - *last_use <= CARRY_DISTANCE => {
+                    Some((value, last_use)) if carried.take(*last_use as usize, *now as usize, CARRIED_VALUES) => {
                         *last_use = *now;
                         replaced.insert(result, *value);
                         remove[position] = true;
@@ -411,6 +427,69 @@ fn optimise_block(block: &mut Block, known: &mut Known, replaced: &mut HashMap<V
     }
 }
 
+/// How many carried values span each position of a function: range
+/// additions and range maxima over a segment tree with lazy additions.
+struct Pressure {
+    size: usize,
+    /// Per node: the maximum of its range, and what was added to all of it.
+    max: Vec<i32>,
+    add: Vec<i32>,
+}
+
+impl Pressure {
+    fn new(positions: usize) -> Pressure {
+        let size = positions.max(1).next_power_of_two();
+        Pressure {
+            size,
+            max: vec![0; 2 * size],
+            add: vec![0; 2 * size],
+        }
+    }
+
+    /// Carries a value over positions `first..=last` when no position there
+    /// carries `limit` values already; whether it did.
+    fn take(&mut self, first: usize, last: usize, limit: i32) -> bool {
+        let last = last.min(self.size - 1);
+        if first > last {
+            return true;
+        }
+        if self.query(1, 0, self.size - 1, first, last) >= limit {
+            return false;
+        }
+        self.update(1, 0, self.size - 1, first, last);
+        true
+    }
+
+    fn query(&self, node: usize, low: usize, high: usize, first: usize, last: usize) -> i32 {
+        if last < low || high < first {
+            return i32::MIN;
+        }
+        if first <= low && high <= last {
+            return self.max[node];
+        }
+        let middle = (low + high) / 2;
+        let below =
+            self.query(2 * node, low, middle, first, last)
+                .max(self.query(2 * node + 1, middle + 1, high, first, last));
+        below.saturating_add(self.add[node])
+    }
+
+    fn update(&mut self, node: usize, low: usize, high: usize, first: usize, last: usize) {
+        if last < low || high < first {
+            return;
+        }
+        if first <= low && high <= last {
+            self.max[node] += 1;
+            self.add[node] += 1;
+            return;
+        }
+        let middle = (low + high) / 2;
+        self.update(2 * node, low, middle, first, last);
+        self.update(2 * node + 1, middle + 1, high, first, last);
+        self.max[node] = self.max[2 * node].max(self.max[2 * node + 1]) + self.add[node];
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use crate::ir::passes::tests::ir;
@@ -459,5 +538,21 @@ mod tests {
         let text = ir("LD X0\nSET M3\nLD X1\nRST Y0\nLD M3\nOUT Y1\n");
         assert!(!text.contains("br "), "{text}");
         assert_eq!(text.matches("load.bit M3").count(), 1, "{text}");
+    }
+}
+
+#[cfg(test)]
+mod pressure_tests {
+    use super::Pressure;
+
+    #[test]
+    fn ranges_are_taken_while_no_point_is_full() {
+        let mut p = Pressure::new(20);
+        assert!(p.take(3, 6, 2));
+        assert!(p.take(5, 9, 2));
+        assert!(!p.take(6, 8, 2), "6 is covered twice");
+        assert!(p.take(7, 9, 2));
+        assert!(!p.take(9, 12, 2));
+        assert!(p.take(10, 12, 2));
     }
 }
