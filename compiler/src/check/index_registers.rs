@@ -67,11 +67,11 @@ pub(super) fn index_register_value(
     let name = text_of(d);
     check_extent(
         operand,
-        &name,
+        || name.to_string(),
         d.number,
         1,
         INDEX_REGISTER_COUNT,
-        &format!("index registers are {0}0..{0}7", d.prefix.as_str()),
+        || format!("index registers are {0}0..{0}7", d.prefix.as_str()),
     )?;
     if multiple > 1 {
         return Err(kind_error(

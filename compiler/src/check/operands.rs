@@ -73,26 +73,31 @@ fn bit_area(prefix: Prefix) -> Option<BitArea> {
 }
 
 /// Checks that `count` units from `index` lie in an area of `len` units.
+/// Checks that `count` devices from `index` lie in an area of `len`; the
+/// device's name and the area's text are only made for a diagnostic.
 pub(super) fn check_extent(
     operand: &Operand,
-    name: &str,
+    name: impl FnOnce() -> String,
     index: u32,
     count: u32,
     len: u32,
-    area_text: &str,
+    area_text: impl FnOnce() -> String,
 ) -> Resolved<()> {
     if index >= len {
         return Err(range_error(
             operand,
-            format!("device `{name}` is out of range"),
-            area_text.to_string(),
+            format!("device `{}` is out of range", name()),
+            area_text(),
         ));
     }
     if u64::from(index) + u64::from(count) > u64::from(len) {
         return Err(range_error(
             operand,
-            format!("`{name}` needs {count} consecutive devices, which run past the end of the area"),
-            area_text.to_string(),
+            format!(
+                "`{}` needs {count} consecutive devices, which run past the end of the area",
+                name()
+            ),
+            area_text(),
         ));
     }
     Ok(())
@@ -139,11 +144,11 @@ pub fn bit_source(operand: &Operand) -> Resolved<BitRef> {
     if let Some(bit) = d.bit {
         check_extent(
             operand,
-            &text_of(d),
+            || text_of(d),
             d.number,
             1,
             WordArea::D.count(),
-            &area_text_words(WordArea::D),
+            || area_text_words(WordArea::D),
         )?;
         return Ok(BitRef::WordBit(WordArea::D, address, bit));
     }
@@ -195,7 +200,14 @@ pub fn bit_source(operand: &Operand) -> Resolved<BitRef> {
         | Prefix::C
         | Prefix::Cs => match bit_area(d.prefix) {
             Some(area) => {
-                check_extent(operand, &text_of(d), d.number, 1, area.count(), &area_text_bits(area))?;
+                check_extent(
+                    operand,
+                    || text_of(d),
+                    d.number,
+                    1,
+                    area.count(),
+                    || area_text_bits(area),
+                )?;
                 Ok(BitRef::Device(area, address))
             }
             None => Err(kind_error(
@@ -243,7 +255,14 @@ pub fn coil(operand: &Operand) -> Resolved<Coil> {
             } else {
                 BitArea::CounterContact
             };
-            check_extent(operand, &text_of(d), d.number, 1, area.count(), &area_text_bits(area))?;
+            check_extent(
+                operand,
+                || text_of(d),
+                d.number,
+                1,
+                area.count(),
+                || area_text_bits(area),
+            )?;
             return Ok(if is_timer {
                 Coil::Timer(d.number)
             } else {
@@ -273,11 +292,11 @@ pub fn preset(operand: &Operand, width: Width) -> Resolved<WordRef> {
         {
             check_extent(
                 operand,
-                &text_of(d),
+                || text_of(d),
                 d.number,
                 width.words(),
                 WordArea::D.count(),
-                &area_text_words(WordArea::D),
+                || area_text_words(WordArea::D),
             )?;
             Ok(WordRef::Word(WordArea::D, Address::fixed(d.number)))
         }
@@ -483,11 +502,11 @@ pub fn counter_pair(operand: &Operand) -> Resolved<CounterRef> {
     let (number, address) = counter_number(operand, "a counter such as C0")?;
     check_extent(
         operand,
-        &format!("C{number}"),
+        || format!("C{number}"),
         number,
         2,
         FIRST_WIDE_COUNTER,
-        "16-bit counters are C0..C199",
+        || "16-bit counters are C0..C199".to_string(),
     )?;
     Ok(CounterRef(address))
 }
@@ -556,11 +575,11 @@ fn word_device(operand: &Operand, d: &DeviceSyntax, width: Width, multiple: u32)
         };
         check_extent(
             operand,
-            &format!("K{n}{name}"),
+            || format!("K{n}{name}"),
             d.number,
             4 * u32::from(n),
             area.count(),
-            &area_text_bits(area),
+            || area_text_bits(area),
         )?;
         return Ok(WordRef::Digits(area, address, n));
     }
@@ -586,11 +605,11 @@ fn word_device(operand: &Operand, d: &DeviceSyntax, width: Width, multiple: u32)
         Prefix::T | Prefix::Tn => {
             check_extent(
                 operand,
-                &name,
+                || name.to_string(),
                 d.number,
                 multiple,
                 TIMER_COUNT,
-                &area_text_words(WordArea::TimerValue),
+                || area_text_words(WordArea::TimerValue),
             )?;
             return Ok(WordRef::Word(WordArea::TimerValue, address));
         }
@@ -617,14 +636,21 @@ fn word_device(operand: &Operand, d: &DeviceSyntax, width: Width, multiple: u32)
         // Within one unit's buffer memory (the number is already in range).
         check_extent(
             operand,
-            &name,
+            || name.to_string(),
             d.number - first,
             words,
             end - first,
-            "buffer memory words are G0..G32766",
+            || "buffer memory words are G0..G32766".to_string(),
         )?;
     } else {
-        check_extent(operand, &name, d.number, words, area.count(), &area_text_words(area))?;
+        check_extent(
+            operand,
+            || name.to_string(),
+            d.number,
+            words,
+            area.count(),
+            || area_text_words(area),
+        )?;
     }
     Ok(WordRef::Word(area, address))
 }
@@ -648,22 +674,22 @@ fn counter_value(
         (false, false) => {
             check_extent(
                 operand,
-                name,
+                || name.to_string(),
                 number,
                 1,
                 FIRST_WIDE_COUNTER,
-                "16-bit counters are C0..C199",
+                || "16-bit counters are C0..C199".to_string(),
             )?;
             Ok(WordRef::Word(WordArea::CounterValue, address))
         }
         (true, true) => {
             check_extent(
                 operand,
-                name,
+                || name.to_string(),
                 number,
                 1,
                 ladder_runtime::device::COUNTER_COUNT,
-                "32-bit counters are C200..C255",
+                || "32-bit counters are C200..C255".to_string(),
             )?;
             Ok(WordRef::WideCounter(address))
         }
@@ -687,11 +713,11 @@ pub fn bit_triple(operand: &Operand) -> Resolved<BitRef> {
         BitRef::Device(area @ (BitArea::Y | BitArea::M | BitArea::S), address) => {
             check_extent(
                 operand,
-                &area.device_name(address.index),
+                || area.device_name(address.index),
                 address.index,
                 3,
                 area.count(),
-                &area_text_bits(area),
+                || area_text_bits(area),
             )?;
             Ok(bit)
         }
@@ -756,7 +782,14 @@ pub fn range_end(operand: &Operand) -> Resolved<RangeEnd> {
         index_register: index_register(d)?,
     };
     let numbered = |area: BitArea| -> Resolved<Address> {
-        check_extent(operand, &text_of(d), d.number, 1, area.count(), &area_text_bits(area))?;
+        check_extent(
+            operand,
+            || text_of(d),
+            d.number,
+            1,
+            area.count(),
+            || area_text_bits(area),
+        )?;
         Ok(address)
     };
     match d.prefix {
@@ -830,11 +863,11 @@ pub fn timer(operand: &Operand) -> Resolved<Address> {
         Some(d) if matches!(d.prefix, Prefix::T | Prefix::Ts | Prefix::Tn) && d.digits.is_none() && d.bit.is_none() => {
             check_extent(
                 operand,
-                &text_of(d),
+                || text_of(d),
                 d.number,
                 1,
                 TIMER_COUNT,
-                &area_text_bits(BitArea::TimerContact),
+                || area_text_bits(BitArea::TimerContact),
             )?;
             Ok(Address {
                 index: d.number,

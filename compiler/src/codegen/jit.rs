@@ -29,6 +29,7 @@ impl JitProgram {
             program,
             "ladder_program",
             Linkage::Local,
+            false,
         )?;
         module.finalize_definitions()?;
         let code = module.get_finalized_function(id);

@@ -85,14 +85,17 @@ fn target_isa(triple: Option<&str>, pic: bool) -> Result<OwnedTargetIsa, Codegen
         .map_err(|e| CodegenError::HostTarget(e.to_string()))
 }
 
-/// A C signature. 32-bit arguments are sign-extended by the caller: the
-/// riscv64 psABI requires it (for unsigned ones too) and callees compiled by
-/// LLVM rely on it; elsewhere it is harmless.
+/// A C signature. On riscv64, 32-bit arguments are sign-extended by the
+/// caller: its psABI requires it (for unsigned ones too) and callees
+/// compiled by LLVM rely on it. Elsewhere the callee ignores the upper bits,
+/// and extending them would cost an instruction per argument of every
+/// helper call.
 fn signature(isa: &dyn TargetIsa, params: &[types::Type]) -> Signature {
+    let extend = matches!(isa.triple().architecture, target_lexicon::Architecture::Riscv64(_));
     let mut signature = Signature::new(isa.default_call_conv());
     signature.params.extend(params.iter().map(|&ty| {
         let param = AbiParam::new(ty);
-        if ty == types::I32 {
+        if ty == types::I32 && extend {
             param.sext()
         } else {
             param
@@ -128,6 +131,14 @@ fn declare_helpers(module: &mut dyn Module) -> Result<Vec<FuncId>, CodegenError>
         .collect()
 }
 
+/// Whether an object for `isa` calls the runtime directly (`call rel32`,
+/// bound by the linker like a C compiler's calls) rather than through the
+/// global offset table: on x86-64, where the runtime is linked into the
+/// same executable or library.
+fn direct_calls(isa: &dyn TargetIsa) -> bool {
+    isa.triple().architecture == target_lexicon::Architecture::X86_64
+}
+
 /// IR instructions per compiled function (see `translate::chunks`).
 static CHUNK_INSTRUCTIONS: AtomicUsize = AtomicUsize::new(20_000);
 
@@ -141,12 +152,16 @@ pub fn set_chunk_instructions(instructions: usize) {
 /// Defines the program body `fn(mem)` in `module` under `name`, and each
 /// subroutine as a local function `{name}.subN` of the same signature that
 /// the body and other subroutines call, for an image with `layout`.
+/// With `direct_calls`, helpers are called directly (`call rel32`), as the
+/// object is linked with the runtime (JIT code may lie too far from the
+/// runtime's code for that).
 fn define_program(
     module: &mut dyn Module,
     layout: &Layout,
     program: &Program,
     name: &str,
     linkage: Linkage,
+    direct_calls: bool,
 ) -> Result<FuncId, CodegenError> {
     let helpers = declare_helpers(module)?;
     let pointer = module.target_config().pointer_type();
@@ -161,6 +176,7 @@ fn define_program(
         let mut values = vec![None; function.value_types.len()];
         let mut part = Part {
             layout,
+            direct_calls,
             wide_bits: module.isa().triple().architecture == target_lexicon::Architecture::X86_64,
             program: function,
             helpers: &helpers,
@@ -181,6 +197,8 @@ fn define_program(
 /// What translating one function of a program needs.
 struct Part<'a> {
     layout: &'a Layout,
+    /// Helpers are called directly (`define_program`).
+    direct_calls: bool,
     /// Bits are wide (`wide.rs`): on x86-64.
     wide_bits: bool,
     program: &'a Function,
@@ -259,7 +277,11 @@ impl Part<'_> {
         let refs: Vec<_> = self
             .helpers
             .iter()
-            .map(|&helper| module.declare_func_in_func(helper, builder.func))
+            .map(|&helper| {
+                let reference = module.declare_func_in_func(helper, builder.func);
+                builder.func.dfg.ext_funcs[reference].colocated = self.direct_calls;
+                reference
+            })
             .collect();
         let subroutines: Vec<_> = self
             .subroutines

@@ -1,6 +1,6 @@
 //! The object-file back end: the program and its C-ABI scan entry point.
 
-use super::{define_program, signature, target_isa, CodegenError};
+use super::{define_program, direct_calls, signature, target_isa, CodegenError};
 use crate::ir::Program;
 use cranelift_codegen::ir::{types, AbiParam, InstBuilder, UserFuncName};
 use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext};
@@ -40,12 +40,14 @@ pub fn emit_object(program: &Program, options: &ObjectOptions) -> Result<Vec<u8>
     let builder = ObjectBuilder::new(isa, "ladder_program", default_libcall_names())?;
     let mut module = ObjectModule::new(builder);
     let layout = options.layout.as_ref().unwrap_or(&FULL);
+    let direct = direct_calls(module.isa());
     let body = define_program(
         &mut module,
         layout,
         program,
         &format!("{}body", options.prefix),
         Linkage::Local,
+        direct,
     )?;
     let table = match &options.layout {
         Some(layout) => {
@@ -98,6 +100,9 @@ pub fn emit_object(program: &Program, options: &ObjectOptions) -> Result<Vec<u8>
         let begin = module.declare_func_in_func(begin, builder.func);
         let body = module.declare_func_in_func(body, builder.func);
         let end = module.declare_func_in_func(end, builder.func);
+        for runtime in [begin, end] {
+            builder.func.dfg.ext_funcs[runtime].colocated = direct;
+        }
         // A null image, or one of another layout, is refused by the
         // begin-scan and then left alone.
         let machine = builder.ins().iconst(types::I32, i64::from(options.machine.bits()));

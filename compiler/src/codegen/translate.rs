@@ -349,12 +349,25 @@ impl Translator<'_, '_> {
         }
     }
 
-    /// A bit as an `i8` 0 or 1: byte 0 of a wide bit (free: its low byte).
+    /// A bit as an `i8` 0 or 1: byte 0 of a wide bit (free: its low byte;
+    /// a constant stays one, so that a store of it takes it as immediate).
     fn bit_byte(&mut self, bit: Value) -> Value {
-        if self.wide_bits {
-            self.builder.ins().ireduce(types::I8, bit)
-        } else {
-            bit
+        if self.builder.func.dfg.value_type(bit) == types::I8 {
+            return bit;
+        }
+        let constant =
+            self.builder
+                .func
+                .dfg
+                .value_def(bit)
+                .inst()
+                .and_then(|inst| match self.builder.func.dfg.insts[inst] {
+                    cranelift_codegen::ir::InstructionData::UnaryImm { imm, .. } => Some(imm.bits()),
+                    _ => None,
+                });
+        match constant {
+            Some(value) => self.iconst(types::I8, value & 1),
+            None => self.builder.ins().ireduce(types::I8, bit),
         }
     }
 
@@ -367,12 +380,23 @@ impl Translator<'_, '_> {
         }
     }
 
-    /// A bit made by a comparison (`i8` 0 or 1) as this function's bits.
-    fn bit_of_byte(&mut self, bit: Value) -> Value {
-        if self.wide_bits {
+    /// A bit as this function's bits for logic with wide bits: a bit made
+    /// by a comparison stays an `i8` until then (a store takes it as it is).
+    fn wide(&mut self, bit: Value) -> Value {
+        if self.wide_bits && self.builder.func.dfg.value_type(bit) == types::I8 {
             self.builder.ins().uextend(types::I32, bit)
         } else {
             bit
+        }
+    }
+
+    /// Two bits of the same type, for one instruction.
+    fn alike(&mut self, a: Value, b: Value) -> (Value, Value) {
+        let dfg = &self.builder.func.dfg;
+        if dfg.value_type(a) == dfg.value_type(b) {
+            (a, b)
+        } else {
+            (self.wide(a), self.wide(b))
         }
     }
 
@@ -392,8 +416,14 @@ impl Translator<'_, '_> {
     /// AND of what it inverted.
     fn and_not(&mut self, a: Value, c: Value) -> Value {
         match self.negations.get(&c) {
-            Some(&original) => self.builder.ins().band(a, original),
-            None => self.builder.ins().band_not(a, c),
+            Some(&original) => {
+                let (a, original) = self.alike(a, original);
+                self.builder.ins().band(a, original)
+            }
+            None => {
+                let (a, c) = self.alike(a, c);
+                self.builder.ins().band_not(a, c)
+            }
         }
     }
 
@@ -632,7 +662,8 @@ impl Translator<'_, '_> {
             }
             Inst::GetLocal { local } => self.builder.use_var(self.locals[local.0 as usize]),
             Inst::SetLocal { local, value } => {
-                self.builder.def_var(self.locals[local.0 as usize], get(value));
+                let value = self.wide(get(value));
+                self.builder.def_var(self.locals[local.0 as usize], value);
                 return None;
             }
             Inst::LoadLoopCount { level } => self.builder.use_var(self.loop_counts[*level as usize]),
@@ -650,7 +681,10 @@ impl Translator<'_, '_> {
             Inst::And { a, b } => match (self.folded_nots.get(a), self.folded_nots.get(b)) {
                 (_, Some(inverted)) => self.and_not(get(a), get(inverted)),
                 (Some(inverted), None) => self.and_not(get(b), get(inverted)),
-                (None, None) => self.builder.ins().band(get(a), get(b)),
+                (None, None) => {
+                    let (a, b) = self.alike(get(a), get(b));
+                    self.builder.ins().band(a, b)
+                }
             },
             // a OR NOT c = NOT (c AND NOT a): `andn` and one XOR, instead of
             // materialising NOT c (a constant and an XOR) and an OR.
@@ -663,15 +697,17 @@ impl Translator<'_, '_> {
                     let inverse = self.and_not(get(inverted), get(b));
                     self.not(inverse)
                 }
-                (None, None) => self.builder.ins().bor(get(a), get(b)),
+                (None, None) => {
+                    let (a, b) = self.alike(get(a), get(b));
+                    self.builder.ins().bor(a, b)
+                }
             },
             Inst::Binary { op, a, b } => {
                 // Arithmetic on bits (not made by the lowering today) on
-                // their clean bytes.
-                let bits = self.value_types[a.0 as usize] == Type::Bit;
+                // their clean bytes; a bit result stays an `i8` (`wide`).
                 let (a, b) = (self.clean(*a, get(a)), self.clean(*b, get(b)));
                 let ins = self.builder.ins();
-                let result = match op {
+                match op {
                     BinOp::Add => ins.iadd(a, b),
                     BinOp::Sub => ins.isub(a, b),
                     BinOp::Mul => ins.imul(a, b),
@@ -683,11 +719,6 @@ impl Translator<'_, '_> {
                     BinOp::Shl => ins.ishl(a, b),
                     BinOp::Shr => ins.sshr(a, b),
                     BinOp::UShr => ins.ushr(a, b),
-                };
-                if bits {
-                    self.bit_of_byte(result)
-                } else {
-                    result
                 }
             }
             Inst::Unary { op, value } => {
@@ -706,8 +737,7 @@ impl Translator<'_, '_> {
             }
             Inst::Compare { op, a, b } => {
                 let (a, b) = (self.clean(*a, get(a)), self.clean(*b, get(b)));
-                let bit = self.builder.ins().icmp(condition(*op), a, b);
-                self.bit_of_byte(bit)
+                self.builder.ins().icmp(condition(*op), a, b)
             }
             Inst::Extend { value, to, signed } => {
                 let (value, to) = (self.clean(*value, get(value)), cl_type(*to));
@@ -717,20 +747,18 @@ impl Translator<'_, '_> {
                     self.builder.ins().uextend(to, value)
                 }
             }
-            Inst::Truncate { value, to } => {
-                let narrow = self.builder.ins().ireduce(cl_type(*to), get(value));
-                match to {
-                    Type::Bit => self.bit_of_byte(narrow),
-                    Type::I16 | Type::I32 | Type::I64 | Type::F32 | Type::F64 => narrow,
-                }
-            }
+            Inst::Truncate { value, to } => self.builder.ins().ireduce(cl_type(*to), get(value)),
             Inst::Select {
                 condition,
                 if_true,
                 if_false,
             } => {
                 let condition = self.clean(*condition, get(condition));
-                self.builder.ins().select(condition, get(if_true), get(if_false))
+                let (if_true, if_false) = match self.value_types[if_true.0 as usize] {
+                    Type::Bit => self.alike(get(if_true), get(if_false)),
+                    Type::I16 | Type::I32 | Type::I64 | Type::F32 | Type::F64 => (get(if_true), get(if_false)),
+                };
+                self.builder.ins().select(condition, if_true, if_false)
             }
             Inst::Float { op, a, b } => {
                 let (a, b) = (get(a), get(b));
@@ -751,10 +779,7 @@ impl Translator<'_, '_> {
                     FloatUnaryOp::Abs => ins.fabs(value),
                 }
             }
-            Inst::FloatCompare { op, a, b } => {
-                let bit = self.builder.ins().fcmp(float_condition(*op), get(a), get(b));
-                self.bit_of_byte(bit)
-            }
+            Inst::FloatCompare { op, a, b } => self.builder.ins().fcmp(float_condition(*op), get(a), get(b)),
             Inst::Bitcast { value, to } => self
                 .builder
                 .ins()

@@ -23,6 +23,7 @@
 //! register by the memory pass anyway (`ir/memory.rs`).
 
 use crate::ir::{Function, Index, Inst};
+use ladder_runtime::helpers::Helper;
 use ladder_runtime::layout::{Array, Layout};
 use ladder_runtime::BitArea;
 use std::collections::HashMap;
@@ -42,8 +43,71 @@ enum Writes {
     Nothing,
     /// Bytes `start..end` of the image.
     Bytes(u32, u32),
-    /// Anything (a call).
+    /// These byte ranges (a helper's declared effects).
+    Ranges(Vec<(u32, u32)>),
+    /// Anything (a call of a subroutine or of a helper that takes places).
     Everything,
+}
+
+impl Writes {
+    fn ranges(self) -> Vec<(u32, u32)> {
+        match self {
+            Writes::Nothing | Writes::Everything => Vec::new(),
+            Writes::Bytes(start, end) => vec![(start, end)],
+            Writes::Ranges(ranges) => ranges,
+        }
+    }
+}
+
+/// What a helper call may write: what its declaration says, or anything
+/// when it takes places (it writes its destination, wherever that is).
+fn call_writes(layout: &Layout, helper: Helper) -> Writes {
+    use ladder_runtime::helpers::{Param, Writes as Declared};
+    use ladder_runtime::special::{D_ERROR_CODE, D_ERROR_LINE, M_OPERATION_ERROR};
+    let decl = helper.decl();
+    if decl.params.iter().any(|(_, param)| match param {
+        Param::SourcePlace | Param::DestinationPlace => true,
+        Param::U32 | Param::I32 => false,
+    }) {
+        return Writes::Everything;
+    }
+    let mut ranges = Vec::new();
+    for &declared in decl.writes {
+        let arrays: &[Array] = match declared {
+            Declared::Timers => &[
+                Array::TimerContact,
+                Array::TimerValue,
+                Array::TimerRemainder,
+                Array::TimerCoilWasOn,
+            ],
+            Declared::Counters => &[
+                Array::CounterContact,
+                Array::CounterValue,
+                Array::WideCounterValue,
+                Array::CounterCoilWasOn,
+            ],
+            Declared::StlBookkeeping => &[Array::StlPendingOff],
+            Declared::OperationError => {
+                for (array, n) in [
+                    (Array::M, M_OPERATION_ERROR),
+                    (Array::D, D_ERROR_CODE),
+                    (Array::D, D_ERROR_LINE),
+                ] {
+                    ranges.extend(element(layout, array, Index::Fixed(n)).ranges());
+                }
+                &[]
+            }
+            Declared::Bits(area) => {
+                ranges.extend(whole(layout, Array::of_bits(area)).ranges());
+                &[]
+            }
+            Declared::Image => return Writes::Everything,
+        };
+        for &array in arrays {
+            ranges.extend(whole(layout, array).ranges());
+        }
+    }
+    Writes::Ranges(ranges)
 }
 
 /// The bytes of a whole array in `layout`, or nothing if it lacks it.
@@ -82,7 +146,9 @@ fn writes(layout: &Layout, inst: &Inst) -> Writes {
         Inst::StoreWideCounter { index, .. } => element(layout, Array::WideCounterValue, *index),
         Inst::StoreSlot { slot, .. } => element(layout, Array::EdgeSlot, Index::Fixed(*slot)),
         Inst::StoreBlockActive { state, .. } => element(layout, Array::StlBlockActive, Index::Fixed(*state)),
-        Inst::Call { .. } | Inst::CallSubroutine { .. } | Inst::RecordError { .. } => Writes::Everything,
+        Inst::Call { helper, .. } => call_writes(layout, *helper),
+        Inst::RecordError { .. } => call_writes(layout, Helper::RecordError),
+        Inst::CallSubroutine { .. } => Writes::Everything,
         Inst::Const { .. }
         | Inst::LoadBit { .. }
         | Inst::LoadWord { .. }
@@ -175,6 +241,10 @@ pub fn wide_bit_loads(layout: &Layout, function: &Function, range: std::ops::Ran
                 Writes::Bytes(start, end) => {
                     wide_stores.retain(|&(_, _, p)| recent(p, position));
                     wide_stores.push((start, end, position));
+                }
+                Writes::Ranges(ranges) => {
+                    wide_stores.retain(|&(_, _, p)| recent(p, position));
+                    wide_stores.extend(ranges.into_iter().map(|(start, end)| (start, end, position)));
                 }
             }
         }

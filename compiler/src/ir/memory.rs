@@ -128,6 +128,12 @@ fn call_footprint(helper: Helper) -> Footprint {
 /// choice is optimal for intervals taken by their end).
 const CARRIED_VALUES: i32 = 2;
 
+/// The longest range (in IR instructions) a value is carried over: one
+/// held longer would keep a register from every shorter range it spans,
+/// and the analysis would look at it for every load (large programs load
+/// each device many times).
+const LONGEST_CARRY: u64 = 1024;
+
 /// What is known at a point of a block.
 #[derive(Clone, Default)]
 struct Known {
@@ -369,7 +375,10 @@ fn optimise_block(
                 let Some(result) = *result else { continue };
                 match known.values.get_mut(&place) {
                     // Forwarded: the load goes, and with it its read.
-                    Some((value, last_use)) if carried.take(*last_use as usize, *now as usize, CARRIED_VALUES) => {
+                    Some((value, last_use))
+                        if *now - *last_use <= LONGEST_CARRY
+                            && carried.take(*last_use as usize, *now as usize, CARRIED_VALUES) =>
+                    {
                         *last_use = *now;
                         replaced.insert(result, *value);
                         remove[position] = true;
