@@ -271,10 +271,13 @@ pub enum Output {
     },
     /// SET `count` devices. `transfer_from`: a SET of a state inside the
     /// block of that state, which then turns OFF at the next scan.
+    /// `written_out`: the source wrote `OUT Sn` inside a block, which is this
+    /// transfer (the ladder draws it as the coil it was written as).
     Set {
         target: BitRef,
         count: u32,
         transfer_from: Option<u32>,
+        written_out: bool,
     },
     Reset {
         target: ResetTarget,

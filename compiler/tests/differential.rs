@@ -163,3 +163,30 @@ fn long_run() {
         );
     }
 }
+
+/// A logic stack read while empty: the checker refuses such a program
+/// (E0010, E0011), but the engines must still agree on what it would do,
+/// and they do by the same rule: the value read is OFF. The program is
+/// checked with its MPS and then loses it, as no source can say.
+#[test]
+fn an_empty_logic_stack_reads_off_on_every_engine() {
+    // Each program without its instruction 1: an MRD and MPP without MPS,
+    // an ORB without a block before it.
+    for text in [
+        "LD X0\nMPS\nAND X1\nOUT Y0\nMRD\nOUT Y1\nMPP\nOUT Y2\n",
+        "LD X0\nLD X1\nAND X2\nORB\nOUT Y0\n",
+    ] {
+        let mut program = differential::compile(text);
+        program.instructions.remove(1);
+        program.main_end -= 1;
+        let interpreter = ladderc::interp::Interpreter::new(&program);
+        let jit = ladderc::pipeline::jit(&program).expect("compiles");
+        let (mut expected, mut actual) = (ladder_runtime::Memory::new_boxed(), ladder_runtime::Memory::new_boxed());
+        for mem in [&mut expected, &mut actual] {
+            mem.input_image[..3].fill(1);
+        }
+        interpreter.scan(&mut expected, 10);
+        actual.scan_with(10, |mem| jit.run(mem));
+        assert_eq!(&expected.y[..3], &actual.y[..3], "{text}");
+    }
+}

@@ -46,7 +46,7 @@
 /**
  * Bytes of storage a device image with the full layout needs.
  */
-#define LADDER_MEMORY_SIZE 666532
+#define LADDER_MEMORY_SIZE 668580
 
 /**
  * Alignment the storage needs.

@@ -350,11 +350,13 @@ impl ImageMut<'_> {
         }
     }
 
-    /// D8010 = the scan's time; D8011/D8012 the shortest and longest so
-    /// far (0.1 ms units, at most 32767).
+    /// D8010 = the scan time the host reported to this scan (the time of
+    /// the scan before it; for the first scan, the time since the host
+    /// started it); D8011/D8012 the shortest and longest so far, the first
+    /// scan's included (0.1 ms units, at most 32767).
     pub(crate) fn record_scan_time(&mut self, elapsed_ms: u32) {
         let tenths = elapsed_ms.saturating_mul(10).min(i16::MAX as u32) as i16;
-        let first = self.scalar(Scalar::ScanCount) == 1;
+        let first = self.scalar(Scalar::ScanCount) == 0;
         self.set_i16(Array::D, D_SCAN_TIME, tenths);
         if first || tenths < self.get_i16(Array::D, D_SCAN_TIME_MIN) {
             self.set_i16(Array::D, D_SCAN_TIME_MIN, tenths);
@@ -412,8 +414,8 @@ mod tests {
         mem.scan_with(7, |_| {});
         assert_eq!(
             (mem.d[8010], mem.d[8011], mem.d[8012]),
-            (0, 0, 0),
-            "no scan before the first"
+            (70, 70, 70),
+            "the time reported to the first scan"
         );
         for ms in [12, 5, 9] {
             mem.scan_with(ms, |_| {});

@@ -658,7 +658,7 @@ pub fn width_arg(width: Width) -> u32 {
 ///
 /// # Safety
 /// `mem` is null or the program's device image.
-#[export_name = "ladder_rt_begin_scan_v6_666532"]
+#[export_name = "ladder_rt_begin_scan_v6_668580"]
 pub unsafe extern "C" fn ladder_rt_begin_scan(
     mem: *mut LadderMemory,
     elapsed_ms: u32,
@@ -680,7 +680,7 @@ pub unsafe extern "C" fn ladder_rt_begin_scan(
 ///
 /// # Safety
 /// `mem` is null or the program's device image.
-#[export_name = "ladder_rt_end_scan_v6_666532"]
+#[export_name = "ladder_rt_end_scan_v6_668580"]
 pub unsafe extern "C" fn ladder_rt_end_scan(mem: *mut LadderMemory, machine: u32) {
     // SAFETY: the caller passes the image it was given.
     if let Some(mut image) = unsafe { ImageMut::from_raw(mem.cast()) } {

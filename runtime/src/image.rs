@@ -289,7 +289,7 @@ impl<B: AsRef<[u8]>> Image<'_, B> {
 
     /// Instance state `n`; `None` when not held (the program has fewer).
     pub fn instance(&self, n: u32) -> Option<InstanceState> {
-        self.load::<16>(Array::Instance, n)
+        self.load::<{ size_of::<InstanceState>() }>(Array::Instance, n)
             .map(|bytes| bytemuck::pod_read_unaligned(&bytes))
     }
 
@@ -414,7 +414,7 @@ impl ImageMut<'_> {
 
     /// Writes instance state `n`; false when not held.
     pub fn set_instance(&mut self, n: u32, state: InstanceState) -> bool {
-        let mut bytes = [0u8; 16];
+        let mut bytes = [0u8; size_of::<InstanceState>()];
         bytes.copy_from_slice(bytemuck::bytes_of(&state));
         self.store(Array::Instance, n, bytes)
     }

@@ -143,7 +143,7 @@ pub struct Memory {
 }
 
 /// What an instruction that keeps state between scans remembers: a phase
-/// and three numbers, whose meaning each instruction documents (hsc.rs,
+/// and five numbers, whose meaning each instruction documents (hsc.rs,
 /// pulse.rs and the compiled/ helpers).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Zeroable, Pod)]
 #[repr(C)]
@@ -152,6 +152,8 @@ pub struct InstanceState {
     pub a: i32,
     pub b: i32,
     pub c: i32,
+    pub d: i32,
+    pub e: i32,
 }
 
 /// Sort job: not started (its input was OFF, or it could not start).

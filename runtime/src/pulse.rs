@@ -25,6 +25,14 @@
 //!
 //! The program's instruction kernels decide the operands; this one model
 //! (the machine) is shared by every engine, as timers are.
+//!
+//! What an instruction reads when its drive turns ON and what at every
+//! execution follows the manual (DIALECT.md, "Machine programs"): PLSY
+//! takes its pulse count S2 when it starts (0: without end, for the whole
+//! drive) and its frequency S1 at every execution; PLSR takes S1, S2 and S3
+//! when it starts; DRVI/DRVA keep the target they started with; PLSV, ZRN
+//! and DSZR read their operands at every execution. A value changed while
+//! the output runs takes effect at the next drive.
 
 use crate::device::PULSE_OUTPUTS;
 use crate::image::{Image, ImageMut};
@@ -211,14 +219,19 @@ impl ImageMut<'_> {
         InstanceState {
             phase: RUNNING,
             // a: pulses output so far; b: ms since the start; c: target
-            // address (DRVI/DRVA) or zero-return phase (ZRN/DSZR).
+            // address (DRVI/DRVA), zero-return phase (ZRN/DSZR) or the pulse
+            // count taken at the start (PLSY/PLSR); d, e: PLSR's frequency
+            // and ramp time taken at the start.
             a: 0,
             b: 0,
             c: match request.kind {
                 PulseKind::Zrn | PulseKind::Dszr if request.near_point => CREEPING,
                 PulseKind::Zrn | PulseKind::Dszr => APPROACHING,
-                PulseKind::Plsy | PulseKind::Plsr | PulseKind::Plsv | PulseKind::Drvi | PulseKind::Drva => target,
+                PulseKind::Plsy | PulseKind::Plsr => request.amount,
+                PulseKind::Plsv | PulseKind::Drvi | PulseKind::Drva => target,
             },
+            d: request.frequency,
+            e: request.ramp_ms,
         }
     }
 
@@ -249,15 +262,17 @@ impl ImageMut<'_> {
         state.b = since.saturating_add(elapsed).min(i32::MAX as u32) as i32;
         // (pulses this time, direction: +1 / -1, completed)
         let (pulses, direction, done) = match request.kind {
+            // The pulse count (and PLSR's frequency and ramp) as they were
+            // when the drive turned ON; PLSY's frequency as it is now.
             PulseKind::Plsy => {
                 let pulses = self.steady_pulses(output, request.frequency, elapsed);
-                counted(pulses, i64::from(state.a), request.amount)
+                counted(pulses, i64::from(state.a), state.c)
             }
             PulseKind::Plsr => {
-                let total = i64::from(request.amount.max(0));
-                let now = ramp_position(request.frequency, request.ramp_ms, total, state.b as u32);
+                let total = i64::from(state.c.max(0));
+                let now = ramp_position(state.d, state.e, total, state.b as u32);
                 let pulses = (now - i64::from(state.a)).max(0);
-                counted(pulses, i64::from(state.a), request.amount)
+                counted(pulses, i64::from(state.a), state.c)
             }
             PulseKind::Plsv => {
                 let pulses = self.steady_pulses(output, request.frequency, elapsed);

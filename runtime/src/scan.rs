@@ -53,7 +53,7 @@ impl ImageMut<'_> {
         if high_speed {
             self.refresh_high_speed_inputs(previous);
         }
-        if machine.contains(MachineUse::SCAN_TIME) && self.scalar(Scalar::ScanCount) > 0 {
+        if machine.contains(MachineUse::SCAN_TIME) {
             self.record_scan_time(elapsed_ms);
         }
         self.advance_calendar(elapsed_ms, machine.contains(MachineUse::CALENDAR));

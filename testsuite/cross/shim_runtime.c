@@ -59,7 +59,7 @@ static unsigned full_year(int y) {
 static void record_scan_time(LadderMemory *mem, uint32_t elapsed_ms) {
     uint64_t tenths = (uint64_t)elapsed_ms * 10u;
     int16_t now = (int16_t)(tenths > 32767u ? 32767u : tenths);
-    int first = U32(mem, OFFSET_SCAN_COUNT) == 1;
+    int first = U32(mem, OFFSET_SCAN_COUNT) == 0;
     *dw(mem, 8010) = now;
     if (first || now < *dw(mem, 8011)) *dw(mem, 8011) = now;
     if (first || now > *dw(mem, 8012)) *dw(mem, 8012) = now;
@@ -125,7 +125,7 @@ uint32_t LADDER_TAGGED_BEGIN_SCAN(LadderMemory *mem, uint32_t elapsed_ms, const 
         *(uint32_t *)AT(mem, OFFSET_INPUT_EDGES + 4 * x) = edges > UINT32_MAX ? UINT32_MAX : (uint32_t)edges;
         *pending = 0;
     }
-    if ((machine & MACHINE_SCAN_TIME) && U32(mem, OFFSET_SCAN_COUNT) > 0) record_scan_time(mem, elapsed_ms);
+    if (machine & MACHINE_SCAN_TIME) record_scan_time(mem, elapsed_ms);
     advance_calendar(mem, elapsed_ms, machine);
     if (U32(mem, OFFSET_STL_PENDING_ANY) != 0) {
         for (unsigned s = 0; s < 4096; s++) {

@@ -54,8 +54,21 @@ pub fn compile_source(file: &SourceFile) -> (Option<CheckedProgram>, Vec<Diagnos
         return (None, vec![diagnostic]);
     }
     let (parsed, mut diagnostics) = syntax::parse(file);
+    // A file the parser refused as a whole (an export of another PLC
+    // family, one it cannot read) has nothing to check: its one error is all
+    // there is to say (no "the program is empty" beside it).
+    if diagnostics.has_errors() && parsed.statements.is_empty() {
+        return (None, diagnostics.into_sorted());
+    }
+    let parse_failed = diagnostics.has_errors();
     let (program, check_diagnostics) = check(&parsed, &file.name, file.text.len());
-    diagnostics.extend(check_diagnostics);
+    for diagnostic in check_diagnostics.iter() {
+        // After an error the program is not complete: whether it drives
+        // anything is not worth a word (as the checker's own lints hold).
+        if !(parse_failed && diagnostic.code == Code::DrivesNothing) {
+            diagnostics.push(diagnostic.clone());
+        }
+    }
     let program = if diagnostics.has_errors() { None } else { Some(program) };
     (program, diagnostics.into_sorted())
 }
@@ -185,9 +198,10 @@ impl Checker {
                             format!("unknown instruction `{}`", syntax.mnemonic),
                         )
                         .with_label("not an instruction of the dialect");
-                        match isa::fx::suggestion(&syntax.mnemonic) {
-                            Some(near) => diagnostic.with_note(format!("did you mean `{near}`?")),
-                            None => diagnostic,
+                        match (isa::fx::idiom(&syntax.mnemonic), isa::fx::suggestion(&syntax.mnemonic)) {
+                            (Some(hint), _) => diagnostic.with_note(hint),
+                            (None, Some(near)) => diagnostic.with_note(format!("did you mean `{near}`?")),
+                            (None, None) => diagnostic,
                         }
                     };
                     self.report(diagnostic);
@@ -628,6 +642,7 @@ impl Checker {
                     target,
                     count: 1,
                     transfer_from: self.transfer_source(target, 1),
+                    written_out: true,
                 }
             }
             (Coil::Bit(target), None) => Output::Coil(target),
@@ -693,6 +708,7 @@ impl Checker {
                 target,
                 count,
                 transfer_from,
+                written_out: false,
             }),
             site,
         );

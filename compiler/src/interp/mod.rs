@@ -142,6 +142,9 @@ impl Run<'_> {
                 let passes = self.contact(contact, line);
                 self.result = self.result || passes;
             }
+            // The checker refuses a program that reads an empty logic stack
+            // (E0010, E0011); were one to, the value read is OFF, as in the
+            // lowering.
             Op::AndBlock => {
                 let earlier = self.blocks.pop().unwrap_or(false);
                 self.result = earlier && self.result;
@@ -205,6 +208,7 @@ impl Run<'_> {
                 target,
                 count,
                 transfer_from,
+                written_out: _,
             } => {
                 if power {
                     self.write_bits(*target, *count, true, line);

@@ -56,6 +56,30 @@ pub fn unsupported_fx(mnemonic: &str) -> bool {
             .any(|base| UNSUPPORTED_FX.contains(&base))
 }
 
+/// What an instruction of another dialect (IEC 61131-3 IL, other vendors'
+/// timer and counter boxes) is written as in FX: a note for an unknown
+/// mnemonic, given before any guess by spelling (`TMR` is not a typo of
+/// `TTMR`).
+pub fn idiom(mnemonic: &str) -> Option<&'static str> {
+    Some(match mnemonic.to_ascii_uppercase().as_str() {
+        "TMR" | "TON" | "TIM" | "TIMER" | "TMRA" | "TONR" => {
+            "an FX timer is its coil with a preset: `OUT T0 K100` (T0 ON after 100 x 100 ms while the rung is ON)"
+        }
+        "CNT" | "CTU" | "CTR" | "COUNTER" => {
+            "an FX counter is its coil with a preset: `OUT C0 K10` (C0 ON after 10 rising edges of the rung);              `RST C0` clears it"
+        }
+        "LDN" => "FX writes a normally closed contact at the start of a rung as `LDI`",
+        "ANDN" => "FX writes a normally closed contact in series as `ANI`",
+        "ORN" => "FX writes a normally closed contact in parallel as `ORI`",
+        "ST" | "STO" | "=" => "FX writes a coil as `OUT`",
+        "S" => "FX writes a latching coil as `SET`",
+        "R" => "FX writes an unlatching coil as `RST`",
+        "NOT" => "FX inverts the rung result with `INV`",
+        "JMP" | "JP" => "FX jumps with `CJ Pn` to a label `Pn`",
+        _ => return None,
+    })
+}
+
 /// The supported mnemonic closest to a mistyped one, if one is close.
 pub fn suggestion(mnemonic: &str) -> Option<&'static str> {
     static SORTED: OnceLock<Vec<&'static str>> = OnceLock::new();
@@ -107,6 +131,15 @@ mod tests {
         for mnemonic in ["MOV", "DMOVP", "LD", "QQQ", "SORT", "DECMP", "EADD", "DPLSY", "TRD"] {
             assert!(!unsupported_fx(mnemonic), "{mnemonic}");
         }
+    }
+
+    #[test]
+    fn other_dialects_get_the_fx_spelling() {
+        assert!(idiom("TMR").is_some_and(|hint| hint.contains("OUT T0 K100")));
+        assert!(idiom("ctu").is_some_and(|hint| hint.contains("OUT C0")));
+        assert!(idiom("LDN").is_some_and(|hint| hint.contains("LDI")));
+        assert_eq!(idiom("TTMR"), None);
+        assert_eq!(idiom("MOV"), None);
     }
 
     #[test]

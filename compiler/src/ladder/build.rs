@@ -6,6 +6,24 @@ use crate::program::{CheckedProgram, Contact, Op, Output};
 use crate::source::SourceFile;
 use ladder_runtime::Width;
 
+/// How the source closed an STL block where the checker's StlEnd stands:
+/// `STLE`, `RET`, or (FX style) the next `STL`, as written in plain IL or in
+/// an export's row.
+fn written_mnemonic(source: &SourceFile, span: crate::source::Span) -> &'static str {
+    let written = source.slice(span).to_ascii_uppercase();
+    let words: Vec<&str> = written
+        .split(|c: char| !c.is_ascii_alphanumeric())
+        .filter(|w| !w.is_empty())
+        .collect();
+    if words.contains(&"STLE") {
+        "STLE"
+    } else if words.contains(&"RET") {
+        "RET"
+    } else {
+        "STL"
+    }
+}
+
 /// The ladder of `program`, whose source is `source` (for comments, step
 /// numbers and how STL blocks were closed).
 pub fn build(program: &CheckedProgram, source: &SourceFile) -> Ladder {
@@ -29,6 +47,13 @@ pub fn build(program: &CheckedProgram, source: &SourceFile) -> Ladder {
     let mut index = 0;
     while index < program.instructions.len() {
         let instruction = &program.instructions[index];
+        // FX style: the next STL closes the open block without a RET (the
+        // checker's StlEnd stands at that STL). Nothing is drawn for it, as
+        // GX Works2 draws nothing: the ladder shows what the program says.
+        if instruction.op == Op::StlEnd && written_mnemonic(source, instruction.span) == "STL" {
+            index += 1;
+            continue;
+        }
         let (body, used) = match &instruction.op {
             Op::StlBegin { block } => {
                 let number = program.stl_blocks.get(*block).map_or(0, |b| b.state);
@@ -43,8 +68,7 @@ pub fn build(program: &CheckedProgram, source: &SourceFile) -> Ladder {
             }
             Op::StlEnd => {
                 state = None;
-                let written = source.slice(instruction.span).trim_start();
-                let fx_return = !written.to_ascii_uppercase().contains("STLE");
+                let fx_return = written_mnemonic(source, instruction.span) != "STLE";
                 (
                     Body::StepEnd {
                         fx_return,

@@ -368,7 +368,15 @@ pub fn symbol(element: &Element, program: &CheckedProgram) -> (Symbol, u32) {
         },
         Op::Invert => (Symbol::Invert, 1),
         Op::ResultEdge { falling, .. } => (Symbol::ResultEdge { falling: *falling }, 1),
-        Op::Output(Output::Coil(bit)) => (
+        // `OUT Sn` inside a block (a transfer, as SET) is drawn as written.
+        Op::Output(
+            Output::Coil(bit)
+            | Output::Set {
+                target: bit,
+                written_out: true,
+                ..
+            },
+        ) => (
             Symbol::Coil {
                 device: bit_name(bit),
                 preset: None,
@@ -390,7 +398,7 @@ pub fn symbol(element: &Element, program: &CheckedProgram) -> (Symbol, u32) {
             1,
         ),
         Op::Output(
-            Output::Set { .. }
+            Output::Set { written_out: false, .. }
             | Output::Reset { .. }
             | Output::Pulse { .. }
             | Output::StateJump { .. }

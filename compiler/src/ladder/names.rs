@@ -179,10 +179,15 @@ pub fn instruction(program: &CheckedProgram, index: usize, role: Role) -> (Strin
             Output::Coil(bit) => words("OUT", vec![bit_name(bit)]),
             Output::Timer { timer, preset } => words("OUT", vec![format!("T{timer}"), word_name(preset)]),
             Output::Counter { counter, preset } => words("OUT", vec![format!("C{counter}"), word_name(preset)]),
-            Output::Set { target, count, .. } => {
+            Output::Set {
+                target,
+                count,
+                written_out,
+                ..
+            } => {
                 let mut operands = vec![bit_name(target)];
                 operands.extend(count_suffix(*count));
-                words("SET", operands)
+                words(if *written_out { "OUT" } else { "SET" }, operands)
             }
             Output::Reset { target, count } => {
                 let mut operands = vec![match target {

@@ -229,8 +229,21 @@ impl<'p> Lowering<'p> {
                 };
             }
             Op::BranchPush => self.branches.push(self.result),
-            Op::BranchRead => self.result = self.branches.last().copied().unwrap_or(self.result),
-            Op::BranchPop => self.result = self.branches.pop().unwrap_or(self.result),
+            // The checker refuses a program that reads an empty logic stack
+            // (E0010, E0011); were one to, the value read is OFF, as in the
+            // interpreter.
+            Op::BranchRead => {
+                self.result = match self.branches.last() {
+                    Some(&value) => value,
+                    None => self.b.bit(false),
+                }
+            }
+            Op::BranchPop => {
+                self.result = match self.branches.pop() {
+                    Some(value) => value,
+                    None => self.b.bit(false),
+                }
+            }
             Op::Invert => self.result = self.b.not(self.result),
             Op::ResultEdge { falling, slot } => self.result = self.edge(*slot, self.result, *falling),
             Op::Jump { target, .. } => {
@@ -380,11 +393,13 @@ impl<'p> Lowering<'p> {
                 target,
                 count,
                 transfer_from: None,
+                written_out: _,
             } if self.set_without_branch(*target, *count, power, true) => {}
             Output::Set {
                 target,
                 count,
                 transfer_from,
+                written_out: _,
             } => self.when(power, |this, _| {
                 this.write_bits(*target, *count, true, line);
                 if let Some(state) = transfer_from {

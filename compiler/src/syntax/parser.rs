@@ -29,18 +29,25 @@ pub fn parse(file: &SourceFile) -> (ParsedProgram, Diagnostics) {
         if let Some(line) = super::export::tabular(&file.text) {
             let start = file.line_starts().get(line).copied().unwrap_or(0);
             let end = file.text[start..].find('\n').map_or(file.text.len(), |n| start + n);
+            let mut diagnostic = Diagnostic::new(
+                Code::UnreadableExport,
+                Span::new(start, end.max(start)),
+                "this file looks like a CSV export, but not of an instruction list ladderc reads",
+            )
+            .with_label("fields separated by tabs or commas")
+            .with_note(format!(
+                "read as plain IL it gives {errors} errors; `ladderc explain E0048` says which exports are read"
+            ));
+            let row = &file.text[start..end];
+            if row.matches(',').count().max(row.matches('\t').count()) == 2 {
+                diagnostic = diagnostic.with_note(
+                    "rows of a step, an instruction and an operand are how other vendors' editors list steps \
+                     (Delta's WPLSoft writes `000000,LD,M1002`); their special devices are not FX's (Delta's \
+                     M1002 is FX's M8002), so ladderc does not read them as FX programs",
+                );
+            }
             let mut one = Diagnostics::default();
-            one.push(
-                Diagnostic::new(
-                    Code::UnreadableExport,
-                    Span::new(start, end.max(start)),
-                    "this file looks like a CSV export, but not of an instruction list ladderc reads",
-                )
-                .with_label("fields separated by tabs or commas")
-                .with_note(format!(
-                    "read as plain IL it gives {errors} errors; `ladderc explain E0048` says which exports are read"
-                )),
-            );
+            one.push(diagnostic);
             return (ParsedProgram::default(), one);
         }
     }

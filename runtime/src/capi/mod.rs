@@ -34,7 +34,7 @@ pub struct LadderMemory {
 }
 
 /// Bytes of storage a device image with the full layout needs.
-pub const LADDER_MEMORY_SIZE: usize = 666532;
+pub const LADDER_MEMORY_SIZE: usize = 668580;
 /// Alignment the storage needs.
 pub const LADDER_MEMORY_ALIGN: usize = 4;
 

@@ -23,9 +23,11 @@ use crate::layout::Array;
 use crate::place::Place;
 
 /// BMOV (`fill` false) or FMOV (`fill` true) of `n` units. Overlapping
-/// blocks move as a whole: units of the same size are copied in the
-/// direction that reads each before it is overwritten; digit groups of
-/// different sizes in one area go through a buffer of at most 1 KiB.
+/// blocks move as a whole: units of the same kind and size are copied in
+/// the direction that reads each before it is overwritten; units of
+/// different kinds or sizes over the same array (digit groups of different
+/// sizes, a word and the bits of words, digit groups and single bits) go
+/// through a buffer of at most 2 KiB (BMOV moves at most 512 units).
 pub fn block_move(mem: &mut ImageMut<'_>, source: Place, destination: Place, n: u32, width: Width, fill: bool) {
     // BMOV/FMOV move at most 512 units, FROM/TO a whole buffer memory.
     let n = n.min(MAX_TRANSFER_UNITS);
@@ -36,26 +38,25 @@ pub fn block_move(mem: &mut ImageMut<'_>, source: Place, destination: Place, n: 
         }
         return;
     }
-    let backwards = match (source, destination) {
-        (Place::Word(a, s), Place::Word(b, d)) if a == b => d > s,
-        (Place::WideCounter(s), Place::WideCounter(d)) => d > s,
-        (Place::Digits(a, s, k), Place::Digits(b, d, l)) if a == b && k == l => d > s,
-        (Place::Digits(a, ..), Place::Digits(b, ..)) if a == b => {
-            // Units of different sizes over the same bits (BMOV only, at
-            // most 512 units): read them all first (BMOV is 16-bit, so
-            // they fit in i16).
-            let n = n.min(MAX_BLOCK_UNITS);
-            let mut values = [0i16; MAX_BLOCK_UNITS as usize];
-            for (unit, value) in (0..n).zip(values.iter_mut()) {
-                *value = source.nth(unit, width).read(mem, width) as i16;
+    let backwards = match (storage(source), storage(destination)) {
+        (Some(a), Some(b)) if a == b => match (units(source), units(destination)) {
+            (Some((kind, size, s)), Some((other, other_size, d))) if kind == other && size == other_size => d > s,
+            // Units of different kinds over the same array: read them all
+            // first. Only BMOV moves within one array, at most 512 units.
+            (Some(_) | None, Some(_) | None) => {
+                let n = n.min(MAX_BLOCK_UNITS);
+                let mut values = [0i32; MAX_BLOCK_UNITS as usize];
+                for (unit, value) in (0..n).zip(values.iter_mut()) {
+                    *value = source.nth(unit, width).read(mem, width);
+                }
+                for (unit, value) in (0..n).zip(values) {
+                    destination.nth(unit, width).write(mem, width, i64::from(value));
+                }
+                return;
             }
-            for (unit, value) in (0..n).zip(values) {
-                destination.nth(unit, width).write(mem, width, i64::from(value));
-            }
-            return;
-        }
-        // Different areas never overlap.
-        _ => false,
+        },
+        // Different arrays of the image (or a constant) never overlap.
+        (Some(_) | None, Some(_) | None) => false,
     };
     let mut copy = |unit: u32| {
         let value = i64::from(source.nth(unit, width).read(mem, width));
@@ -65,6 +66,29 @@ pub fn block_move(mem: &mut ImageMut<'_>, source: Place, destination: Place, n: 
         (0..n).rev().for_each(&mut copy);
     } else {
         (0..n).for_each(&mut copy);
+    }
+}
+
+/// The array of the image a place's units lie in (`None`: a constant).
+fn storage(place: Place) -> Option<Array> {
+    match place {
+        Place::Constant(_) => None,
+        Place::Word(area, _) | Place::WordBit(area, _) => Some(Array::of_words(area)),
+        Place::WideCounter(_) => Some(Array::WideCounterValue),
+        Place::Digits(area, ..) | Place::Bit(area, _) => Some(Array::of_bits(area)),
+    }
+}
+
+/// A place's units as (kind, size, first): two runs of the same kind and
+/// size in one array overlap as their firsts say.
+fn units(place: Place) -> Option<(u8, u32, u32)> {
+    match place {
+        Place::Constant(_) => None,
+        Place::Word(_, first) => Some((0, 1, first)),
+        Place::WideCounter(first) => Some((1, 1, first)),
+        Place::Digits(_, first, digits) => Some((2, u32::from(digits), first)),
+        Place::Bit(_, first) => Some((3, 1, first)),
+        Place::WordBit(_, first) => Some((4, 1, first)),
     }
 }
 
@@ -608,6 +632,52 @@ mod tests {
             false,
         );
         assert_eq!(mem.digits(BitArea::M, 104, 4), Some(0x0A05));
+    }
+
+    /// Each unit of the source as it was before the move, written in order:
+    /// what a block move means, however the runs overlap.
+    fn moved_as_a_whole(mem: &mut Memory, source: Place, destination: Place, n: u32) -> Box<Memory> {
+        let mut expected = Memory::new_boxed();
+        bytemuck::bytes_of_mut(&mut *expected).copy_from_slice(bytemuck::bytes_of(&*mem));
+        let values: Vec<i32> = (0..n)
+            .map(|unit| source.nth(unit, Width::Single).read(&expected.image(), Width::Single))
+            .collect();
+        for (unit, value) in (0..n).zip(values) {
+            destination
+                .nth(unit, Width::Single)
+                .write(&mut expected.image(), Width::Single, i64::from(value));
+        }
+        block_move(&mut mem.image(), source, destination, n, Width::Single, false);
+        expected
+    }
+
+    #[test]
+    fn block_moves_over_one_array_in_different_units_overlap_as_a_whole() {
+        let cases = [
+            // A word and the bits of words of the same area, both ways.
+            (Place::Word(WordArea::D, 0), Place::WordBit(WordArea::D, 8), 12),
+            (Place::WordBit(WordArea::D, 4), Place::Word(WordArea::D, 0), 20),
+            // Digit groups and single relays of the same area, both ways.
+            (Place::Digits(BitArea::M, 0, 2), Place::Bit(BitArea::M, 3), 10),
+            (Place::Bit(BitArea::M, 2), Place::Digits(BitArea::M, 0, 1), 6),
+            // The same kind and size, overlapping forwards and backwards.
+            (Place::WordBit(WordArea::D, 0), Place::WordBit(WordArea::D, 5), 30),
+            (Place::Bit(BitArea::M, 9), Place::Bit(BitArea::M, 2), 30),
+        ];
+        for (source, destination, n) in cases {
+            let mut mem = Memory::new_boxed();
+            for (k, word) in mem.d[..4].iter_mut().enumerate() {
+                *word = [0x1234, -0x5A5B, 0x0F0F, 0x7001][k];
+            }
+            for (k, relay) in mem.m[..40].iter_mut().enumerate() {
+                *relay = u8::from((k * 7 + 3) % 5 < 2);
+            }
+            let expected = moved_as_a_whole(&mut mem, source, destination, n);
+            assert!(
+                bytemuck::bytes_of(&*mem) == bytemuck::bytes_of(&*expected),
+                "{source:?} -> {destination:?} x{n}"
+            );
+        }
     }
 
     #[test]

@@ -64,7 +64,7 @@ pub enum Array {
     PulsesPending,
     /// Rising edges of X0-X7 the latest input refresh saw (u32).
     InputEdges,
-    /// The state of each instruction that keeps one (`InstanceState`, 16 bytes).
+    /// The state of each instruction that keeps one (`InstanceState`, 24 bytes).
     Instance,
     /// The instance driving pulse output Y0-Y3, plus one; 0 when free (u32).
     PulseOwner,

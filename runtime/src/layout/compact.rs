@@ -119,7 +119,17 @@ impl LayoutBuilder {
     pub fn build(&self) -> Layout {
         let mut runs = [Run::default(); SEGMENT_COUNT];
         let mut offset = ARRAYS_START;
-        for size in [16, 4, 2, 1] {
+        // Every element size there is, largest first (an array whose size
+        // were missing here would be left out of every compact image).
+        let mut sizes = [0usize; SEGMENT_COUNT];
+        for (size, segment) in sizes.iter_mut().zip(SEGMENTS.iter()) {
+            *size = segment.array.size();
+        }
+        sizes.sort_unstable_by(|a, b| b.cmp(a));
+        for (k, &size) in sizes.iter().enumerate() {
+            if k > 0 && sizes[k - 1] == size {
+                continue;
+            }
             for (s, segment) in SEGMENTS.iter().enumerate() {
                 let (first, end) = self.windows[s];
                 if segment.array.size() != size || first >= end {
@@ -145,6 +155,17 @@ impl LayoutBuilder {
 mod tests {
     use super::*;
     use crate::layout::FULL;
+
+    #[test]
+    fn every_array_can_be_held() {
+        for array in Array::ALL {
+            let mut builder = LayoutBuilder::new();
+            builder.include_whole(array);
+            let layout = builder.build();
+            assert!(layout.is_valid(), "{array:?}");
+            assert!(layout.whole(array).is_some(), "{array:?} is left out of compact images");
+        }
+    }
 
     #[test]
     fn compact_layouts_hold_what_was_asked_and_pack_it() {

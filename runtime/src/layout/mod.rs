@@ -33,13 +33,13 @@ pub const LAYOUT_VERSION: u32 = 6;
 /// (`ladder_rt_begin_scan_<tag>`), so that an object linked against a runtime
 /// with other rules fails to link instead of corrupting memory. Change it
 /// whenever an offset changes; `layout_fingerprint_is_recorded` insists.
-pub const LAYOUT_TAG: &str = "v6_666532";
+pub const LAYOUT_TAG: &str = "v6_668580";
 
 /// The begin-scan entry compiled objects call; carries the layout tag.
-pub const TAGGED_BEGIN_SCAN: &str = "ladder_rt_begin_scan_v6_666532";
+pub const TAGGED_BEGIN_SCAN: &str = "ladder_rt_begin_scan_v6_668580";
 
 /// The end-scan entry compiled objects call; carries the layout tag.
-pub const TAGGED_END_SCAN: &str = "ladder_rt_end_scan_v6_666532";
+pub const TAGGED_END_SCAN: &str = "ladder_rt_end_scan_v6_668580";
 
 /// `ImageHeader::magic` of an image with the full layout ("LDRF").
 pub const FULL_MAGIC: u32 = u32::from_le_bytes(*b"LDRF");
@@ -340,7 +340,7 @@ mod tests {
     fn layout_fingerprint_is_recorded() {
         assert_eq!(
             fingerprint(),
-            "68,324,580,9092,13188,14212,14724,14980,32004,34052,99588,100612,101012,101236,101268,102292,102804,103060,107156,111252,127636,127700,127764,128020,128276,128532,128788,137300,137812,138068,138100,138132,142228,142244,142260,16,20,24,28,32,36,40,44,48,52,56,60,64,48,666532",
+            "68,324,580,9092,13188,14212,14724,14980,32004,34052,99588,100612,101012,101236,101268,102292,102804,103060,107156,111252,127636,127700,127764,128020,128276,128532,128788,137300,137812,138068,138100,138132,144276,144292,144308,16,20,24,28,32,36,40,44,48,52,56,60,64,48,668580",
             "the memory layout changed: bump LAYOUT_TAG (and the tagged symbol) and record the new fingerprint"
         );
         assert_eq!(TAGGED_BEGIN_SCAN, format!("ladder_rt_begin_scan_{LAYOUT_TAG}"));
@@ -372,7 +372,7 @@ mod tests {
             assert_eq!(FULL.offset(array, array.end()), None);
         }
         assert_eq!(SEGMENT_COUNT, 35 + 3 + 3 + 7);
-        assert_eq!(size_of::<InstanceState>(), 16);
+        assert_eq!(size_of::<InstanceState>(), 24);
     }
 
     fn buffer_index(unit: u32, word: u32) -> usize {

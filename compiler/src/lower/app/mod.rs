@@ -267,9 +267,15 @@ impl Step<'_, '_> {
     }
 
     /// The number an address names as an I32, its in-range test (from
-    /// `first` up to `len`) noted as an operand that is read.
+    /// `first` up to `len`, exclusive) noted as an operand that is read — for
+    /// a device named directly too: an operand whose range is narrower than
+    /// its device class (STMR's T0-T199) compiles, and fails when it runs.
     pub fn address_number(&mut self, address: Address, first: u32, len: u32) -> Value {
         let Some(register) = address.index_register else {
+            if !(first..len).contains(&address.index) {
+                let outside = self.b().bit(false);
+                self.note_read_check(outside);
+            }
             return self.b().constant(Type::I32, i64::from(address.index));
         };
         let index = self.l.indexed(address.index, register);

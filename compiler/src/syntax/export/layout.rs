@@ -124,8 +124,8 @@ pub fn detect(text: &str) -> Option<Layout> {
 }
 
 /// Does `text` look like rows of fields (most lines hold three or more tabs
-/// or commas), whether or not `detect` found an instruction list in them?
-/// The line of the first such row.
+/// or commas, or two after a step number), whether or not `detect` found an
+/// instruction list in them? The line of the first such row.
 pub fn tabular(text: &str) -> Option<usize> {
     let lines: Vec<(usize, &str)> = text
         .lines()
@@ -135,7 +135,16 @@ pub fn tabular(text: &str) -> Option<usize> {
         .collect();
     let rows: Vec<usize> = lines
         .iter()
-        .filter(|(_, l)| l.matches('\t').count() >= 3 || l.matches(',').count() >= 3)
+        .filter(|(_, l)| {
+            let separators = l.matches('\t').count().max(l.matches(',').count());
+            // Three fields are a row too when the first is a step number
+            // (`000000,LD,M1002`, as Delta's WPLSoft lists steps).
+            let numbered = l
+                .split(['\t', ','])
+                .next()
+                .is_some_and(|step| !step.trim().is_empty() && step.trim().bytes().all(|b| b.is_ascii_digit()));
+            separators >= 3 || (separators >= 2 && numbered)
+        })
         .map(|&(i, _)| i)
         .collect();
     (rows.len() >= 2 && 2 * rows.len() >= lines.len()).then(|| rows[0])
