@@ -8,7 +8,7 @@ use ladder_runtime::device::{index_register_word, COUNTER_COUNT, FIRST_WIDE_COUN
 use ladder_runtime::{BitArea, Device, Width, WordArea};
 
 /// A device named by a host, with the width its value has.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct HostDevice {
     pub device: Device,
     pub width: Width,

@@ -315,3 +315,41 @@ proptest! {
         prop_assert!(faults.is_ok(), "{}", faults.unwrap_err());
     }
 }
+
+/// The drawing says what the program says: an FX-style program that closes
+/// its STL blocks with the next STL draws no RET for them (fx_station has
+/// one RET, at the end of its step ladder), and `OUT Sn` inside a block
+/// (a transfer, as SET) is drawn as the coil it was written as.
+#[test]
+fn fx_step_ladders_are_drawn_as_written() {
+    let path = workspace().join("testsuite/programs/fx/fx_station.il");
+    let source = SourceFile::read(&path).unwrap();
+    let (program, diagnostics) = compile_source(&source);
+    let program = program.unwrap_or_else(|| panic!("{diagnostics:?}"));
+    let svg = ladderc::ladder::svg::render(&ladderc::ladder::build(&program, &source), &program);
+    let written = source
+        .text
+        .lines()
+        .filter(|l| l.split_whitespace().next() == Some("RET"))
+        .count();
+    assert_eq!(written, 1);
+    assert_eq!(svg.matches(">RET<").count(), written, "one RET, as written");
+
+    let text = "LD M8002\nSET S20\nSTL S20\nLD X0\nOUT S21\nSTL S21\nLD X1\nSET S20\nRET\n";
+    let source = SourceFile::new("out_state.il", text);
+    let (program, diagnostics) = compile_source(&source);
+    let program = program.unwrap_or_else(|| panic!("{diagnostics:?}"));
+    let ladder = ladderc::ladder::build(&program, &source);
+    let svg = ladderc::ladder::svg::render(&ladder, &program);
+    // SET is a box (`SET` and its operand); OUT S21 a coil with the name.
+    assert_eq!(
+        svg.matches(">SET<").count(),
+        2,
+        "both SET S20 stay SET, OUT S21 is no SET:\n{svg}"
+    );
+    assert_eq!(svg.matches(">S21<").count(), 2, "STL S21 and the coil S21:\n{svg}");
+    assert_eq!(svg.matches(">RET<").count(), 1);
+    // Read back as IL, the drawing is the same program.
+    let back = ladderc::ladder::to_il(&ladder, &program);
+    assert!(back.contains("OUT S21") && back.matches("RET").count() == 1, "{back}");
+}

@@ -68,6 +68,17 @@ fn import_refuses_other_cpus_and_exports_that_do_not_compile() {
         1,
         "one error, not a cascade:\n{stderr}"
     );
+    assert!(!stderr.contains("warning["), "the one thing reported:\n{stderr}");
+    // A step list of three fields (Delta's WPLSoft) is one E0048, not an
+    // error per row.
+    let delta = dir.path().join("delta.csv");
+    let rows: String = (0..38).map(|step| format!("{step:06},LD,M{}\n", 1000 + step)).collect();
+    std::fs::write(&delta, rows).unwrap();
+    let output = ladderc(&["check", delta.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(stderr.matches("error[").count(), 1, "{stderr}");
+    assert!(stderr.contains("E0048") && stderr.contains("WPLSoft"), "{stderr}");
     // Readable rows, but a program that does not compile: nothing written.
     let broken = dir.path().join("broken.csv");
     std::fs::write(&broken, "0,,LD,X0,,,,,\n1,,FROBNICATE,Y0,,,,,\n2,,END,,,,,,\n").unwrap();

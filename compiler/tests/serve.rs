@@ -182,7 +182,12 @@ fn values_are_pushed_as_server_sent_events() {
     let server = Server::start(&["--http", "127.0.0.1:0"]);
     let mut stream = std::net::TcpStream::connect(server.web.unwrap()).unwrap();
     stream.set_read_timeout(Some(Duration::from_secs(10))).unwrap();
-    write!(stream, "GET /api/events?watch=Y0,TN0 HTTP/1.1\r\nHost: test\r\n\r\n").unwrap();
+    write!(
+        stream,
+        "GET /api/events?watch=Y0,TN0 HTTP/1.1\r\nHost: {}\r\n\r\n",
+        server.web.unwrap()
+    )
+    .unwrap();
     let events: Vec<serde_json::Value> = BufReader::new(stream)
         .lines()
         .map_while(Result::ok)
@@ -387,7 +392,12 @@ fn the_trend_gets_every_scan() {
     let server = Server::start_with(COUNTING);
     let mut stream = std::net::TcpStream::connect(server.web.unwrap()).unwrap();
     stream.set_read_timeout(Some(Duration::from_secs(10))).unwrap();
-    write!(stream, "GET /api/events?watch=D0 HTTP/1.1\r\nHost: test\r\n\r\n").unwrap();
+    write!(
+        stream,
+        "GET /api/events?watch=D0 HTTP/1.1\r\nHost: {}\r\n\r\n",
+        server.web.unwrap()
+    )
+    .unwrap();
     let events: Vec<serde_json::Value> = BufReader::new(stream)
         .lines()
         .map_while(Result::ok)
@@ -551,13 +561,13 @@ fn online_change_swaps_programs_under_load_and_keeps_memory() {
 
 #[test]
 fn a_changed_program_file_is_swapped_in() {
-    let server = Server::start(&["--http", "127.0.0.1:0", "--watch-file"]);
+    let server = Server::start(&["--http", "127.0.0.1:0", "--watch-file", "--watch-settle-ms", "200"]);
     let web = server.web.unwrap();
     let program = server.dir.path().join("plc.il");
     std::thread::sleep(Duration::from_millis(50));
     // A version that does not compile changes nothing.
     std::fs::write(&program, "LD X0\nOUTT Y0\n").unwrap();
-    std::thread::sleep(Duration::from_millis(500));
+    std::thread::sleep(Duration::from_millis(1000));
     std::fs::write(&program, "LD SM0\nMOV K99 D9\n").unwrap();
     let mut value = serde_json::Value::Null;
     for _ in 0..50 {
@@ -574,6 +584,46 @@ fn a_changed_program_file_is_swapped_in() {
         stderr.contains("does not compile; the running program goes on"),
         "{stderr}"
     );
+}
+
+#[test]
+fn a_program_file_is_taken_only_once_it_has_stopped_changing() {
+    let server = Server::start(&["--http", "127.0.0.1:0", "--watch-file", "--watch-settle-ms", "1000"]);
+    let web = server.web.unwrap();
+    let program = server.dir.path().join("plc.il");
+    std::thread::sleep(Duration::from_millis(50));
+    // An editor saves in two parts; the first part alone compiles (and
+    // would run without the second's rungs).
+    let first = "LD M8000\nOUT Y1\n";
+    std::fs::write(&program, first).unwrap();
+    std::thread::sleep(Duration::from_millis(500));
+    std::fs::write(&program, format!("{first}LD M8000\nOUT Y2\n")).unwrap();
+    let swapped = || {
+        json(&http(web, "GET", "/api/control", "").1)["program"]
+            .as_u64()
+            .unwrap()
+    };
+    let deadline = std::time::Instant::now() + Duration::from_secs(10);
+    while swapped() == 0 {
+        assert!(std::time::Instant::now() < deadline, "the whole file is taken");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    std::thread::sleep(Duration::from_millis(1500));
+    assert_eq!(
+        swapped(),
+        1,
+        "one program swapped in: the whole file, not its first part"
+    );
+    let devices = json(&http(web, "GET", "/api/devices?watch=Y1,Y2", "").1);
+    assert_eq!(
+        (devices["devices"]["Y1"].as_i64(), devices["devices"]["Y2"].as_i64()),
+        (Some(1), Some(1))
+    );
+    // Saved again unchanged: nothing is swapped.
+    std::fs::write(&program, format!("{first}LD M8000\nOUT Y2\n")).unwrap();
+    std::thread::sleep(Duration::from_millis(2000));
+    assert_eq!(swapped(), 1, "the same text again is no change");
+    server.stop();
 }
 
 /// An independent Modbus client: mbpoll from Debian's package.
@@ -684,7 +734,7 @@ fn uploads_are_read_as_files_are() {
     stream.set_read_timeout(Some(Duration::from_secs(20))).unwrap();
     write!(
         stream,
-        "POST /api/program HTTP/1.1\r\nHost: test\r\nContent-Length: {}\r\nConnection: close\r\n\r\n",
+        "POST /api/program HTTP/1.1\r\nHost: {web}\r\nContent-Type: application/octet-stream\r\nContent-Length: {}\r\nConnection: close\r\n\r\n",
         body.len()
     )
     .unwrap();

@@ -38,7 +38,7 @@ async def main(url, user, password):
         out["folders"] = sorted([(await f.read_browse_name()).Name for f in await plc.get_children()])
         node = lambda name: client.get_node(f"ns={ns};s={name}")
         out["types"] = {}
-        for name in ["X0", "D0", "D10:32", "D20:float", "TN0"]:
+        for name in ["X0", "D0", "D10:32", "D20:float", "TN0", "T0", "C0"]:
             out["types"][name] = (await node(name).read_data_type_as_variant_type()).name
         out["D0"] = await node("D0").read_value()
         out["write_X0"] = await write(node("X0"), True, ua.VariantType.Boolean)
@@ -102,7 +102,7 @@ fn start(extra: &[&str]) -> Server {
         .unwrap();
     let address = free.to_string();
     let mut args = vec!["--http", "127.0.0.1:0", "--opcua", &address, "--opcua-devices"];
-    args.push("X0..X7,Y0..Y7,TN0,D0..D9,D10:32,D20:float,D30");
+    args.push("X0..X7,Y0..Y7,T0,TN0,C0,D0..D9,D10:32,D20:float,D30");
     args.extend_from_slice(extra);
     let server = Server::start_program(PROGRAM, &args);
     std::fs::write(server.dir.path().join("opcua.address"), &address).unwrap();
@@ -115,11 +115,18 @@ fn an_opcua_client_browses_reads_writes_and_subscribes() {
     let Some(seen) = client("an_opcua_client_browses_reads_writes_and_subscribes", &server, None) else {
         return;
     };
-    assert_eq!(seen["folders"], serde_json::json!(["D", "TN", "X", "Y"]), "{seen}");
+    assert_eq!(
+        seen["folders"],
+        serde_json::json!(["C", "D", "T", "TN", "X", "Y"]),
+        "{seen}"
+    );
     assert_eq!(seen["types"]["X0"], "Boolean", "{seen}");
     assert_eq!(seen["types"]["D0"], "Int16", "{seen}");
     assert_eq!(seen["types"]["D10:32"], "Int32", "{seen}");
     assert_eq!(seen["types"]["D20:float"], "Float", "{seen}");
+    // A timer's and a counter's contact are T0 and C0, as the docs name them.
+    assert_eq!(seen["types"]["T0"], "Boolean", "{seen}");
+    assert_eq!(seen["types"]["C0"], "Boolean", "{seen}");
     assert!(seen["D0"].as_i64().unwrap() > 0, "D0 counts scans: {seen}");
     for write in ["write_X0", "write_D10", "write_D20"] {
         assert_eq!(seen[write], "Good", "{write}: {seen}");

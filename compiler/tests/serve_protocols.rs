@@ -132,7 +132,7 @@ fn token_file(dir: &std::path::Path, token: &str) -> String {
 /// stream), read alone.
 fn status_of_stream(address: SocketAddr, path: &str) -> u16 {
     let mut stream = connect(address);
-    write!(stream, "GET {path} HTTP/1.1\r\nHost: test\r\n\r\n").unwrap();
+    write!(stream, "GET {path} HTTP/1.1\r\nHost: {address}\r\n\r\n").unwrap();
     let mut buffer = [0u8; 64];
     let read = stream.read(&mut buffer).unwrap_or(0);
     parse_response(&String::from_utf8_lossy(&buffer[..read])).0
@@ -327,7 +327,8 @@ fn https_serves_the_api_with_rustls() {
     let mut tls = rustls::StreamOwned::new(connection, connect(web));
     write!(
         tls,
-        "GET /api/stats HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n"
+        "GET /api/stats HTTP/1.1\r\nHost: localhost:{}\r\nConnection: close\r\n\r\n",
+        web.port()
     )
     .unwrap();
     let mut response = Vec::new();

@@ -129,7 +129,7 @@ fn soak() {
                 stream.set_read_timeout(Some(Duration::from_millis(500))).unwrap();
                 write!(
                     stream,
-                    "GET /api/events?watch=D0..D255,Y0..Y7 HTTP/1.1\r\nHost: soak\r\n\r\n"
+                    "GET /api/events?watch=D0..D255,Y0..Y7 HTTP/1.1\r\nHost: {web}\r\n\r\n"
                 )
                 .unwrap();
                 let mut buffer = vec![0u8; 64 * 1024];

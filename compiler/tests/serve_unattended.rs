@@ -114,6 +114,45 @@ fn latch_chooses_the_kept_ranges() {
     server.stop();
 }
 
+#[test]
+fn a_narrower_latch_restores_only_its_ranges_and_a_cut_short_save_is_cleaned_up() {
+    let dir = tempfile::tempdir().unwrap();
+    let retain = dir.path().join("plc.retain");
+    // Saved with FX3U's ranges: D200-D7999 among them.
+    let server = start(&retain, &[]);
+    let web = server.web.unwrap();
+    first_scans(web);
+    assert_eq!(
+        http(web, "POST", "/api/set", r#"{"device":"D300","value":"77"}"#).0,
+        200
+    );
+    let deadline = Instant::now() + Duration::from_secs(5);
+    while value(web, "D300") != 77 {
+        assert!(Instant::now() < deadline, "D300 is written");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    server.stop();
+    // A save cut short by a kill leaves its temporary file.
+    let leftover = dir.path().join("plc.retain.tmp");
+    std::fs::write(&leftover, b"half a save").unwrap();
+    let server = start(&retain, &["--latch", "D200-D299"]);
+    let web = server.web.unwrap();
+    first_scans(web);
+    assert_eq!(value(web, "D300"), 0, "D300 is not latched now: not restored");
+    assert!(value(web, "D200") > 0, "D200 is latched: restored");
+    let said = server.said.join("\n");
+    assert!(said.contains("restored D200-D299"), "{said}");
+    assert!(said.contains("D300-D7999") && said.contains("not restored"), "{said}");
+    assert!(said.contains("removed") && !leftover.exists(), "{said}");
+    server.stop();
+    // `none`: nothing comes back.
+    let server = start(&retain, &["--latch", "none"]);
+    let web = server.web.unwrap();
+    first_scans(web);
+    assert!(value(web, "D200") < 100, "D200 restarted with --latch none");
+    server.stop();
+}
+
 /// `serve --retain FILE` where FILE cannot be used: the exit status, what
 /// it said; the server must end by itself.
 fn refused(retain: &Path) -> (Option<i32>, String) {

@@ -12,7 +12,7 @@ use crate::layout::Array;
 use crate::memory::{join_words, split_words, Memory};
 
 /// One device a host can read or write.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Device {
     Bit(BitArea, u32),
     Word(WordArea, u32),

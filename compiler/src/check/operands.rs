@@ -500,6 +500,15 @@ pub fn high_speed_counter(operand: &Operand) -> Resolved<CounterRef> {
 /// (INCD S2): C0..C198.
 pub fn counter_pair(operand: &Operand) -> Resolved<CounterRef> {
     let (number, address) = counter_number(operand, "a counter such as C0")?;
+    if number >= FIRST_WIDE_COUNTER {
+        // A 32-bit counter where 16-bit ones are driven: the operand's kind
+        // (E0003), as anywhere a 16-bit counter is asked for.
+        return Err(kind_error(
+            operand,
+            format!("C{number} is a 32-bit counter; this instruction drives two 16-bit counters (C0..C198)"),
+            "32-bit counter",
+        ));
+    }
     check_extent(
         operand,
         || format!("C{number}"),

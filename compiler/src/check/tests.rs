@@ -93,6 +93,18 @@ fn an_stl_closes_the_open_block() {
 }
 
 #[test]
+fn other_dialects_get_the_fx_spelling_rather_than_a_near_mnemonic() {
+    let (_, diagnostics) = compile("LD X0\nTMR T0 K100\n");
+    assert_eq!(diagnostics[0].code, Code::UnknownMnemonic);
+    assert!(
+        diagnostics[0].notes.iter().any(|n| n.contains("OUT T0 K100")),
+        "{:?}",
+        diagnostics[0].notes
+    );
+    assert!(!diagnostics[0].notes.iter().any(|n| n.contains("TTMR")));
+}
+
+#[test]
 fn unknown_mnemonics_get_a_suggestion() {
     let (_, diagnostics) = compile("LDD X0\nOUT Y0\n");
     assert_eq!(diagnostics[0].code, Code::UnknownMnemonic);

@@ -91,7 +91,7 @@ pub enum Command {
         code: Option<String>,
     },
     /// Run the program as a soft PLC: scans in real time, serves Modbus TCP.
-    Serve(serve::ServeArgs),
+    Serve(Box<serve::ServeArgs>),
     /// Print a shell completion script: `ladderc completions bash > /etc/bash_completion.d/ladderc`.
     Completions {
         /// The shell.

@@ -42,9 +42,14 @@ pub struct ServeArgs {
     #[arg(long, value_name = "ADDRESS:PORT")]
     http: Option<SocketAddr>,
     /// Swap the program in online whenever its file changes (devices,
-    /// timers, forces and edge values kept).
+    /// timers, forces and edge values kept), once it has stopped changing
+    /// for --watch-settle-ms and compiles.
     #[arg(long)]
     watch_file: bool,
+    /// How long the program file must stay unchanged before --watch-file
+    /// takes it (an editor may write a file in parts).
+    #[arg(long, default_value_t = 3000, value_name = "MS")]
+    watch_settle_ms: u64,
     /// Refuse every write (Modbus exception 01, HTTP 403).
     #[arg(long)]
     read_only: bool,
@@ -65,7 +70,8 @@ pub struct ServeArgs {
     retain_ms: u32,
     /// The latched ranges, as the FX parameters set them (default: FX3U's
     /// M500-M7679, S500-S4095, T246-T255, C100-C199, C220-C255,
-    /// D200-D7999 and all of R), e.g. `M500-M1023,D200-D511`, or `none`.
+    /// D200-D7999 and all of R), e.g. `M500-M1023,D200-D511`, or `none`:
+    /// what --retain keeps, and what STOP→RUN does not clear.
     #[arg(long, value_name = "RANGES")]
     latch: Option<String>,
     /// Run the scan thread at real-time priority (SCHED_FIFO) with the
@@ -83,6 +89,36 @@ pub struct ServeArgs {
     /// HTTP reads need the token too (the page itself stays open).
     #[arg(long, requires = "token_file")]
     token_reads: bool,
+    /// A host name HTTP requests may name besides the address the server
+    /// listens on (`NAME`: on any port, `NAME:PORT`: on that one;
+    /// repeatable or comma-separated): the name a reverse proxy forwards,
+    /// or the machine's own name. Other names are refused,
+    /// so that a web page cannot reach the server through a name it
+    /// controls (DNS rebinding).
+    #[arg(long, value_name = "NAME[:PORT]")]
+    allowed_host: Vec<String>,
+    /// Host writes (devices) that may wait for the next scan; a write
+    /// beyond gets Modbus exception 06 (busy), HTTP 503 or OPC UA
+    /// BadTooManyOperations. A write of a device already waiting replaces it.
+    #[arg(long, default_value_t = crate::serve::Limits::default().queued_writes, value_name = "N")]
+    max_queued_writes: usize,
+    /// Modbus TCP connections served at once; a new client gets the place
+    /// of the connection idle longest (idle for a second at least).
+    #[arg(long, default_value_t = crate::serve::Limits::default().modbus.connections, value_name = "N")]
+    max_modbus_connections: usize,
+    /// A Modbus TCP connection that sends no request for this long is closed.
+    #[arg(long, default_value_t = crate::serve::Limits::default().modbus.idle.as_secs(), value_name = "SECONDS")]
+    modbus_idle_s: u64,
+    /// HTTP connections served at once; a new client gets the place of the
+    /// connection idle longest (idle for a second at least).
+    #[arg(long, default_value_t = crate::serve::Limits::default().http.connections, value_name = "N")]
+    max_http_connections: usize,
+    /// An HTTP connection on which nothing moves for this long is closed.
+    #[arg(long, default_value_t = crate::serve::Limits::default().http.idle.as_secs(), value_name = "SECONDS")]
+    http_idle_s: u64,
+    /// Event streams (monitor pages, trends) served at once.
+    #[arg(long, default_value_t = crate::serve::Limits::default().event_streams, value_name = "N")]
+    max_event_streams: usize,
     /// Serve HTTPS with this certificate chain (PEM); needs --tls-key.
     #[arg(long, value_name = "FILE", requires = "tls_key")]
     tls_cert: Option<PathBuf>,
@@ -133,10 +169,6 @@ pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
     };
     if args.opcua_devices.is_some() && args.opcua.is_none() {
         say_err!("error: --opcua-devices names what --opcua ADDRESS publishes; add --opcua");
-        return status::UNUSABLE;
-    }
-    if args.latch.is_some() && args.retain.is_none() {
-        say_err!("error: --latch names the devices --retain FILE keeps; add --retain");
         return status::UNUSABLE;
     }
     if !(10..=3_600_000).contains(&args.retain_ms) {
@@ -201,10 +233,12 @@ pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
         http: args.http,
         read_only: args.read_only,
         watch_file: args.watch_file.then(|| args.program.clone()),
-        retain: args
-            .retain
-            .clone()
-            .map(|path| crate::serve::retain::RetainFile { path, ranges }),
+        watch_settle: Duration::from_millis(args.watch_settle_ms),
+        retain: args.retain.clone().map(|path| crate::serve::retain::RetainFile {
+            path,
+            ranges: ranges.clone(),
+        }),
+        latched: ranges,
         retain_interval: Duration::from_millis(u64::from(args.retain_ms)),
         realtime: args.realtime,
         modbus_write_from,
@@ -212,6 +246,22 @@ pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
             token,
             token_reads: args.token_reads,
             read_only: args.read_only,
+            hosts: args.http.map_or_else(Default::default, |address| {
+                crate::serve::access::Hosts::of(address, args.tls_cert.is_some(), &args.allowed_host)
+            }),
+        },
+        limits: crate::serve::Limits {
+            queued_writes: args.max_queued_writes,
+            modbus: crate::serve::modbus_tcp::ConnectionLimits {
+                connections: args.max_modbus_connections,
+                idle: Duration::from_secs(args.modbus_idle_s.max(1)),
+            },
+            http: crate::serve::guard::Bounds {
+                connections: args.max_http_connections,
+                idle: Duration::from_secs(args.http_idle_s.max(1)),
+                stall: crate::serve::guard::STALL,
+            },
+            event_streams: args.max_event_streams,
         },
         tls: args.tls_cert.clone().zip(args.tls_key.clone()),
         opcua: args.opcua,

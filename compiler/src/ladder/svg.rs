@@ -88,13 +88,19 @@ fn render_states(ladder: &Ladder, program: &CheckedProgram, states: States) -> S
 /// Rung number `index` as an SVG document of its own (for pages that show
 /// rungs one by one; the page supplies `STYLE`).
 pub fn rung_document(index: usize, rung: &Rung, laid: &RungLayout) -> String {
+    rung_drawing(index, rung, laid).0
+}
+
+/// A rung's `<svg>` and its height in pixels.
+pub fn rung_drawing(index: usize, rung: &Rung, laid: &RungLayout) -> (String, u32) {
     let width = MARGIN + laid.columns * CELL + 24;
     let mut body = String::new();
     let height = rung_svg(&mut body, index, rung, laid, GAP / 2, None) + GAP;
-    format!(
+    let drawing = format!(
         "<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"ladder\" id=\"rung-{index}\" width=\"{width}\" \
          height=\"{height}\" viewBox=\"0 0 {width} {height}\">{body}</svg>"
-    )
+    );
+    (drawing, height)
 }
 
 /// A line that says what a rung is for: its first comment, else what it
@@ -294,16 +300,17 @@ fn cell_svg(out: &mut String, cell: &Cell, left: u32, wire: u32, state: Option<&
             escape(content)
         );
     };
-    let value_slot = |out: &mut String, slot: usize, x: u32| {
+    let value_at = |out: &mut String, slot: usize, x: u32, anchor: &str| {
         let value = state
             .and_then(|s| s.values.get(slot))
             .map_or(String::new(), |v| escape(v.as_str()).into_owned());
         let _ = write!(
             out,
-            "<text class=\"value\" data-slot=\"{slot}\" x=\"{x}\" y=\"{}\" text-anchor=\"middle\">{value}</text>",
+            "<text class=\"value\" data-slot=\"{slot}\" x=\"{x}\" y=\"{}\" text-anchor=\"{anchor}\">{value}</text>",
             wire + 24
         );
     };
+    let value_slot = |out: &mut String, slot: usize, x: u32| value_at(out, slot, x, "middle");
     let wire_to = |out: &mut String, from: u32, to: u32| {
         let _ = write!(
             out,
@@ -439,7 +446,10 @@ fn cell_svg(out: &mut String, cell: &Cell, left: u32, wire: u32, state: Option<&
                         wire + 22,
                         escape(preset.as_str())
                     );
-                    value_slot(out, 0, middle);
+                    // The preset ends left of the coil and the current value
+                    // starts right of it, so that neither runs into the other
+                    // however long they are.
+                    value_at(out, 0, middle + 14, "start");
                 }
                 None => value_slot(out, 0, middle),
             }

@@ -1,7 +1,7 @@
 //! `ladderc test`: scenario files run against every engine (SCENARIO.md).
 
 mod drive;
-mod parse;
+pub mod parse;
 mod run;
 
 pub use drive::{drive, Observer, ERROR_CODE, ERROR_FLAG, ERROR_LINE};

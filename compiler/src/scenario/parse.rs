@@ -312,7 +312,7 @@ fn parse_steps(path: &Path, text: &str) -> Result<(Option<ProgramSource>, Vec<St
 
 /// A real number: decimal (`1.5`, `-2.5e3`) or in E notation
 /// (`E1.234+3`).
-fn real(text: &str) -> Result<f32, String> {
+pub fn real(text: &str) -> Result<f32, String> {
     let bad = || format!("`{text}` is not a real number such as 1.5, -2.5e3 or E1.234+3");
     if text.starts_with(['E', 'e']) {
         return match crate::syntax::operand::parse_operand(text, 0) {

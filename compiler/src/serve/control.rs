@@ -4,8 +4,12 @@
 //!
 //! - STOP: no scans; every Y is turned OFF once (as an FX does in STOP),
 //!   timers hold (no scan advances them); host writes still apply.
-//! - RUN: scans go on from where STOP left the image (M8002 does not pulse
-//!   again); the first scan reports one period, not the time stopped.
+//! - RUN: as an FX switched from STOP to RUN, the devices that are not
+//!   latched (`--latch`, FX3U's ranges by default) are cleared and the first
+//!   scan is the first again (M8002 ON for it, D8011/D8012 since RUN); the
+//!   inputs, forces, the clock and the modules' buffer memory stay. The
+//!   first scan reports one period, not the time stopped. RUN also ends a
+//!   pause.
 //! - Pause: no scans; host writes wait and take effect at the next step.
 //! - Step N: N scans, each reporting the configured period.
 //! - A breakpoint is a condition over devices (`Y2 == 1`, `D0 > 100`,
@@ -104,10 +108,43 @@ pub fn parse_condition(text: &str) -> Result<Condition, String> {
                     "`{text}` is not a condition: write DEVICE == VALUE (==, !=, <, <=, >, >=) or DEVICE rises/falls"
                 ));
             };
-            let (name, value) = (&joined[..at], &joined[at + symbol.len()..]);
+            let (name, written) = (&joined[..at], &joined[at + symbol.len()..]);
             let device = device(name)?;
-            let value = parse_value(value, device)?;
-            Ok(Condition::Compare(device, relation, value))
+            let value = parse_value(written, device)?;
+            // The device reads as a signed value: a value written above its
+            // signed range is its bit pattern (H8F2A, 40000 == -25536) where
+            // it is compared for equality, and a condition that no value of
+            // the device can meet is refused rather than never pausing.
+            let bits = device.bits();
+            let (min, max) = if bits == 1 {
+                (0i64, 1i64)
+            } else {
+                (-(1i64 << (bits - 1)), (1i64 << (bits - 1)) - 1)
+            };
+            let value = i64::from(value);
+            let value = match relation {
+                Relation::Equal | Relation::NotEqual if bits > 1 && value > max && value < (1i64 << bits) => {
+                    value - (1i64 << bits)
+                }
+                Relation::Equal
+                | Relation::NotEqual
+                | Relation::Less
+                | Relation::LessOrEqual
+                | Relation::Greater
+                | Relation::GreaterOrEqual => value,
+            };
+            let possible = match relation {
+                Relation::Equal => (min..=max).contains(&value),
+                Relation::NotEqual => true,
+                Relation::Less => value > min,
+                Relation::LessOrEqual => value >= min,
+                Relation::Greater => value < max,
+                Relation::GreaterOrEqual => value <= max,
+            };
+            if !possible {
+                return Err(format!("`{}` can never hold: {name} reads {min}..{max}", text.trim()));
+            }
+            Ok(Condition::Compare(device, relation, value as i32))
         }
     }
 }
@@ -225,6 +262,24 @@ mod tests {
         for bad in ["D0", "D0 >", "Q0 == 1", "D0 == x", "M5 jumps", ""] {
             assert!(parse_condition(bad).is_err(), "{bad}");
         }
+        // Conditions no value of the device can meet.
+        for never in [
+            "D0 > 40000",
+            "D0 > 32767",
+            "D0 < -32768",
+            "D0 == 65536",
+            "Y0 > 1",
+            "Y0 < 0",
+            "Y0 == 2",
+            "D0:32 > 2147483647",
+        ] {
+            assert!(parse_condition(never).is_err(), "{never}");
+        }
+        // A word's bit pattern, compared for equality.
+        assert!(matches!(
+            parse_condition("D0 == H8F2A"),
+            Ok(Condition::Compare(_, Relation::Equal, -28886))
+        ));
     }
 
     #[test]

@@ -49,9 +49,58 @@ pub async fn ladder(State(app): State<App>) -> Response {
                 app.shared.swaps().to_string(),
             ),
         ],
-        view.fragment.clone(),
+        view.fragment(),
     )
         .into_response()
+}
+
+/// The most rung drawings one request may ask for.
+const MOST_DRAWINGS: usize = 500;
+
+/// What the page needs to place every rung before it has any drawing: the
+/// program, the drawing's style and each rung's height.
+pub async fn ladder_outline(State(app): State<App>) -> Response {
+    let Some(view) = app.shared.view() else {
+        return error(StatusCode::SERVICE_UNAVAILABLE, "no program runs yet");
+    };
+    Json(json!({
+        "program": app.shared.swaps(),
+        "style": crate::ladder::svg::STYLE,
+        "heights": view.heights,
+    }))
+    .into_response()
+}
+
+#[derive(serde::Deserialize)]
+pub struct Window {
+    /// The first rung.
+    from: Option<usize>,
+    /// How many rungs (at most 500).
+    count: Option<usize>,
+}
+
+/// The drawings of a window of rungs: `{program, from, drawings: [svg...]}`.
+pub async fn ladder_rungs(
+    State(app): State<App>,
+    query: Result<Query<Window>, axum::extract::rejection::QueryRejection>,
+) -> Response {
+    let Ok(Query(window)) = query else {
+        return error(StatusCode::BAD_REQUEST, "the query is not `from=N&count=N`");
+    };
+    let Some(view) = app.shared.view() else {
+        return error(StatusCode::SERVICE_UNAVAILABLE, "no program runs yet");
+    };
+    let from = window.from.unwrap_or(0);
+    let count = window.count.unwrap_or(50);
+    if count > MOST_DRAWINGS {
+        return error(
+            StatusCode::BAD_REQUEST,
+            format!("at most {MOST_DRAWINGS} rungs at a time"),
+        );
+    }
+    let end = from.saturating_add(count).min(view.drawings.len());
+    let drawings = view.drawings.get(from..end).unwrap_or(&[]);
+    Json(json!({ "program": app.shared.swaps(), "from": from, "drawings": drawings })).into_response()
 }
 
 #[derive(serde::Deserialize)]
@@ -121,7 +170,14 @@ pub async fn set_control(
     {
         let mut control = app.shared.control();
         match body.action.to_ascii_lowercase().as_str() {
-            "run" => control.stopped = false,
+            // RUN is RUN: it also ends a pause (and pending steps), as the
+            // switch on a PLC would.
+            "run" => {
+                control.stopped = false;
+                control.paused = false;
+                control.steps = 0;
+                control.hit = None;
+            }
             "stop" => control.stopped = true,
             "pause" => control.paused = true,
             "resume" => {

@@ -104,6 +104,7 @@ pub fn http_request(data: &[u8]) {
             .map(|_| "0123456789abcdef".to_string()),
         token_reads: data.get(1).is_some_and(|b| b & 2 != 0),
         read_only: data.get(1).is_some_and(|b| b & 4 != 0),
+        hosts: super::access::Hosts::of(([127, 0, 0, 1], 8080).into(), false, &[]),
     };
     let router = super::http::router(started(), false).layer(axum::middleware::from_fn_with_state(
         Arc::new(access),

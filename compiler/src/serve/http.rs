@@ -48,6 +48,8 @@ pub fn router(shared: Arc<Shared>, native: bool) -> Router {
         .route("/api/stats/reset", post(reset_stats))
         .route("/api/ladder", get(super::debug::ladder))
         .route("/api/ladder/state", get(super::debug::ladder_state))
+        .route("/api/ladder/outline", get(super::debug::ladder_outline))
+        .route("/api/ladder/rungs", get(super::debug::ladder_rungs))
         .route(
             "/api/control",
             get(super::debug::control).post(super::debug::set_control),
@@ -66,6 +68,20 @@ pub fn router(shared: Arc<Shared>, native: bool) -> Router {
                 .layer(DefaultBodyLimit::max(PROGRAM_LIMIT)),
         )
         .with_state(App { shared, native })
+}
+
+/// The answer to a write when the queue of writes for the next scan is
+/// full (the PLC is paused, or a client writes faster than it scans).
+fn busy() -> Response {
+    let mut response = error(
+        StatusCode::SERVICE_UNAVAILABLE,
+        "too many writes are waiting for the next scan; try again",
+    );
+    response.headers_mut().insert(
+        axum::http::header::RETRY_AFTER,
+        axum::http::HeaderValue::from_static("1"),
+    );
+    response
 }
 
 /// A JSON error with its HTTP status.
@@ -224,8 +240,16 @@ async fn events(
         Ok(watched) => watched,
         Err(message) => return error(StatusCode::BAD_REQUEST, message),
     };
-    let recorder = app.shared.record(watched.iter().map(|w| w.signal.device).collect());
+    let Some(recorder) = app.shared.record(watched.iter().map(|w| w.signal.device).collect()) else {
+        return error(
+            StatusCode::SERVICE_UNAVAILABLE,
+            "too many event streams are open (--max-event-streams); close one and try again",
+        );
+    };
     let ticks = tokio_stream::wrappers::IntervalStream::new(tokio::time::interval(PUSH_PERIOD));
+    // A client that took nothing for a while was dropped: its stream ends.
+    let alive = Arc::clone(&recorder);
+    let ticks = futures_util::StreamExt::take_while(ticks, move |_| std::future::ready(!alive.dropped()));
     let stream = futures_util::StreamExt::map(ticks, move |_| {
         let mut value = snapshot(&app.shared, &watched);
         let (samples, lost) = recorder.take();
@@ -270,7 +294,9 @@ async fn unforce_all(State(app): State<App>) -> Response {
         }
     }
     let count = writes.len();
-    app.shared.queue(writes);
+    if !app.shared.queue(writes) {
+        return busy();
+    }
     Json(json!({ "unforced": count })).into_response()
 }
 
@@ -309,8 +335,19 @@ struct Write {
 
 /// The device of a write request and its value (as text or number).
 fn parse_write(body: &Write) -> Result<(HostDevice, Option<i32>), String> {
-    // `D20:32` names the pair, as in the watch list.
+    // `D20:32` names the pair, as in the watch list; `D20:float` the pair
+    // holding a real number (as OPC UA writes it).
     let name = body.device.trim();
+    if let Some(bare) = name.strip_suffix(":float") {
+        let device = parse_device(bare, true)?;
+        let value = match &body.value {
+            None | Some(Value::Null) => None,
+            Some(Value::Number(n)) => n.as_f64(),
+            Some(Value::String(text)) => Some(f64::from(crate::scenario::parse::real(text.trim())?)),
+            Some(other) => return Err(format!("`{other}` is not a real number")),
+        };
+        return Ok((device, value.map(|v| (v as f32).to_bits() as i32)));
+    }
     let device = match name.strip_suffix(":32") {
         Some(bare) => parse_device(bare, true)?,
         None => parse_device(name, false)?,
@@ -352,7 +389,9 @@ fn queue(
     };
     match parse_write(&body).and_then(|(device, value)| make(device, value)) {
         Ok(write) => {
-            app.shared.queue(vec![write]);
+            if !app.shared.queue(vec![write]) {
+                return busy();
+            }
             Json(json!({ "queued": body.device })).into_response()
         }
         Err(message) => error(StatusCode::BAD_REQUEST, message),
@@ -408,11 +447,32 @@ struct Upload {
     allow_empty: Option<String>,
 }
 
+/// Content types a browser page may send without asking the server first
+/// (a CORS "simple" request): a program upload never has one of them (nor
+/// none), so no page of another origin can make one unasked.
+const SIMPLE_CONTENT_TYPES: [&str; 3] = ["text/plain", "application/x-www-form-urlencoded", "multipart/form-data"];
+
 async fn program(
     State(app): State<App>,
+    headers: axum::http::HeaderMap,
     query: Result<Query<Upload>, axum::extract::rejection::QueryRejection>,
     body: Result<axum::body::Bytes, axum::extract::rejection::BytesRejection>,
 ) -> Response {
+    let content_type = headers
+        .get(axum::http::header::CONTENT_TYPE)
+        .and_then(|value| value.to_str().ok())
+        .map(|value| value.split(';').next().unwrap_or("").trim().to_ascii_lowercase());
+    if content_type
+        .as_deref()
+        .is_none_or(|kind| kind.is_empty() || SIMPLE_CONTENT_TYPES.contains(&kind))
+    {
+        return error(
+            StatusCode::UNSUPPORTED_MEDIA_TYPE,
+            "send the program with `Content-Type: application/octet-stream` (e.g. curl -H \
+             'Content-Type: application/octet-stream' --data-binary @prog.il URL/api/program); a type a browser \
+             page may send unasked is refused",
+        );
+    }
     let allow_empty = matches!(query, Ok(Query(Upload { allow_empty: Some(ref v) })) if v == "1" || v == "true");
     let bytes = match body {
         Ok(bytes) => bytes,

@@ -10,6 +10,7 @@ mod control;
 mod debug;
 #[doc(hidden)]
 pub mod fuzzing;
+pub mod guard;
 mod http;
 mod modbus;
 pub mod modbus_tcp;
@@ -29,6 +30,37 @@ use std::net::SocketAddr;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+/// What the servers hold at most, so that no client can make the soft PLC
+/// take memory or places without end (`serve --help` names the flags).
+#[derive(Clone, Copy, Debug)]
+pub struct Limits {
+    /// Host writes (devices) waiting for the next scan; beyond, Modbus
+    /// exception 06, HTTP 503, OPC UA BadTooManyOperations.
+    pub queued_writes: usize,
+    /// Modbus TCP connections, and how long one may be idle.
+    pub modbus: modbus_tcp::ConnectionLimits,
+    /// HTTP connections at once, how long one may be idle, how long a
+    /// write may wait for a client that does not read.
+    pub http: guard::Bounds,
+    /// Event streams at once.
+    pub event_streams: usize,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Limits {
+            queued_writes: shared::DEFAULT_QUEUED_WRITES,
+            modbus: modbus_tcp::ConnectionLimits::default(),
+            http: guard::Bounds {
+                connections: guard::MOST_CONNECTIONS,
+                idle: guard::IDLE,
+                stall: guard::STALL,
+            },
+            event_streams: shared::MOST_EVENT_STREAMS,
+        }
+    }
+}
+
 /// How `serve` runs.
 #[derive(Clone, Debug)]
 pub struct ServeOptions {
@@ -39,8 +71,13 @@ pub struct ServeOptions {
     pub engine: EngineKind,
     /// Online change when this program file changes on disk.
     pub watch_file: Option<std::path::PathBuf>,
+    /// How long the file must stay unchanged before it is taken.
+    pub watch_settle: Duration,
     /// Latched devices kept in this file (`--retain`).
     pub retain: Option<retain::RetainFile>,
+    /// The latched devices (`--latch`, else FX3U's): what the retain file
+    /// keeps, and what STOP→RUN does not clear.
+    pub latched: Vec<retain::LatchRange>,
     /// How often the retain file is written (and once more at stop).
     pub retain_interval: Duration,
     /// SCHED_FIFO and locked memory for the scan thread (`--realtime`).
@@ -49,6 +86,8 @@ pub struct ServeOptions {
     pub modbus_write_from: Vec<ipnet::IpNet>,
     /// Who may read and write over HTTP.
     pub access: access::Access,
+    /// What the servers hold at most (connections, queued writes, streams).
+    pub limits: Limits,
     /// HTTPS: the certificate chain and the private key (PEM files).
     pub tls: Option<(std::path::PathBuf, std::path::PathBuf)>,
     /// Serve OPC UA on this address.
@@ -68,27 +107,45 @@ pub fn serve(
     let shared = Arc::new(Shared::default());
     // A retain file that cannot be read stops everything before a scan.
     let restored = match &options.retain {
-        Some(file) => match file.load()? {
-            retain::Restored::Fresh => {
+        Some(file) => {
+            if file.remove_leftover() {
                 announce(&format!(
-                    "retain: {} does not exist yet; the latched devices start cleared",
-                    file.path.display()
+                    "retain: removed {}, left by a save that was cut short",
+                    file.temporary().display()
                 ));
-                Vec::new()
             }
-            retain::Restored::Values(records) => {
-                announce(&format!(
-                    "retain: restored {} from {}",
+            match file.load()? {
+                retain::Restored::Fresh => {
+                    announce(&format!(
+                        "retain: {} does not exist yet; the latched devices start cleared",
+                        file.path.display()
+                    ));
+                    Vec::new()
+                }
+                retain::Restored::Values(records) => {
+                    // Only what is latched now comes back (`--latch`).
+                    let (records, dropped) = retain::within(records, &file.ranges);
+                    let names = |ranges: &mut dyn Iterator<Item = retain::LatchRange>| {
+                        ranges.map(|range| range.to_string()).collect::<Vec<_>>().join(", ")
+                    };
+                    announce(&format!(
+                        "retain: restored {} from {}",
+                        match names(&mut records.iter().map(|(range, _)| *range)) {
+                            none if none.is_empty() => "nothing".to_string(),
+                            some => some,
+                        },
+                        file.path.display()
+                    ));
+                    if !dropped.is_empty() {
+                        announce(&format!(
+                            "retain: the file also holds {}, which are not latched now (--latch): not restored",
+                            names(&mut dropped.into_iter())
+                        ));
+                    }
                     records
-                        .iter()
-                        .map(|(range, _)| range.to_string())
-                        .collect::<Vec<_>>()
-                        .join(", "),
-                    file.path.display()
-                ));
-                records
+                }
             }
-        },
+        }
         None => Vec::new(),
     };
     let runtime = tokio::runtime::Builder::new_multi_thread()
@@ -127,12 +184,13 @@ pub fn serve(
     let (ready, started) = std::sync::mpsc::channel();
     let scanner = {
         let shared = Arc::clone(&shared);
+        let latched = options.latched.clone();
         let (period, kind, realtime) = (options.period, options.engine, options.realtime);
         std::thread::spawn(move || {
             for line in realtime::prepare_scan_thread(realtime) {
                 announce(&line);
             }
-            scan_loop(loaded, kind, (period, realtime), &restored, &shared, &ready)
+            scan_loop(loaded, kind, (period, realtime), (&restored, &latched), &shared, &ready)
         })
     };
     started
@@ -148,10 +206,21 @@ pub fn serve(
     if let Some(path) = options.watch_file.clone() {
         let shared = Arc::clone(&shared);
         let native = options.engine == EngineKind::Jit;
-        std::thread::spawn(move || watch_file(&path, &shared, native));
+        let settle = options.watch_settle;
+        std::thread::spawn(move || watch_file(&path, &shared, native, settle));
     }
     let read_only = options.read_only;
-    let access = options.access.clone();
+    let mut access = options.access.clone();
+    // Listening on port 0 (any free port): the host names carry the port
+    // the system chose.
+    if let Some(bound) = web.as_ref().and_then(|web| web.local_addr().ok()) {
+        if access.hosts.port == 0 {
+            access.hosts.port = bound.port();
+        }
+    }
+    let limits = options.limits;
+    shared.limit_writes(limits.queued_writes);
+    shared.limit_recorders(limits.event_streams);
     let modbus_write_from = options.modbus_write_from.clone();
     let native = options.engine == EngineKind::Jit;
     let served = Arc::clone(&shared);
@@ -159,21 +228,24 @@ pub fn serve(
         if let Some(listener) = listener {
             let shared = Arc::clone(&served);
             let write_from = modbus_write_from.clone();
-            tokio::spawn(modbus_tcp::serve(listener, move |peer| modbus::Service {
-                shared: Arc::clone(&shared),
-                may_write: !read_only
-                    && (peer.ip().to_canonical().is_loopback()
-                        || write_from.iter().any(|net| net.contains(&peer.ip().to_canonical()))),
+            tokio::spawn(modbus_tcp::serve(listener, limits.modbus, move |peer| {
+                modbus::Service {
+                    shared: Arc::clone(&shared),
+                    may_write: !read_only
+                        && (peer.ip().to_canonical().is_loopback()
+                            || write_from.iter().any(|net| net.contains(&peer.ip().to_canonical()))),
+                }
             }));
         }
         if let Some(web) = web {
             let app = http::router(Arc::clone(&served), native)
                 .layer(axum::middleware::from_fn_with_state(Arc::new(access), access::check));
-            let app = app.into_make_service_with_connect_info::<SocketAddr>();
             match tls {
                 Some(tls) => match web.into_std() {
                     Ok(web) => {
-                        let server = axum_server::from_tcp_rustls(web, tls);
+                        let app = app.into_make_service_with_connect_info::<SocketAddr>();
+                        let guard = guard::GuardAcceptor::new(limits.http);
+                        let server = axum_server::from_tcp_rustls(web, tls).map(|rustls| rustls.acceptor(guard));
                         tokio::spawn(async move {
                             let _ = server.serve(app).await;
                         });
@@ -184,6 +256,8 @@ pub fn serve(
                     }
                 },
                 None => {
+                    let app = app.into_make_service_with_connect_info::<guard::Peer>();
+                    let web = guard::GuardedListener::new(web, limits.http);
                     tokio::spawn(async move {
                         let _ = axum::serve(web, app).await;
                     });
@@ -313,20 +387,43 @@ fn keep_retained(file: &retain::RetainFile, interval: Duration, shared: &Shared)
 /// `--watch-file`: when the program file changes, compiles it and offers it
 /// for online change; a version that does not compile is reported on
 /// stderr and the running program goes on.
-fn watch_file(path: &std::path::Path, shared: &Shared, native: bool) {
+fn watch_file(path: &std::path::Path, shared: &Shared, native: bool, settle: Duration) {
     // The length too: two writes within a coarse file-system clock tick.
     let modified = || std::fs::metadata(path).ok().map(|m| (m.modified().ok(), m.len()));
     let mut seen = modified();
+    let mut taken: Option<Vec<u8>> = std::fs::read(path).ok();
     while !shared.stopping() {
         std::thread::sleep(Duration::from_millis(200));
         let now = modified();
         if now == seen {
             continue;
         }
-        seen = now;
-        let Ok(source) = crate::source::SourceFile::read(path) else {
+        // A change: taken only once the file has stopped changing for
+        // `settle` (an editor may write a file in parts; a part that
+        // happens to compile must not run).
+        let mut last = now;
+        let mut still_since = Instant::now();
+        while still_since.elapsed() < settle {
+            if shared.stopping() {
+                return;
+            }
+            std::thread::sleep(Duration::from_millis(100));
+            let now = modified();
+            if now != last {
+                last = now;
+                still_since = Instant::now();
+            }
+        }
+        seen = last;
+        let Ok(bytes) = std::fs::read(path) else {
             continue;
         };
+        // Saved again as it was: nothing to change.
+        if taken.as_deref() == Some(bytes.as_slice()) {
+            continue;
+        }
+        taken = Some(bytes.clone());
+        let source = crate::source::SourceFile::from_bytes(path.display().to_string(), &bytes);
         let (program, diagnostics) = crate::check::compile_source(&source);
         let shown = crate::diagnostics::render_all(&source, &diagnostics, crate::diagnostics::Shown::default());
         if program.is_some() && drives_nothing(&diagnostics) {
@@ -424,7 +521,7 @@ fn scan_loop(
     first: change::Loaded,
     kind: EngineKind,
     (period, realtime): (Duration, bool),
-    restored: &[(retain::LatchRange, Vec<i32>)],
+    (restored, latched): (&[(retain::LatchRange, Vec<i32>)], &[retain::LatchRange]),
     shared: &Shared,
     ready: &std::sync::mpsc::Sender<Result<(), String>>,
 ) {
@@ -488,7 +585,7 @@ fn scan_loop(
                 started = true;
                 let _ = ready.send(Ok(()));
             }
-            let next = run(engine.as_mut(), &mut clock, shared);
+            let next = run(engine.as_mut(), &mut clock, shared, latched);
             (next, engine.image().map(|m| Box::new(*m)))
         };
         let (Some(next), Some(last_image)) = (next, last_image) else {
@@ -512,7 +609,12 @@ enum Due {
 }
 
 /// Scans until stopped (None) or offered a new program (between two scans).
-fn run(engine: &mut dyn Engine, clock: &mut Clock, shared: &Shared) -> Option<change::Loaded> {
+fn run(
+    engine: &mut dyn Engine,
+    clock: &mut Clock,
+    shared: &Shared,
+    latched: &[retain::LatchRange],
+) -> Option<change::Loaded> {
     let mut was_stopped = false;
     while !shared.stopping() {
         // Sleeps until the absolute deadline of the next scan; a stop, a
@@ -570,7 +672,17 @@ fn run(engine: &mut dyn Engine, clock: &mut Clock, shared: &Shared) -> Option<ch
                 idle(clock, began);
                 continue;
             }
-            Due::Scan { .. } => was_stopped = false,
+            Due::Scan { .. } => {
+                // STOP→RUN as an FX does it: the non-latched devices
+                // cleared, and the first scan the first again (M8002).
+                if was_stopped {
+                    if let Some(image) = engine.image() {
+                        let fresh = retain::restart(image, latched);
+                        engine.load_image(&fresh);
+                    }
+                }
+                was_stopped = false;
+            }
         }
         let Due::Scan { step } = due else { continue };
         let late = began.saturating_duration_since(clock.due);
@@ -597,8 +709,13 @@ fn run(engine: &mut dyn Engine, clock: &mut Clock, shared: &Shared) -> Option<ch
         }
         let took = began.elapsed();
         clock.due += clock.period;
-        let overrun = Instant::now() > clock.due;
-        if overrun {
+        let overrun = !step && Instant::now() > clock.due;
+        if step {
+            // Steps run back to back: the next scan is due a period after
+            // this one, not a period for every step taken (a resume after
+            // `step 1000` would wait 1000 periods).
+            idle(clock, Instant::now());
+        } else if overrun {
             // Behind: the next scan starts now, not in a burst.
             clock.due = Instant::now();
         }

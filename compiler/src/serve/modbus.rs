@@ -42,7 +42,7 @@ pub struct Service {
 
 impl Service {
     pub fn respond(&self, request: Request<'_>) -> Result<Response, ExceptionCode> {
-        use ExceptionCode::{IllegalDataAddress, IllegalFunction};
+        use ExceptionCode::{IllegalDataAddress, IllegalFunction, ServerDeviceBusy};
         let writes = matches!(
             request,
             Request::WriteSingleCoil(..)
@@ -67,9 +67,14 @@ impl Service {
                 .map(|&w| w as u16)
                 .collect()
         };
+        // A full queue of writes for the next scan (a paused PLC, a client
+        // writing faster than it scans): exception 06, server device busy.
         let write = |writes: Vec<HostWrite>| -> Result<(), ExceptionCode> {
-            self.shared.queue(writes);
-            Ok(())
+            if self.shared.queue(writes) {
+                Ok(())
+            } else {
+                Err(ServerDeviceBusy)
+            }
         };
         match request {
             Request::ReadDiscreteInputs(address, count) => {

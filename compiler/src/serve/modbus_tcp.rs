@@ -16,6 +16,12 @@
 //!   outside 2-254: the connection is closed (a TCP stream cannot find the
 //!   next frame after a length it cannot trust), as is a frame that does
 //!   not arrive whole within `FRAME_TIMEOUT`.
+//!
+//! Connections are bounded (`ConnectionLimits`): one that sends no request
+//! for the idle time is closed, and a new client that finds every place
+//! taken gets the place of the connection idle longest (when that one has
+//! been idle for a second at least), so idle or abandoned connections never
+//! lock a working client out.
 
 use super::modbus::Service;
 use std::borrow::Cow;
@@ -30,8 +36,49 @@ pub const HEADER_LEN: usize = 7;
 const MAX_PDU_LEN: usize = 253;
 /// A frame that has started must be complete within this time.
 const FRAME_TIMEOUT: Duration = Duration::from_secs(5);
-/// Connections served at once; more are closed as they arrive.
+/// Connections served at once by default.
 pub const MOST_CONNECTIONS: usize = 64;
+/// How long a connection may send nothing, by default.
+pub const IDLE_TIMEOUT: Duration = Duration::from_secs(60);
+/// A connection idle this long gives its place to a new client when every
+/// place is taken.
+const YIELDS_AFTER: Duration = Duration::from_secs(1);
+
+/// How many connections are served, and how long one may be idle.
+#[derive(Clone, Copy, Debug)]
+pub struct ConnectionLimits {
+    pub connections: usize,
+    pub idle: Duration,
+}
+
+impl Default for ConnectionLimits {
+    fn default() -> Self {
+        ConnectionLimits {
+            connections: MOST_CONNECTIONS,
+            idle: IDLE_TIMEOUT,
+        }
+    }
+}
+
+/// A served connection, as the acceptor sees it.
+struct Open {
+    /// When it last sent a whole request (or connected).
+    active: std::sync::Mutex<tokio::time::Instant>,
+    /// Told to close (its place goes to a new client).
+    close: tokio::sync::Notify,
+}
+
+impl Open {
+    fn idle(&self) -> Duration {
+        self.active.lock().map_or(Duration::ZERO, |at| at.elapsed())
+    }
+
+    fn touch(&self) {
+        if let Ok(mut at) = self.active.lock() {
+            *at = tokio::time::Instant::now();
+        }
+    }
+}
 
 /// What to do with the bytes of a frame.
 #[derive(Debug, PartialEq, Eq)]
@@ -176,15 +223,20 @@ pub fn answer(service: &Service, header: &[u8; HEADER_LEN], pdu: &[u8]) -> Vec<u
     frame
 }
 
-/// Serves one connection until the client closes it or sends what cannot
-/// be a frame.
-pub async fn serve_connection(mut stream: tokio::net::TcpStream, service: Service) {
+/// Serves one connection until the client closes it, sends what cannot be
+/// a frame, stays idle for `idle`, or `open` is told to close.
+async fn serve_connection(mut stream: tokio::net::TcpStream, service: Service, open: &Open, idle: Duration) {
     let _ = stream.set_nodelay(true);
     loop {
         let mut header_bytes = [0u8; HEADER_LEN];
-        // Waiting for a request may take any time; a started one may not.
-        if stream.read_exact(&mut header_bytes[..1]).await.is_err() {
-            return;
+        // Waiting for a request may take up to the idle time; a started one
+        // no longer than a frame may.
+        tokio::select! {
+            read = tokio::time::timeout(idle, stream.read_exact(&mut header_bytes[..1])) => match read {
+                Ok(Ok(_)) => {}
+                Ok(Err(_)) | Err(_) => return,
+            },
+            () = open.close.notified() => return,
         }
         let whole = async {
             stream.read_exact(&mut header_bytes[1..]).await?;
@@ -199,33 +251,70 @@ pub async fn serve_connection(mut stream: tokio::net::TcpStream, service: Servic
             Ok(Ok(Some(pdu))) => pdu,
             _ => return,
         };
+        open.touch();
         let reply = answer(&service, &header_bytes, &pdu);
-        if stream.write_all(&reply).await.is_err() {
+        if tokio::time::timeout(FRAME_TIMEOUT, stream.write_all(&reply))
+            .await
+            .is_err()
+        {
             return;
         }
     }
 }
 
 /// Accepts connections until the process ends; each is served on its own
-/// task with the write permission its peer address has.
+/// task with the write permission its peer address has, within `limits`.
 pub async fn serve(
     listener: tokio::net::TcpListener,
+    limits: ConnectionLimits,
     make_service: impl Fn(std::net::SocketAddr) -> Service + Send + 'static,
 ) {
-    let open = Arc::new(tokio::sync::Semaphore::new(MOST_CONNECTIONS));
+    let places = Arc::new(tokio::sync::Semaphore::new(limits.connections.max(1)));
+    let served: Arc<std::sync::Mutex<Vec<std::sync::Weak<Open>>>> = Arc::default();
     loop {
         let Ok((stream, peer)) = listener.accept().await else {
             // Out of file descriptors or similar: try again shortly.
             tokio::time::sleep(Duration::from_millis(50)).await;
             continue;
         };
-        let Ok(permit) = Arc::clone(&open).try_acquire_owned() else {
-            drop(stream);
-            continue;
+        let permit = match Arc::clone(&places).try_acquire_owned() {
+            Ok(permit) => permit,
+            Err(_) => {
+                // Every place is taken: the connection idle longest makes room
+                // if it has been idle a while; else the newcomer is closed.
+                let longest = served.lock().ok().and_then(|served| {
+                    served
+                        .iter()
+                        .filter_map(std::sync::Weak::upgrade)
+                        .max_by_key(|open| open.idle())
+                        .filter(|open| open.idle() >= YIELDS_AFTER)
+                });
+                let Some(longest) = longest else {
+                    drop(stream);
+                    continue;
+                };
+                longest.close.notify_one();
+                match tokio::time::timeout(Duration::from_secs(1), Arc::clone(&places).acquire_owned()).await {
+                    Ok(Ok(permit)) => permit,
+                    Ok(Err(_)) | Err(_) => {
+                        drop(stream);
+                        continue;
+                    }
+                }
+            }
         };
+        let open = Arc::new(Open {
+            active: std::sync::Mutex::new(tokio::time::Instant::now()),
+            close: tokio::sync::Notify::new(),
+        });
+        if let Ok(mut served) = served.lock() {
+            served.retain(|open| open.strong_count() > 0);
+            served.push(Arc::downgrade(&open));
+        }
         let service = make_service(peer);
+        let idle = limits.idle;
         tokio::spawn(async move {
-            serve_connection(stream, service).await;
+            serve_connection(stream, service, &open, idle).await;
             drop(permit);
         });
     }

@@ -272,10 +272,9 @@ pub fn start(
                     return StatusCode::BadIndexRangeInvalid;
                 }
                 match value.value.as_ref().and_then(|v| raw_of(kind, v)) {
-                    Some(raw) => {
-                        writer.queue(vec![HostWrite::Set(device, raw)]);
-                        StatusCode::Good
-                    }
+                    Some(raw) if writer.queue(vec![HostWrite::Set(device, raw)]) => StatusCode::Good,
+                    // The queue of writes for the next scan is full.
+                    Some(_) => StatusCode::BadTooManyOperations,
                     None => StatusCode::BadTypeMismatch,
                 }
             });
@@ -295,7 +294,18 @@ pub fn parse_devices(text: &str) -> Result<Vec<Signal>, String> {
     let mut devices = Vec::new();
     let mut seen = std::collections::HashSet::new();
     for entry in text.split(',').map(str::trim).filter(|e| !e.is_empty()) {
-        for signal in crate::cli::watch::parse_watch(entry)? {
+        for mut signal in crate::cli::watch::parse_watch(entry)? {
+            // Contacts of timers and counters are named as FX names them
+            // (T0, C0: the node `ns=2;s=T0`), not as a watch list shows them.
+            match signal.device.device {
+                Device::Bit(ladder_runtime::BitArea::TimerContact, n) => signal.name = format!("T{n}"),
+                Device::Bit(ladder_runtime::BitArea::CounterContact, n) => signal.name = format!("C{n}"),
+                Device::Bit(..)
+                | Device::Word(..)
+                | Device::WordBit(..)
+                | Device::Digits(..)
+                | Device::WideCounter(_) => {}
+            }
             if seen.insert(signal.name.clone()) {
                 devices.push(signal);
             }
@@ -313,6 +323,9 @@ mod tests {
 
     #[test]
     fn devices_get_their_types_and_folders() {
+        let contacts = parse_devices("T0,C3,TN0").unwrap();
+        let names: Vec<&str> = contacts.iter().map(|s| s.name.as_str()).collect();
+        assert_eq!(names, ["T0", "C3", "TN0"], "contacts as FX names them");
         let devices = parse_devices("X0..X1,D10,D20:32,D30:float,CN200,TN5").unwrap();
         let kinds: Vec<(String, Kind, String)> = devices
             .iter()

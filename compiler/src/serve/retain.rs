@@ -377,18 +377,35 @@ impl RetainFile {
         })
     }
 
-    /// Writes `image`'s latched devices: a temporary file beside the real
-    /// one, flushed, then renamed over it (and the directory flushed).
-    /// Writes `bytes` (the encoding of an image) as the file's contents.
+    /// The temporary file a save writes before it renames it over the real
+    /// one: `FILE.tmp`, beside it.
+    pub fn temporary(&self) -> PathBuf {
+        let mut name = self.path.file_name().unwrap_or_default().to_os_string();
+        name.push(".tmp");
+        self.path.with_file_name(name)
+    }
+
+    /// A temporary file a save cut short (the server killed while writing)
+    /// left behind: removed; whether there was one.
+    pub fn remove_leftover(&self) -> bool {
+        let leftover = self.temporary();
+        leftover.is_file() && std::fs::remove_file(&leftover).is_ok()
+    }
+
+    /// Writes `bytes` (the encoding of an image) as the file's contents: a
+    /// temporary file beside the real one, flushed, then renamed over it
+    /// (and the directory flushed).
     pub fn write(&self, bytes: &[u8]) -> std::io::Result<()> {
         let directory = match self.path.parent() {
             Some(parent) if !parent.as_os_str().is_empty() => parent.to_path_buf(),
             _ => PathBuf::from("."),
         };
-        let mut temporary = tempfile::NamedTempFile::new_in(&directory)?;
-        temporary.write_all(bytes)?;
-        temporary.as_file().sync_all()?;
-        temporary.persist(&self.path).map_err(|e| e.error)?;
+        let temporary = self.temporary();
+        let mut file = std::fs::File::create(&temporary)?;
+        file.write_all(bytes)?;
+        file.sync_all()?;
+        drop(file);
+        std::fs::rename(&temporary, &self.path)?;
         sync_directory(&directory);
         Ok(())
     }
@@ -409,6 +426,110 @@ pub fn apply(image: &mut Memory, records: &[(LatchRange, Vec<i32>)]) {
     for (range, values) in records {
         restore(image, *range, values);
     }
+}
+
+/// The parts of a file's `records` that lie in the configured `ranges`
+/// (a file written with wider ranges gives back only what is latched now),
+/// and the parts left out (to be said).
+#[allow(clippy::type_complexity)]
+pub fn within(
+    records: Vec<(LatchRange, Vec<i32>)>,
+    ranges: &[LatchRange],
+) -> (Vec<(LatchRange, Vec<i32>)>, Vec<LatchRange>) {
+    let mut kept = Vec::new();
+    let mut dropped = Vec::new();
+    for (record, values) in records {
+        let per = record.kind.values_per_device();
+        let mut covered: Vec<(u32, u32)> = Vec::new();
+        for range in ranges.iter().filter(|r| r.kind == record.kind) {
+            let (first, end) = (record.first.max(range.first), record.end.min(range.end));
+            if first < end {
+                let from = (first - record.first) as usize * per;
+                let to = (end - record.first) as usize * per;
+                if let Some(part) = values.get(from..to) {
+                    kept.push((
+                        LatchRange {
+                            kind: record.kind,
+                            first,
+                            end,
+                        },
+                        part.to_vec(),
+                    ));
+                    covered.push((first, end));
+                }
+            }
+        }
+        // What of the record no configured range covers.
+        covered.sort_unstable();
+        let mut at = record.first;
+        for (first, end) in covered {
+            if first > at {
+                dropped.push(LatchRange {
+                    kind: record.kind,
+                    first: at,
+                    end: first,
+                });
+            }
+            at = at.max(end);
+        }
+        if at < record.end {
+            dropped.push(LatchRange {
+                kind: record.kind,
+                first: at,
+                end: record.end,
+            });
+        }
+    }
+    (kept, dropped)
+}
+
+/// The devices an FX keeps at STOP→RUN: the latched ranges. Everything
+/// else of the program's devices is cleared, as an FX clears its
+/// non-latched devices when it switches to RUN; what belongs to the
+/// machine around the program stays (the inputs as the host set them,
+/// forces, the clock, the modules' buffer memory), and the first scan is
+/// the first again (M8002 ON, D8011/D8012 since RUN).
+pub fn restart(image: &Memory, ranges: &[LatchRange]) -> Box<Memory> {
+    let mut fresh = Memory::new_boxed();
+    let kept: Vec<(LatchRange, Vec<i32>)> = ranges.iter().map(|&range| (range, collect(image, range))).collect();
+    apply(&mut fresh, &kept);
+    fresh.input_image = image.input_image;
+    fresh.x = image.x;
+    fresh.forced_count = image.forced_count;
+    fresh.force_x = image.force_x;
+    fresh.force_y = image.force_y;
+    fresh.force_m = image.force_m;
+    fresh.force_timer = image.force_timer;
+    fresh.force_counter = image.force_counter;
+    // A forced device keeps its forced value.
+    for (n, &force) in image.force_m.iter().enumerate() {
+        if force != ladder_runtime::memory::FORCE_NONE {
+            fresh.m[n] = image.m[n];
+        }
+    }
+    for (n, &force) in image.force_y.iter().enumerate() {
+        if force != ladder_runtime::memory::FORCE_NONE {
+            fresh.y[n] = image.y[n];
+        }
+    }
+    for (n, &force) in image.force_timer.iter().enumerate() {
+        if force != ladder_runtime::memory::FORCE_NONE {
+            fresh.timer_contact[n] = image.timer_contact[n];
+        }
+    }
+    for (n, &force) in image.force_counter.iter().enumerate() {
+        if force != ladder_runtime::memory::FORCE_NONE {
+            fresh.counter_contact[n] = image.counter_contact[n];
+        }
+    }
+    fresh.calendar_seconds = image.calendar_seconds;
+    fresh.calendar_ms = image.calendar_ms;
+    fresh.calendar_flags = image.calendar_flags;
+    fresh.clock_ms = image.clock_ms;
+    fresh.d[8013..8020].copy_from_slice(&image.d[8013..8020]);
+    bytemuck::cast_slice_mut::<i16, u8>(&mut fresh.buffer[..])
+        .copy_from_slice(bytemuck::cast_slice::<i16, u8>(&image.buffer[..]));
+    fresh
 }
 
 #[cfg(test)]

@@ -13,9 +13,15 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Condvar, Mutex, MutexGuard, Weak};
 use std::time::{Duration, Instant};
 
-/// Samples a recorder keeps for its client at most (older ones are lost
-/// and counted).
-const RECORDER_CAPACITY: usize = 8192;
+/// Bytes of samples a recorder keeps for its client at most (older ones
+/// are lost and counted): at a 10 ms period and 256 watched devices, about
+/// two and a half seconds, twenty-five times the push period.
+const RECORDER_BYTES: usize = 1 << 20;
+/// Event streams served at once by default.
+pub const MOST_EVENT_STREAMS: usize = 64;
+/// A recorder whose client took nothing for this long is dropped (its
+/// samples freed, its stream ended): a client that does not read.
+pub const RECORDER_STALL: Duration = Duration::from_secs(10);
 
 /// The values of some devices after every scan, for one client's trend:
 /// the scan thread appends, the client takes them, so a pulse that lasts
@@ -23,7 +29,13 @@ const RECORDER_CAPACITY: usize = 8192;
 pub struct Recorder {
     pub devices: Vec<HostDevice>,
     samples: Mutex<VecDeque<Sample>>,
+    /// Samples kept at most (`RECORDER_BYTES` of them).
+    capacity: usize,
     lost: std::sync::atomic::AtomicU64,
+    /// When the client last took its samples.
+    taken: Mutex<Instant>,
+    /// Dropped for not taking them (`RECORDER_STALL`).
+    dropped: AtomicBool,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -37,8 +49,14 @@ pub struct Sample {
 impl Recorder {
     /// The samples since the last call, and how many were lost since.
     pub fn take(&self) -> (Vec<Sample>, u64) {
+        *lock(&self.taken) = Instant::now();
         let samples = std::mem::take(&mut *lock(&self.samples)).into();
         (samples, self.lost.swap(0, Ordering::Relaxed))
+    }
+
+    /// Whether the client was dropped for not reading (its stream ends).
+    pub fn dropped(&self) -> bool {
+        self.dropped.load(Ordering::Relaxed)
     }
 }
 
@@ -55,6 +73,95 @@ pub enum HostWrite {
     Force(ladder_runtime::BitArea, u32, bool),
     Unforce(ladder_runtime::BitArea, u32),
 }
+
+impl HostWrite {
+    /// What the write writes, whatever value: a later write with the same
+    /// key overwrites every byte this one wrote.
+    fn key(self) -> WriteKey {
+        match self {
+            HostWrite::Input(n, _) => WriteKey::Input(n),
+            HostWrite::Output(n, _) => WriteKey::Output(n),
+            HostWrite::Relay(n, _) => WriteKey::Relay(n),
+            HostWrite::Data(n, _) => WriteKey::Data(n),
+            HostWrite::Set(device, _) => WriteKey::Set(device),
+            HostWrite::Force(area, n, _) => WriteKey::Force(area, n),
+            HostWrite::Unforce(area, n) => WriteKey::Unforce(area, n),
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+enum WriteKey {
+    Input(u32),
+    Output(u32),
+    Relay(u32),
+    Data(u32),
+    Set(crate::host_device::HostDevice),
+    Force(ladder_runtime::BitArea, u32),
+    Unforce(ladder_runtime::BitArea, u32),
+}
+
+/// The host writes waiting for the next scan, in order. A write of what a
+/// waiting write writes (the same key) replaces it: between two scans only
+/// the last value of a device reaches the program, and writes that partly
+/// overlap keep their order, so the image after them is the same. So the
+/// queue holds at most one write per device, and at most `limit` of them
+/// (a client that writes faster than the PLC scans, or while it is
+/// paused, gets "busy" rather than memory without end).
+struct Pending {
+    writes: Vec<Option<HostWrite>>,
+    at: std::collections::HashMap<WriteKey, usize>,
+    limit: usize,
+}
+
+impl Pending {
+    fn new(limit: usize) -> Pending {
+        Pending {
+            writes: Vec::new(),
+            at: std::collections::HashMap::new(),
+            limit,
+        }
+    }
+
+    /// Queues all of `writes`, or none when they would leave more than
+    /// `limit` writes waiting.
+    fn push(&mut self, writes: &[HostWrite]) -> bool {
+        let new: std::collections::HashSet<WriteKey> = writes
+            .iter()
+            .map(|w| w.key())
+            .filter(|key| !self.at.contains_key(key))
+            .collect();
+        if self.at.len() + new.len() > self.limit {
+            return false;
+        }
+        for &write in writes {
+            if let Some(earlier) = self.at.insert(write.key(), self.writes.len()) {
+                self.writes[earlier] = None;
+            }
+            self.writes.push(Some(write));
+        }
+        // Replaced writes leave holes; closed up when they are the most, so
+        // that a client writing one device while the PLC is paused does not
+        // grow the queue.
+        if self.writes.len() > 2 * self.at.len() + 64 {
+            self.writes.retain(Option::is_some);
+            for (position, write) in self.writes.iter().enumerate() {
+                if let Some(write) = write {
+                    self.at.insert(write.key(), position);
+                }
+            }
+        }
+        true
+    }
+
+    fn take(&mut self) -> Vec<HostWrite> {
+        self.at.clear();
+        std::mem::take(&mut self.writes).into_iter().flatten().collect()
+    }
+}
+
+/// How many host writes (devices) may wait for the next scan by default.
+pub const DEFAULT_QUEUED_WRITES: usize = 65_536;
 
 /// Wake-up latencies the statistics keep for their percentiles: the
 /// latest minute at a 10 ms period.
@@ -141,13 +248,15 @@ pub struct Shared {
     pending: Mutex<Option<super::change::Loaded>>,
     /// Programs swapped in so far.
     swaps: std::sync::atomic::AtomicU64,
-    writes: Mutex<Vec<HostWrite>>,
+    writes: Mutex<Pending>,
     stats: Mutex<Stats>,
     stop: AtomicBool,
     control: Mutex<Control>,
     view: Mutex<Option<Arc<LadderView>>>,
     identity: Mutex<Option<Arc<super::change::Identity>>>,
     recorders: Mutex<Vec<Weak<Recorder>>>,
+    /// How many recorders (event streams) may exist at once.
+    most_recorders: std::sync::atomic::AtomicUsize,
     started: Instant,
     /// Some scan has published its image.
     published: AtomicBool,
@@ -165,13 +274,14 @@ impl Default for Shared {
             spare: Mutex::new(None),
             pending: Mutex::new(None),
             swaps: std::sync::atomic::AtomicU64::new(0),
-            writes: Mutex::new(Vec::new()),
+            writes: Mutex::new(Pending::new(DEFAULT_QUEUED_WRITES)),
             stats: Mutex::new(Stats::default()),
             stop: AtomicBool::new(false),
             control: Mutex::new(Control::default()),
             view: Mutex::new(None),
             identity: Mutex::new(None),
             recorders: Mutex::new(Vec::new()),
+            most_recorders: std::sync::atomic::AtomicUsize::new(MOST_EVENT_STREAMS),
             started: Instant::now(),
             published: AtomicBool::new(false),
             wake: Mutex::new(0),
@@ -226,12 +336,20 @@ impl Shared {
         self.published.load(Ordering::Acquire)
     }
 
-    pub fn queue(&self, writes: Vec<HostWrite>) {
-        lock(&self.writes).extend(writes);
+    /// Queues host writes for the next scan; false (none queued) when
+    /// the queue is full (`Pending`): the client is told the PLC is busy.
+    #[must_use]
+    pub fn queue(&self, writes: Vec<HostWrite>) -> bool {
+        lock(&self.writes).push(&writes)
+    }
+
+    /// How many devices may wait for the next scan (`--max-queued-writes`).
+    pub fn limit_writes(&self, limit: usize) {
+        lock(&self.writes).limit = limit.max(1);
     }
 
     pub fn take_writes(&self) -> Vec<HostWrite> {
-        std::mem::take(&mut *lock(&self.writes))
+        lock(&self.writes).take()
     }
 
     pub fn stats(&self) -> Stats {
@@ -343,23 +461,46 @@ impl Shared {
     }
 
     /// A recorder of `devices` after every scan from now on, until the
-    /// returned handle is dropped.
-    pub fn record(&self, devices: Vec<HostDevice>) -> Arc<Recorder> {
+    /// returned handle is dropped (or its client stops taking samples);
+    /// `None` when `--max-event-streams` recorders exist already.
+    pub fn record(&self, devices: Vec<HostDevice>) -> Option<Arc<Recorder>> {
+        let per_sample = size_of::<Sample>() + 4 * devices.len();
         let recorder = Arc::new(Recorder {
             devices,
             samples: Mutex::new(VecDeque::new()),
+            capacity: (RECORDER_BYTES / per_sample).max(16),
             lost: std::sync::atomic::AtomicU64::new(0),
+            taken: Mutex::new(Instant::now()),
+            dropped: AtomicBool::new(false),
         });
         let mut recorders = lock(&self.recorders);
         recorders.retain(|r| r.strong_count() > 0);
+        if recorders.len() >= self.most_recorders.load(Ordering::Relaxed) {
+            return None;
+        }
         recorders.push(Arc::downgrade(&recorder));
-        recorder
+        Some(recorder)
     }
 
-    /// Appends the values `image` holds after a scan to every recorder.
+    /// How many event streams may be served at once (`--max-event-streams`).
+    pub fn limit_recorders(&self, most: usize) {
+        self.most_recorders.store(most.max(1), Ordering::Relaxed);
+    }
+
+    /// Appends the values `image` holds after a scan to every recorder; a
+    /// recorder whose client took nothing for `RECORDER_STALL` is dropped.
     pub fn sample(&self, image: &Memory) {
         let time_ms = self.started.elapsed().as_millis() as u64;
-        let recorders = lock(&self.recorders);
+        let mut recorders = lock(&self.recorders);
+        recorders.retain(|weak| match weak.upgrade() {
+            Some(recorder) if lock(&recorder.taken).elapsed() >= RECORDER_STALL => {
+                recorder.dropped.store(true, Ordering::Relaxed);
+                *lock(&recorder.samples) = VecDeque::new();
+                false
+            }
+            Some(_) => true,
+            None => false,
+        });
         for recorder in recorders.iter().filter_map(Weak::upgrade) {
             let values = recorder
                 .devices
@@ -367,7 +508,7 @@ impl Shared {
                 .map(|d| image.read_device(d.device, d.width).unwrap_or(0))
                 .collect();
             let mut samples = lock(&recorder.samples);
-            if samples.len() >= RECORDER_CAPACITY {
+            if samples.len() >= recorder.capacity {
                 samples.pop_front();
                 recorder.lost.fetch_add(1, Ordering::Relaxed);
             }
@@ -386,5 +527,33 @@ impl Shared {
 
     pub fn stopping(&self) -> bool {
         self.stop.load(Ordering::Relaxed)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn waiting_writes_of_one_device_keep_the_last_and_the_queue_is_bounded() {
+        let mut pending = Pending::new(3);
+        assert!(pending.push(&[HostWrite::Data(0, 1), HostWrite::Data(1, 1)]));
+        assert!(pending.push(&[HostWrite::Data(0, 2), HostWrite::Input(3, true)]));
+        assert!(!pending.push(&[HostWrite::Data(2, 7)]), "a fourth device is refused");
+        assert!(pending.push(&[HostWrite::Data(1, 5)]), "a waiting device is replaced");
+        assert_eq!(
+            pending.take(),
+            [HostWrite::Data(0, 2), HostWrite::Input(3, true), HostWrite::Data(1, 5)]
+        );
+        assert!(pending.push(&[HostWrite::Data(2, 7)]), "empty again after a scan");
+        for value in 0..100_000 {
+            assert!(pending.push(&[HostWrite::Data(9, (value % 30_000) as i16)]));
+        }
+        assert!(
+            pending.writes.len() <= 2 * pending.at.len() + 65,
+            "{}",
+            pending.writes.len()
+        );
+        assert_eq!(pending.take(), [HostWrite::Data(2, 7), HostWrite::Data(9, 9_999)]);
     }
 }

@@ -1,6 +1,7 @@
 //! The ladder the monitor page shows: drawn once per program (when it is
-//! loaded, off the scan thread), then coloured from the published image
-//! for the rungs the page has on screen only.
+//! loaded, off the scan thread), handed to the page a window of rungs at a
+//! time, then coloured from the published image for the rungs the page has
+//! on screen only.
 
 use crate::ladder::{self, monitor::element_state, svg};
 use crate::program::CheckedProgram;
@@ -10,8 +11,11 @@ use serde_json::{json, Value};
 
 pub struct LadderView {
     pub program: CheckedProgram,
-    /// One `<svg>` per rung (`id="rung-N"`), with the drawing's style.
-    pub fragment: String,
+    /// One `<svg>` per rung (`id="rung-N"`).
+    pub drawings: Vec<String>,
+    /// Each drawing's height in pixels, so that the page can place a rung
+    /// before it has the drawing.
+    pub heights: Vec<u32>,
     /// The elements (instruction indices) of each rung.
     pub rungs: Vec<Vec<usize>>,
 }
@@ -19,18 +23,31 @@ pub struct LadderView {
 impl LadderView {
     pub fn new(program: &CheckedProgram, source: &SourceFile) -> LadderView {
         let diagram = ladder::build(program, source);
-        let mut fragment = format!("<style>{}</style>", svg::STYLE);
+        let mut drawings = Vec::with_capacity(diagram.rungs.len());
+        let mut heights = Vec::with_capacity(diagram.rungs.len());
         let mut rungs = Vec::with_capacity(diagram.rungs.len());
         for (index, rung) in diagram.rungs.iter().enumerate() {
             let laid = ladder::layout::layout(rung, program);
-            fragment.push_str(&svg::rung_document(index, rung, &laid));
+            let (drawing, height) = svg::rung_drawing(index, rung, &laid);
+            drawings.push(drawing);
+            heights.push(height);
             rungs.push(laid.cells.iter().map(|c| c.element.index).collect());
         }
         LadderView {
             program: program.clone(),
-            fragment,
+            drawings,
+            heights,
             rungs,
         }
+    }
+
+    /// Every rung as one HTML fragment, with the drawing's style.
+    pub fn fragment(&self) -> String {
+        let mut fragment = format!("<style>{}</style>", svg::STYLE);
+        for drawing in &self.drawings {
+            fragment.push_str(drawing);
+        }
+        fragment
     }
 
     /// The states of the elements of `rungs` in `image`: `[index, on, forced,

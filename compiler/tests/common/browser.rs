@@ -22,6 +22,11 @@ impl Browser {
     /// Chromium (installed from the distribution's packages when missing)
     /// showing `url` in a `width`×`height` window; `Err` says why not.
     pub fn open(url: &str, width: u32, height: u32) -> Result<Browser, String> {
+        Browser::open_with(url, width, height, &[])
+    }
+
+    /// `open` with more command-line switches (`--host-resolver-rules=...`).
+    pub fn open_with(url: &str, width: u32, height: u32, switches: &[&str]) -> Result<Browser, String> {
         super::tools::ensure("chromium", &["--version"], &["chromium"])?;
         let profile = tempfile::tempdir().map_err(|e| e.to_string())?;
         let mut child = Command::new("chromium")
@@ -33,8 +38,9 @@ impl Browser {
                 "--remote-debugging-port=0",
                 &format!("--window-size={width},{height}"),
                 &format!("--user-data-dir={}", profile.path().display()),
-                "about:blank",
             ])
+            .args(switches)
+            .arg("about:blank")
             .stdout(Stdio::null())
             .stderr(Stdio::piped())
             .spawn()

@@ -18,6 +18,8 @@ pub struct Server {
     pub web: Option<SocketAddr>,
     /// The directory of the program file (plc.il).
     pub dir: tempfile::TempDir,
+    /// What it printed before its addresses (`retain: ...` lines).
+    pub said: Vec<String>,
 }
 
 impl Server {
@@ -51,12 +53,14 @@ impl Server {
         let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
         // The first line that names an address of each kind (retain and
         // realtime lines may come before them).
+        let mut said = Vec::new();
         let mut find = |prefix: &str| -> SocketAddr {
             for line in lines.by_ref() {
                 let line = line.expect("text");
                 if let Some(address) = line.strip_prefix(prefix) {
                     return address.parse().unwrap();
                 }
+                said.push(line.clone());
                 assert!(
                     line.starts_with("retain: ") || line.starts_with("realtime: "),
                     "unexpected line before `{prefix}`: {line}"
@@ -78,6 +82,7 @@ impl Server {
             address,
             web,
             dir,
+            said,
         }
     }
 
@@ -112,8 +117,21 @@ pub fn http(address: SocketAddr, method: &str, path: &str, body: &str) -> (u16, 
 pub fn http_with(address: SocketAddr, method: &str, path: &str, body: &str, headers: &[&str]) -> (u16, String) {
     use std::io::{Read, Write};
     let extra: String = headers.iter().map(|h| format!("{h}\r\n")).collect();
+    // The server answers only to its own name: the address, unless the test
+    // names another host itself.
+    let given = |name: &str| headers.iter().any(|h| h.to_ascii_lowercase().starts_with(name));
+    let host = if given("host:") {
+        String::new()
+    } else {
+        format!("Host: {address}\r\n")
+    };
+    let content_type = if given("content-type:") {
+        ""
+    } else {
+        "Content-Type: application/json\r\n"
+    };
     let request = format!(
-        "{method} {path} HTTP/1.1\r\nHost: test\r\n{extra}Content-Type: application/json\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
+        "{method} {path} HTTP/1.1\r\n{host}{extra}{content_type}Content-Length: {}\r\nConnection: close\r\n\r\n{body}",
         body.len()
     );
     // A server may answer a body it refuses (413) before reading all of it
