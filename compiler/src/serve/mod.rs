@@ -17,6 +17,7 @@ pub mod modbus_tcp;
 mod opcua;
 mod realtime;
 pub mod retain;
+mod scan_lock;
 mod shared;
 mod view;
 

@@ -5,18 +5,21 @@
 //! trend, and the stop flag.
 
 use super::control::Control;
+use super::scan_lock::{lock, ScanGuard, ScanLock};
 use super::view::LadderView;
 use crate::host_device::HostDevice;
 use ladder_runtime::Memory;
 use std::collections::VecDeque;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, Condvar, Mutex, MutexGuard, Weak};
+use std::sync::{Arc, Condvar, Mutex, Weak};
 use std::time::{Duration, Instant};
 
 /// Bytes of samples a recorder keeps for its client at most (older ones
 /// are lost and counted): at a 10 ms period and 256 watched devices, about
 /// two and a half seconds, twenty-five times the push period.
 const RECORDER_BYTES: usize = 1 << 20;
+/// Images kept for publishing (the latest, and those readers may hold).
+const POOLED_IMAGES: usize = 4;
 /// Event streams served at once by default.
 pub const MOST_EVENT_STREAMS: usize = 64;
 /// A recorder whose client took nothing for this long is dropped (its
@@ -28,14 +31,24 @@ pub const RECORDER_STALL: Duration = Duration::from_secs(10);
 /// one scan is never lost between two pushes.
 pub struct Recorder {
     pub devices: Vec<HostDevice>,
-    samples: Mutex<VecDeque<Sample>>,
-    /// Samples kept at most (`RECORDER_BYTES` of them).
-    capacity: usize,
+    samples: ScanLock<Ring>,
     lost: std::sync::atomic::AtomicU64,
     /// When the client last took its samples.
-    taken: Mutex<Instant>,
+    taken: ScanLock<Instant>,
     /// Dropped for not taking them (`RECORDER_STALL`).
     dropped: AtomicBool,
+}
+
+/// A recorder's samples, in storage allocated once when the stream opens:
+/// the scan thread never allocates or frees for a trend (an allocator lock
+/// held by a server thread that the scheduler put aside cost a realtime
+/// scan several milliseconds under load).
+struct Ring {
+    /// Scan number and time of each sample kept (`RECORDER_BYTES` of them).
+    heads: VecDeque<(u64, u64)>,
+    /// Their values, one row of `devices.len()` per sample.
+    values: VecDeque<i32>,
+    capacity: usize,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -50,7 +63,17 @@ impl Recorder {
     /// The samples since the last call, and how many were lost since.
     pub fn take(&self) -> (Vec<Sample>, u64) {
         *lock(&self.taken) = Instant::now();
-        let samples = std::mem::take(&mut *lock(&self.samples)).into();
+        let width = self.devices.len();
+        let mut ring = lock(&self.samples);
+        let Ring { heads, values, .. } = &mut *ring;
+        let samples = heads
+            .drain(..)
+            .map(|(scan, time_ms)| Sample {
+                scan,
+                time_ms,
+                values: values.drain(..width).collect(),
+            })
+            .collect();
         (samples, self.lost.swap(0, Ordering::Relaxed))
     }
 
@@ -240,21 +263,23 @@ pub struct Shared {
     /// The latest published image. The lock is held only to swap or clone
     /// the pointer: a reader that takes its time (a JSON reply for 256
     /// devices, an OPC UA sample) holds its own copy, never the scan.
-    image: Mutex<Arc<Memory>>,
-    /// The image published before, reused for the next publish when no
-    /// reader holds it any more (no allocation per scan).
-    spare: Mutex<Option<Arc<Memory>>>,
+    image: ScanLock<Arc<Memory>>,
+    /// Every image published lately, kept for reuse: a publish copies into
+    /// one no reader holds any more, so the scan thread neither allocates
+    /// nor frees 138 KB per scan (both take the process's memory-map lock
+    /// and stalled a realtime scan while pollers held copies).
+    pool: ScanLock<Vec<Arc<Memory>>>,
     /// A program waiting to replace the running one between two scans.
-    pending: Mutex<Option<super::change::Loaded>>,
+    pending: ScanLock<Option<super::change::Loaded>>,
     /// Programs swapped in so far.
     swaps: std::sync::atomic::AtomicU64,
-    writes: Mutex<Pending>,
-    stats: Mutex<Stats>,
+    writes: ScanLock<Pending>,
+    stats: ScanLock<Stats>,
     stop: AtomicBool,
-    control: Mutex<Control>,
-    view: Mutex<Option<Arc<LadderView>>>,
-    identity: Mutex<Option<Arc<super::change::Identity>>>,
-    recorders: Mutex<Vec<Weak<Recorder>>>,
+    control: ScanLock<Control>,
+    view: ScanLock<Option<Arc<LadderView>>>,
+    identity: ScanLock<Option<Arc<super::change::Identity>>>,
+    recorders: ScanLock<Vec<Weak<Recorder>>>,
     /// How many recorders (event streams) may exist at once.
     most_recorders: std::sync::atomic::AtomicUsize,
     started: Instant,
@@ -264,29 +289,29 @@ pub struct Shared {
     /// look again at once: a stop, a program offered, a control change.
     wake: Mutex<u64>,
     woken: Condvar,
-    jitter: Mutex<JitterWindow>,
+    jitter: ScanLock<JitterWindow>,
 }
 
 impl Default for Shared {
     fn default() -> Self {
         Shared {
-            image: Mutex::new(Arc::from(Memory::new_boxed())),
-            spare: Mutex::new(None),
-            pending: Mutex::new(None),
+            image: super::scan_lock::new(Arc::from(Memory::new_boxed())),
+            pool: super::scan_lock::new(Vec::with_capacity(POOLED_IMAGES)),
+            pending: super::scan_lock::new(None),
             swaps: std::sync::atomic::AtomicU64::new(0),
-            writes: Mutex::new(Pending::new(DEFAULT_QUEUED_WRITES)),
-            stats: Mutex::new(Stats::default()),
+            writes: super::scan_lock::new(Pending::new(DEFAULT_QUEUED_WRITES)),
+            stats: super::scan_lock::new(Stats::default()),
             stop: AtomicBool::new(false),
-            control: Mutex::new(Control::default()),
-            view: Mutex::new(None),
-            identity: Mutex::new(None),
-            recorders: Mutex::new(Vec::new()),
+            control: super::scan_lock::new(Control::default()),
+            view: super::scan_lock::new(None),
+            identity: super::scan_lock::new(None),
+            recorders: super::scan_lock::new(Vec::new()),
             most_recorders: std::sync::atomic::AtomicUsize::new(MOST_EVENT_STREAMS),
             started: Instant::now(),
             published: AtomicBool::new(false),
             wake: Mutex::new(0),
             woken: Condvar::new(),
-            jitter: Mutex::new(JitterWindow::default()),
+            jitter: super::scan_lock::new(JitterWindow::default()),
         }
     }
 }
@@ -303,8 +328,9 @@ fn heap_copy(source: &Memory) -> Arc<Memory> {
     Arc::from(copy)
 }
 
-/// A lock whose holder panicked is still usable: the data is plain values.
-fn lock<T>(mutex: &Mutex<T>) -> MutexGuard<'_, T> {
+/// The lock the scan thread sleeps on (a condition variable's, so the
+/// standard library's); its holder panicking leaves plain values.
+fn lock_wake(mutex: &Mutex<u64>) -> std::sync::MutexGuard<'_, u64> {
     mutex.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
 }
 
@@ -315,19 +341,27 @@ impl Shared {
     }
 
     pub fn publish(&self, image: &Memory) {
-        let spare = lock(&self.spare).take();
-        let mut next = match spare {
-            Some(mut spare) => match Arc::get_mut(&mut spare) {
-                Some(memory) => {
+        let mut pool = lock(&self.pool);
+        // Held by the pool alone: no reader, no published slot.
+        let free = pool.iter_mut().find(|pooled| Arc::strong_count(pooled) == 1);
+        let next = match free {
+            Some(pooled) => {
+                if let Some(memory) = Arc::get_mut(pooled) {
                     copy_image(memory, image);
-                    spare
                 }
-                None => heap_copy(image),
-            },
-            None => heap_copy(image),
+                Arc::clone(pooled)
+            }
+            None => {
+                // Every pooled image is still read (or the pool is new).
+                let copy = heap_copy(image);
+                if pool.len() < POOLED_IMAGES {
+                    pool.push(Arc::clone(&copy));
+                }
+                copy
+            }
         };
-        std::mem::swap(&mut *lock(&self.image), &mut next);
-        *lock(&self.spare) = Some(next);
+        drop(pool);
+        *lock(&self.image) = next;
         self.published.store(true, Ordering::Release);
     }
 
@@ -377,19 +411,19 @@ impl Shared {
 
     /// The wake-up generation: pass it to `sleep_until`.
     pub fn generation(&self) -> u64 {
-        *lock(&self.wake)
+        *lock_wake(&self.wake)
     }
 
     /// Tells the scan thread (and the retain thread) to look again now.
     pub fn wake(&self) {
-        *lock(&self.wake) += 1;
+        *lock_wake(&self.wake) += 1;
         self.woken.notify_all();
     }
 
     /// Sleeps until `deadline`, or until woken after `generation` was read
     /// (a wake between reading it and sleeping is not lost).
     pub fn sleep_until(&self, deadline: Instant, generation: u64) {
-        let mut current = lock(&self.wake);
+        let mut current = lock_wake(&self.wake);
         while *current == generation {
             let now = Instant::now();
             if now >= deadline {
@@ -438,7 +472,7 @@ impl Shared {
         self.swaps.load(Ordering::Relaxed)
     }
 
-    pub fn control(&self) -> MutexGuard<'_, Control> {
+    pub fn control(&self) -> ScanGuard<'_, Control> {
         lock(&self.control)
     }
 
@@ -464,13 +498,17 @@ impl Shared {
     /// returned handle is dropped (or its client stops taking samples);
     /// `None` when `--max-event-streams` recorders exist already.
     pub fn record(&self, devices: Vec<HostDevice>) -> Option<Arc<Recorder>> {
-        let per_sample = size_of::<Sample>() + 4 * devices.len();
+        let per_sample = size_of::<(u64, u64)>() + 4 * devices.len();
+        let capacity = (RECORDER_BYTES / per_sample).max(16);
         let recorder = Arc::new(Recorder {
+            samples: super::scan_lock::new(Ring {
+                heads: VecDeque::with_capacity(capacity),
+                values: VecDeque::with_capacity(capacity * devices.len()),
+                capacity,
+            }),
             devices,
-            samples: Mutex::new(VecDeque::new()),
-            capacity: (RECORDER_BYTES / per_sample).max(16),
             lost: std::sync::atomic::AtomicU64::new(0),
-            taken: Mutex::new(Instant::now()),
+            taken: super::scan_lock::new(Instant::now()),
             dropped: AtomicBool::new(false),
         });
         let mut recorders = lock(&self.recorders);
@@ -494,29 +532,28 @@ impl Shared {
         let mut recorders = lock(&self.recorders);
         recorders.retain(|weak| match weak.upgrade() {
             Some(recorder) if lock(&recorder.taken).elapsed() >= RECORDER_STALL => {
+                // Its storage is freed with the stream (the connection
+                // closes for the stalled write soon after), not here.
                 recorder.dropped.store(true, Ordering::Relaxed);
-                *lock(&recorder.samples) = VecDeque::new();
                 false
             }
             Some(_) => true,
             None => false,
         });
+        let scan = u64::from(image.scan_count);
         for recorder in recorders.iter().filter_map(Weak::upgrade) {
+            let mut ring = lock(&recorder.samples);
+            if ring.heads.len() >= ring.capacity {
+                ring.heads.pop_front();
+                ring.values.drain(..recorder.devices.len());
+                recorder.lost.fetch_add(1, Ordering::Relaxed);
+            }
+            ring.heads.push_back((scan, time_ms));
             let values = recorder
                 .devices
                 .iter()
-                .map(|d| image.read_device(d.device, d.width).unwrap_or(0))
-                .collect();
-            let mut samples = lock(&recorder.samples);
-            if samples.len() >= recorder.capacity {
-                samples.pop_front();
-                recorder.lost.fetch_add(1, Ordering::Relaxed);
-            }
-            samples.push_back(Sample {
-                scan: u64::from(image.scan_count),
-                time_ms,
-                values,
-            });
+                .map(|d| image.read_device(d.device, d.width).unwrap_or(0));
+            ring.values.extend(values);
         }
     }
 
@@ -555,5 +592,59 @@ mod tests {
             pending.writes.len()
         );
         assert_eq!(pending.take(), [HostWrite::Data(2, 7), HostWrite::Data(9, 9_999)]);
+    }
+
+    fn d(n: u32) -> HostDevice {
+        HostDevice {
+            device: ladder_runtime::Device::Word(ladder_runtime::WordArea::D, n),
+            width: ladder_runtime::Width::Single,
+        }
+    }
+
+    #[test]
+    fn a_recorder_keeps_its_newest_samples_in_order_and_counts_the_lost() {
+        let shared = Shared::default();
+        let recorder = shared.record(vec![d(0), d(1)]).unwrap();
+        let capacity = lock(&recorder.samples).capacity;
+        let mut image = Memory::new_boxed();
+        for scan in 0..capacity as i32 + 5 {
+            image.scan_count = scan as u32;
+            image.write_device(d(0).device, d(0).width, scan % 10_000);
+            image.write_device(d(1).device, d(1).width, -(scan % 10_000));
+            shared.sample(&image);
+        }
+        let (samples, lost) = recorder.take();
+        assert_eq!((samples.len(), lost), (capacity, 5));
+        for (n, sample) in samples.iter().enumerate() {
+            let scan = n as i32 + 5;
+            let value = scan % 10_000;
+            assert_eq!((sample.scan, &sample.values[..]), (scan as u64, &[value, -value][..]));
+        }
+        assert_eq!(recorder.take(), (Vec::new(), 0), "taken once");
+        let ring = lock(&recorder.samples);
+        assert!(ring.heads.capacity() >= capacity && ring.values.capacity() >= 2 * capacity);
+    }
+
+    #[test]
+    fn publishing_reuses_images_no_reader_holds() {
+        let shared = Shared::default();
+        let mut image = Memory::new_boxed();
+        let mut held = Vec::new();
+        for value in 0..20 {
+            image.write_device(d(7).device, d(7).width, value);
+            shared.publish(&image);
+            let published = shared.image();
+            assert_eq!(published.read_device(d(7).device, d(7).width), Some(value));
+            // A slow reader keeps a copy for a while; earlier copies stay
+            // as they were read.
+            held.push(published);
+            if held.len() > 2 {
+                held.remove(0);
+            }
+            for (age, copy) in held.iter().rev().enumerate() {
+                assert_eq!(copy.read_device(d(7).device, d(7).width), Some(value - age as i32));
+            }
+        }
+        assert!(lock(&shared.pool).len() <= POOLED_IMAGES);
     }
 }
