@@ -69,10 +69,11 @@ impl AotEngine {
                 path
             }
         };
-        let host_source = work.path().join("scenario_host.c");
+        let host_object = work.path().join("scenario_host.o");
         let host = work.path().join("scenario_host");
-        std::fs::write(&host_source, SCENARIO_HOST).map_err(|e| failed(e.to_string()))?;
-        toolchain::link_host(&compiler, work.path(), &[host_source, program_path], &runtime, &host).map_err(failed)?;
+        let compiled = toolchain::compiled_once(&compiler, "scenario_host", SCENARIO_HOST).map_err(failed)?;
+        std::fs::write(&host_object, compiled).map_err(|e| failed(e.to_string()))?;
+        toolchain::link_host(&compiler, work.path(), &[host_object, program_path], &runtime, &host).map_err(failed)?;
         let mut child = Command::new(&host)
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())

@@ -278,7 +278,9 @@ impl AotHost {
         std::fs::write(work.join("programs.h"), list + "\n").map_err(|e| e.to_string())?;
         let host = work.join("driver");
         let output = Command::new(&self.compiler)
-            .args(["-std=c99", "-O1", "-w", "-I"])
+            .args(["-std=c99", "-O1", "-w"])
+            .args(ladderc::aot::toolchain::fast_linker(&self.compiler))
+            .arg("-I")
             .arg(work)
             .arg("-I")
             .arg(super::tools::workspace().join("runtime/include"))
@@ -579,17 +581,31 @@ fn fail(name: &str, seed: u64, tree: impl ValueTree<Value = Case>, hosts: &[AotH
     );
 }
 
-/// The seed of this run: from the environment, else the clock.
+/// The seed of this run: `LADDER_DIFFERENTIAL_SEED`, else one fixed per
+/// commit and test (the commit's id from git, hashed with the test's name),
+/// so a failure in CI happens again on the same commit anywhere; without
+/// git, fixed per test.
 pub fn seed(test: &str) -> u64 {
+    use std::hash::{Hash, Hasher};
     let seed = std::env::var("LADDER_DIFFERENTIAL_SEED")
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or_else(|| {
-            std::time::SystemTime::now()
-                .duration_since(std::time::UNIX_EPOCH)
-                .map_or(1, |d| d.as_nanos() as u64)
+            let commit = std::process::Command::new("git")
+                .args(["rev-parse", "HEAD"])
+                .current_dir(super::tools::workspace())
+                .output()
+                .ok()
+                .filter(|o| o.status.success())
+                .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+                .unwrap_or_default();
+            // DefaultHasher's algorithm may change between Rust releases;
+            // within one toolchain it is fixed, which is what a rerun needs.
+            let mut hasher = std::collections::hash_map::DefaultHasher::new();
+            (commit, test).hash(&mut hasher);
+            hasher.finish()
         });
-    eprintln!("{test}: seed {seed}");
+    eprintln!("{test}: seed {seed} (LADDER_DIFFERENTIAL_SEED={seed} reruns it)");
     seed
 }
 
