@@ -7,7 +7,8 @@
 //! online change every minute, with retained devices saved every second.
 //! It reports the resident memory every minute, the scans run against the
 //! scans due, overruns and the wake-up latency, and fails on a lost write,
-//! a scan whose INC was lost (D0 counts every scan), a missed scan, or
+//! a scan whose INC was lost (D0 counts every scan), a missed scan (but
+//! for time the hypervisor took from this virtual machine: steal time), or
 //! memory that keeps growing.
 //!
 //! cargo test --release -p ladderc --test serve_soak -- --ignored --nocapture
@@ -27,6 +28,20 @@ const PROGRAMS: [&str; 2] = [
     "LD M8000\nINC D0\nLD X0\nOUT Y0\nLD M8013\nOUT T0 K20\n",
     "LD M8000\nINC D0\nLD X0\nOUT Y1\nLD M8013\nOUT T1 K20\n",
 ];
+
+/// Milliseconds the hypervisor ran something else while this virtual
+/// machine's CPUs wanted to run (steal time, summed over the CPUs), or 0
+/// where the kernel does not say.
+fn stolen_ms() -> u64 {
+    std::fs::read_to_string("/proc/stat")
+        .ok()
+        .and_then(|stat| {
+            let cpu = stat.lines().next()?.split_whitespace().skip(1).collect::<Vec<_>>();
+            // user nice system idle iowait irq softirq steal, in 1/100 s.
+            cpu.get(7)?.parse::<u64>().ok()
+        })
+        .map_or(0, |ticks| ticks * 10)
+}
 
 fn resident_kib(pid: u32) -> u64 {
     std::fs::read_to_string(format!("/proc/{pid}/status"))
@@ -238,6 +253,7 @@ fn soak() {
         .as_u64()
         .unwrap();
     let rss_start = resident_kib(pid);
+    let stolen_at_start = stolen_ms();
     let mut rss_samples = vec![rss_start];
     let mut changes = 0;
     for minute in 0..minutes {
@@ -248,7 +264,7 @@ fn soak() {
         rss_samples.push(resident_kib(pid));
         let stats = json(&http(web, "GET", "/api/stats", "").1);
         eprintln!(
-            "soak: minute {} RSS {} KiB, {} polls, {} writes, {} lost, {} silent streams dropped, {} connections abandoned, overruns {}, latency max {:.0} µs",
+            "soak: minute {} RSS {} KiB, {} polls, {} writes, {} lost, {} silent streams dropped, {} connections abandoned, overruns {}, latency max {:.0} µs, p99 {:.0} µs, stolen {} ms",
             minute + 1,
             rss_samples.last().unwrap(),
             polls.load(Ordering::Relaxed),
@@ -257,7 +273,9 @@ fn soak() {
             dropped_silent.load(Ordering::Relaxed),
             abandoned.load(Ordering::Relaxed),
             stats["overruns"],
-            stats["jitter_us"].as_f64().unwrap_or(0.0)
+            stats["jitter_us"].as_f64().unwrap_or(0.0),
+            stats["jitter_window"]["p99_us"].as_f64().unwrap_or(0.0),
+            stolen_ms() - stolen_at_start
         );
     }
     let elapsed = started.elapsed();
@@ -291,15 +309,27 @@ fn soak() {
         rss_samples
     );
     assert_eq!(lost.load(Ordering::Relaxed), 0, "writes lost");
-    // Every scan due ran (one either way for where the counts were read).
+    // Every scan due ran (one either way for where the counts were read),
+    // but for those that fell into time the hypervisor gave this virtual
+    // machine's CPUs to something else (a scan thread that does not run
+    // cannot scan; on a machine of its own that time is 0).
     let run = scans - start_scans;
-    assert!(run + 2 >= due, "{run} scans run, {due} due");
+    let stolen = stolen_ms() - stolen_at_start;
+    let stolen_scans = stolen / 10;
+    println!("soak: {stolen} ms stolen by the hypervisor during the run");
+    assert!(
+        run + 2 + stolen_scans >= due,
+        "{run} scans run, {due} due, {stolen} ms stolen"
+    );
     // A scan may end after the next one was due when the machine gives the
     // scan thread no CPU for a while (seen on a 2-core virtual machine that
     // this test's clients keep busy: about one in 10,000 scans, in
     // whichever stage runs longest); the next scan then starts at once.
     let overruns = stats["overruns"].as_u64().unwrap();
-    assert!(overruns * 2_000 <= run, "{overruns} overruns in {run} scans");
+    assert!(
+        overruns <= run / 2_000 + stolen_scans,
+        "{overruns} overruns in {run} scans, {stolen} ms stolen"
+    );
     assert!(dropped_silent.load(Ordering::Relaxed) > 0, "silent streams are dropped");
     // D0 counted every scan, through every online change (16-bit wrap).
     assert_eq!(d0, i64::from(scans as u16 as i16), "a scan lost its INC");
