@@ -20,18 +20,26 @@ impl Step<'_, '_> {
     }
 }
 
-/// TRD D: year, month, day, hour, minute, second, day of week.
+/// TRD D: year, month, day, hour, minute, second, day of week. The seven
+/// clock words are read before any is written: D may overlap D8013-D8019
+/// (`TRD D8011` writes D8013 before it would read D8016), and the clock is
+/// read as one reading, as the interpreter does.
 pub fn read(step: &mut Step, d: &WordRef) {
     let d = step.words(d, 7, false);
     step.commit();
-    for (unit, offset) in (0..).zip([5, 4, 3, 2, 1, 0, 6]) {
-        let value = step.b().push(crate::ir::Inst::LoadWord {
-            area: WordArea::D,
-            index: Index::Fixed(D_CLOCK_FIRST + offset),
-        });
-        let wide = step.b().extend(value, Type::I64, true);
+    let values: Vec<Value> = [5, 4, 3, 2, 1, 0, 6]
+        .into_iter()
+        .map(|offset| {
+            let value = step.b().push(crate::ir::Inst::LoadWord {
+                area: WordArea::D,
+                index: Index::Fixed(D_CLOCK_FIRST + offset),
+            });
+            step.b().extend(value, Type::I64, true)
+        })
+        .collect();
+    for (unit, value) in (0..).zip(values) {
         let target = step.l.nth(&d, unit, Width::Single);
-        step.l.write(&target, Width::Single, wide);
+        step.l.write(&target, Width::Single, value);
     }
 }
 
