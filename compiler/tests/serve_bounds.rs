@@ -8,31 +8,10 @@
 
 mod common;
 
-use common::server::{http, json, Server};
+use common::server::{http, json, modbus_connect as connect, modbus_request as request, Server};
 use std::io::{Read, Write};
 use std::net::{SocketAddr, TcpStream};
 use std::time::{Duration, Instant};
-
-fn connect(address: SocketAddr) -> TcpStream {
-    let stream = TcpStream::connect(address).unwrap();
-    stream.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
-    stream
-}
-
-/// Sends one request PDU (unit 1) and reads the response PDU.
-fn request(stream: &mut TcpStream, pdu: &[u8]) -> Vec<u8> {
-    let mut frame = vec![0, 7, 0, 0];
-    frame.extend(((pdu.len() + 1) as u16).to_be_bytes());
-    frame.push(1);
-    frame.extend(pdu);
-    stream.write_all(&frame).unwrap();
-    let mut header = [0u8; 7];
-    stream.read_exact(&mut header).expect("a response header");
-    let length = usize::from(u16::from_be_bytes([header[4], header[5]]));
-    let mut body = vec![0u8; length - 1];
-    stream.read_exact(&mut body).expect("the response PDU");
-    body
-}
 
 /// FC16: writes `values` from holding register `address` (D`address`).
 fn write_registers(stream: &mut TcpStream, address: u16, values: &[i16]) -> Vec<u8> {

@@ -94,7 +94,8 @@ pub fn link_host(
 /// A host links against the whole runtime archive, std and all: lld does
 /// that in about a quarter of the time of GNU ld, and a scenario run links
 /// a host per scenario and engine. `LADDERC_LINKER=default` keeps the
-/// compiler's own linker.
+/// compiler's own linker. Decided once per process, with the first
+/// compiler asked (a process uses one: `$CC` or `cc`).
 pub fn fast_linker(compiler: &str) -> &'static [String] {
     static FLAGS: std::sync::OnceLock<Vec<String>> = std::sync::OnceLock::new();
     FLAGS.get_or_init(|| {

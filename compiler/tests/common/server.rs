@@ -177,3 +177,28 @@ fn child_output(child: &mut Child) -> String {
     }
     text
 }
+
+/// A Modbus TCP connection to a test server, reads timing out after 5 s.
+pub fn modbus_connect(address: SocketAddr) -> std::net::TcpStream {
+    let stream = std::net::TcpStream::connect(address).unwrap();
+    stream.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
+    stream
+}
+
+/// Sends one request PDU (transaction 7, unit 1) and reads the response PDU.
+pub fn modbus_request(stream: &mut std::net::TcpStream, pdu: &[u8]) -> Vec<u8> {
+    use std::io::{Read, Write};
+    let mut frame = vec![0, 7, 0, 0];
+    frame.extend(((pdu.len() + 1) as u16).to_be_bytes());
+    frame.push(1);
+    frame.extend(pdu);
+    stream.write_all(&frame).unwrap();
+    let mut header = [0u8; 7];
+    stream.read_exact(&mut header).expect("a response header");
+    assert_eq!(&header[..4], &[0, 7, 0, 0], "transaction and protocol echoed");
+    assert_eq!(header[6], 1, "unit echoed");
+    let length = usize::from(u16::from_be_bytes([header[4], header[5]]));
+    let mut body = vec![0u8; length - 1];
+    stream.read_exact(&mut body).expect("the response PDU");
+    body
+}
