@@ -8,7 +8,7 @@ cd "$(dirname "$0")"
 target=${1:?target: front_end, scenario, pipeline, modbus or http}
 seconds=${2:-600}
 command -v cargo-afl >/dev/null || cargo install --locked cargo-afl
-cargo afl build --release --no-default-features --features afl --bin "afl_$target"
+cargo afl build --release --features afl --bin "afl_$target"
 seeds=target/afl/$target/seeds
 mkdir -p "$seeds"
 if [ "$target" = modbus ]; then
@@ -42,4 +42,4 @@ else
     find "$seeds" -empty -delete
 fi
 export AFL_SKIP_CPUFREQ=1 AFL_I_DONT_CARE_ABOUT_MISSING_CRASHES=1 AFL_NO_UI=1
-cargo afl fuzz -V "$seconds" -t 2000 -i "$seeds" -o "target/afl/$target" "target/release/afl_$target"
+cargo afl fuzz -V "$seconds" -t 2000 -i "$seeds" -o "target/afl/$target" "../target/release/afl_$target"

@@ -12,11 +12,11 @@
 //! Skipped with a message when there is no C compiler or runtime library.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use ladder_engine::pipeline::ImageRequest;
+use ladder_front::check::compile_source;
+use ladder_front::source::SourceFile;
 use ladder_runtime::layout::{Array, Layout, SEGMENTS};
 use ladder_runtime::{ImageMut, Memory};
-use ladderc::check::compile_source;
-use ladderc::pipeline::ImageRequest;
-use ladderc::source::SourceFile;
 use std::hint::black_box;
 use std::path::PathBuf;
 use std::process::Command;
@@ -30,18 +30,18 @@ type Init = unsafe extern "C" fn(*mut u8, usize) -> *mut u8;
 /// shared library with the runtime; and the compact layout, if any.
 fn c_library(
     name: &str,
-    checked: &ladderc::program::CheckedProgram,
+    checked: &ladder_front::program::CheckedProgram,
     image: &ImageRequest,
 ) -> Result<(PathBuf, Option<Layout>), String> {
     let folder = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/c-backend");
     std::fs::create_dir_all(&folder).map_err(|e| e.to_string())?;
-    let options = ladderc::cback::COptions {
+    let options = ladder_cback::COptions {
         prefix: "bench_".to_string(),
         source_name: name.to_string(),
         layout: None,
         ..Default::default()
     };
-    let built = ladderc::pipeline::c_source(checked, &options, image);
+    let built = ladder_engine::pipeline::c_source(checked, &options, image);
     let source = built
         .output
         .replace("static void bench_body(uint8_t *m)", "void bench_body(uint8_t *m)");
@@ -52,8 +52,8 @@ fn c_library(
     let path = folder.join(format!("{name}.c"));
     std::fs::write(&path, source).map_err(|e| e.to_string())?;
     let library = folder.join(format!("{name}.so"));
-    let compiler = ladderc::aot::toolchain::c_compiler()?;
-    let runtime = ladderc::aot::toolchain::runtime_library()?;
+    let compiler = ladder_engine::aot::toolchain::c_compiler()?;
+    let runtime = ladder_engine::aot::toolchain::runtime_library()?;
     let output = Command::new(&compiler)
         // Calls into the runtime bound inside the library, as a static
         // link binds them (a firmware image has no PLT between program and
@@ -62,7 +62,7 @@ fn c_library(
         .arg(&library)
         .arg(&path)
         .arg(&runtime)
-        .args(ladderc::aot::toolchain::NATIVE_LIBS)
+        .args(ladder_engine::aot::toolchain::NATIVE_LIBS)
         .output()
         .map_err(|e| format!("cannot run `{compiler}`: {e}"))?;
     if !output.status.success() {
@@ -92,7 +92,7 @@ fn c_backend(c: &mut Criterion) {
     for (name, text) in programs {
         let (checked, diagnostics) = compile_source(&SourceFile::new(format!("{name}.il"), text.as_str()));
         let checked = checked.unwrap_or_else(|| panic!("{diagnostics:?}"));
-        let jit = ladderc::pipeline::jit(&checked).expect("compiles");
+        let jit = ladder_engine::pipeline::jit(&checked).expect("compiles");
         let (library, compact) = match (
             c_library(name, &checked, &ImageRequest::full()),
             c_library(name, &checked, &ImageRequest::compact(Vec::new())),

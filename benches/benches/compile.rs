@@ -8,9 +8,9 @@
 //! ```
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use ladderc::check::compile_source;
-use ladderc::codegen::ObjectOptions;
-use ladderc::source::SourceFile;
+use ladder_codegen::ObjectOptions;
+use ladder_front::check::compile_source;
+use ladder_front::source::SourceFile;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::hint::black_box;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -58,10 +58,10 @@ static ALLOCATOR: Counting = Counting;
 fn build(text: &str) -> usize {
     let (program, diagnostics) = compile_source(&SourceFile::new("bench.il", text));
     let program = program.unwrap_or_else(|| panic!("{:?}", diagnostics.first()));
-    ladderc::pipeline::object(
+    ladder_engine::pipeline::object(
         &program,
         &ObjectOptions::default(),
-        &ladderc::pipeline::ImageRequest::full(),
+        &ladder_engine::pipeline::ImageRequest::full(),
     )
     .expect("compiles")
     .output

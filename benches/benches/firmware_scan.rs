@@ -12,9 +12,9 @@
 //! `gcc-arm-none-eabi qemu-system-arm`; `rustup target add
 //! thumbv7m-none-eabi`).
 
-use ladderc::check::compile_source;
-use ladderc::pipeline::ImageRequest;
-use ladderc::source::SourceFile;
+use ladder_engine::pipeline::ImageRequest;
+use ladder_front::check::compile_source;
+use ladder_front::source::SourceFile;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -58,13 +58,13 @@ fn program(dir: &Path) -> Result<PathBuf, String> {
     let source = SourceFile::read(&path).map_err(|e| e.to_string())?;
     let (checked, diagnostics) = compile_source(&source);
     let checked = checked.ok_or_else(|| format!("the traffic light does not compile: {diagnostics:?}"))?;
-    let options = ladderc::cback::COptions {
+    let options = ladder_cback::COptions {
         prefix: PREFIX.to_string(),
         source_name: "traffic_light.il".to_string(),
         ..Default::default()
     };
-    let built = ladderc::pipeline::c_source(&checked, &options, &ImageRequest::compact(Vec::new()));
-    let header = ladderc::image::c_header(PREFIX, "traffic_light.il", built.layout.as_ref());
+    let built = ladder_engine::pipeline::c_source(&checked, &options, &ImageRequest::compact(Vec::new()));
+    let header = ladder_ir::image::c_header(PREFIX, "traffic_light.il", built.layout.as_ref());
     std::fs::write(dir.join("program.h"), header).map_err(|e| e.to_string())?;
     let c = dir.join("program.c");
     std::fs::write(&c, built.output).map_err(|e| e.to_string())?;

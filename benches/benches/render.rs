@@ -3,8 +3,8 @@
 //! 10,000 rungs in under 2 s). Compiling is outside the measurement.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use ladderc::check::compile_source;
-use ladderc::source::SourceFile;
+use ladder_front::check::compile_source;
+use ladder_front::source::SourceFile;
 use std::hint::black_box;
 
 fn render(c: &mut Criterion) {
@@ -14,13 +14,13 @@ fn render(c: &mut Criterion) {
         let source = SourceFile::new("plant.il", ladderc_benches::plant(units));
         let (program, diagnostics) = compile_source(&source);
         let program = program.unwrap_or_else(|| panic!("{:?}", diagnostics.first()));
-        let rungs = ladderc::ladder::build(&program, &source).rungs.len();
+        let rungs = ladder_diagram::build(&program, &source).rungs.len();
         eprintln!("render: {units} units = {rungs} rungs");
         group.throughput(Throughput::Elements(rungs as u64));
         group.bench_with_input(BenchmarkId::new("rungs", rungs), &program, |b, program| {
             b.iter(|| {
-                let ladder = ladderc::ladder::build(program, &source);
-                black_box(ladderc::ladder::svg::render(&ladder, program).len())
+                let ladder = ladder_diagram::build(program, &source);
+                black_box(ladder_diagram::svg::render(&ladder, program).len())
             })
         });
     }

@@ -20,12 +20,12 @@
 //! Skipped with a message when there is no C compiler or runtime library.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use ladder_codegen::ObjectOptions;
+use ladder_engine::pipeline::ImageRequest;
+use ladder_front::check::compile_source;
+use ladder_front::program::CheckedProgram;
+use ladder_front::source::SourceFile;
 use ladder_runtime::Memory;
-use ladderc::check::compile_source;
-use ladderc::codegen::ObjectOptions;
-use ladderc::pipeline::ImageRequest;
-use ladderc::program::CheckedProgram;
-use ladderc::source::SourceFile;
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -45,7 +45,7 @@ fn folder() -> PathBuf {
 /// Links `inputs` (objects and C files) with the runtime into a shared
 /// library `name`.so at `cc -O2`.
 fn shared_library(name: &str, inputs: &[PathBuf], with_runtime: bool) -> Result<PathBuf, String> {
-    let compiler = ladderc::aot::toolchain::c_compiler()?;
+    let compiler = ladder_engine::aot::toolchain::c_compiler()?;
     let library = folder().join(format!("{name}.so"));
     let mut command = Command::new(&compiler);
     command
@@ -57,8 +57,8 @@ fn shared_library(name: &str, inputs: &[PathBuf], with_runtime: bool) -> Result<
         .args(inputs);
     if with_runtime {
         command
-            .arg(ladderc::aot::toolchain::runtime_library()?)
-            .args(ladderc::aot::toolchain::NATIVE_LIBS);
+            .arg(ladder_engine::aot::toolchain::runtime_library()?)
+            .args(ladder_engine::aot::toolchain::NATIVE_LIBS);
     }
     let output = command.output().map_err(|e| format!("cannot run `{compiler}`: {e}"))?;
     if !output.status.success() {
@@ -119,7 +119,7 @@ fn cranelift(name: &str, program: &CheckedProgram) -> Result<Route, String> {
         prefix: PREFIX.to_string(),
         ..ObjectOptions::default()
     };
-    let object = ladderc::pipeline::object(program, &options, &ImageRequest::full())
+    let object = ladder_engine::pipeline::object(program, &options, &ImageRequest::full())
         .map_err(|e| e.to_string())?
         .output;
     let path = folder().join(format!("{name}_cranelift.o"));
@@ -133,13 +133,13 @@ fn cranelift(name: &str, program: &CheckedProgram) -> Result<Route, String> {
 
 /// ladderc's C route of `program` (full image), as a shared library.
 fn c_route(name: &str, program: &CheckedProgram) -> Result<Route, String> {
-    let options = ladderc::cback::COptions {
+    let options = ladder_cback::COptions {
         prefix: PREFIX.to_string(),
         source_name: name.to_string(),
         layout: None,
         ..Default::default()
     };
-    let source = ladderc::pipeline::c_source(program, &options, &ImageRequest::full()).output;
+    let source = ladder_engine::pipeline::c_source(program, &options, &ImageRequest::full()).output;
     let path = folder().join(format!("{name}_c_route.c"));
     std::fs::write(&path, source).map_err(|e| e.to_string())?;
     Ok(Route::load(&shared_library(&format!("{name}_c_route"), &[path], true)?))

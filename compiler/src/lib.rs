@@ -1,27 +1,11 @@
 //! ladderc: a compiler for Mitsubishi-FX/Wecon-style PLC instruction lists.
 //!
-//! The pipeline, one module per stage:
-//! `source` → `syntax` (tokens, statements with spans) → `check`
-//! (`CheckedProgram`) → `interp` (reference interpreter).
+//! This crate is the command line (`cli`, one module per command) over the
+//! layered crates: `ladder-front` (source → checked program),
+//! `ladder-interp` (the reference interpreter), `ladder-ir` (lowering, IR
+//! passes, the image), `ladder-codegen` (Cranelift) and `ladder-cback`
+//! (portable C), `ladder-diagram` (the ladder diagram), `ladder-engine`
+//! (engines, the build pipeline, scenarios) and `ladder-serve` (the soft
+//! PLC). docs/architecture.md draws the layers.
 
-pub mod aot;
-pub mod cback;
-pub mod check;
 pub mod cli;
-pub mod codegen;
-pub mod diagnostics;
-pub mod engine;
-pub mod host_device;
-pub mod image;
-pub mod interp;
-pub mod ir;
-pub mod isa;
-pub mod ladder;
-pub mod lower;
-pub mod pipeline;
-pub mod program;
-pub mod scenario;
-pub mod serve;
-pub mod source;
-pub mod syntax;
-pub mod waveform;

@@ -13,12 +13,12 @@
 //! - `http`: a request (method, path and query, body) to `serve`'s HTTP
 //!   router with its access layer → never a 5xx.
 
+use ladder_engine::scenario::{parse_scenario, run_scenario, Directive, EngineKind, ProgramSource};
+use ladder_front::check::compile_source;
+use ladder_front::diagnostics::render_all;
+use ladder_front::source::SourceFile;
+use ladder_interp::Interpreter;
 use ladder_runtime::Memory;
-use ladderc::check::compile_source;
-use ladderc::diagnostics::render_all;
-use ladderc::interp::Interpreter;
-use ladderc::scenario::{parse_scenario, run_scenario, Directive, EngineKind, ProgramSource};
-use ladderc::source::SourceFile;
 
 /// The scans a fuzzed scenario may run (keeps each execution short).
 const SCENARIO_SCAN_BUDGET: u64 = 500;
@@ -26,7 +26,7 @@ const SCENARIO_SCAN_BUDGET: u64 = 500;
 pub fn front_end(data: &[u8]) {
     let file = SourceFile::from_bytes("fuzz.il", data);
     let (_, diagnostics) = compile_source(&file);
-    let _ = render_all(&file, &diagnostics, ladderc::diagnostics::Shown::All);
+    let _ = render_all(&file, &diagnostics, ladder_front::diagnostics::Shown::All);
 }
 
 pub fn scenario(data: &[u8]) {
@@ -60,30 +60,35 @@ pub fn scenario(data: &[u8]) {
         return;
     }
     let source = SourceFile::new("fuzz.scn (program)", text.as_str());
-    let _ = run_scenario(&scenario, &source, &[EngineKind::Interp, EngineKind::Jit], Default::default());
+    let _ = run_scenario(
+        &scenario,
+        &source,
+        &[EngineKind::Interp, EngineKind::Jit],
+        Default::default(),
+    );
 }
 
 pub fn pipeline(data: &[u8]) {
     let file = SourceFile::from_bytes("fuzz.il", data);
     let (program, diagnostics) = compile_source(&file);
-    let _ = render_all(&file, &diagnostics, ladderc::diagnostics::Shown::All);
+    let _ = render_all(&file, &diagnostics, ladder_front::diagnostics::Shown::All);
     let Some(program) = program else {
         return;
     };
-    let options = ladderc::codegen::ObjectOptions {
+    let options = ladder_codegen::ObjectOptions {
         target: None,
-        prefix: ladderc::codegen::DEFAULT_PREFIX.to_string(),
+        prefix: ladder_codegen::DEFAULT_PREFIX.to_string(),
         layout: None,
         ..Default::default()
     };
     // Both images: the full one, and a compact one laid out from the program.
     for image in [
-        ladderc::pipeline::ImageRequest::full(),
-        ladderc::pipeline::ImageRequest::compact(Vec::new()),
+        ladder_engine::pipeline::ImageRequest::full(),
+        ladder_engine::pipeline::ImageRequest::compact(Vec::new()),
     ] {
-        ladderc::pipeline::object(&program, &options, &image).expect("a checked program compiles to an object");
+        ladder_engine::pipeline::object(&program, &options, &image).expect("a checked program compiles to an object");
     }
-    let jit = ladderc::pipeline::jit(&program).expect("a checked program compiles to native code");
+    let jit = ladder_engine::pipeline::jit(&program).expect("a checked program compiles to native code");
     let interpreter = Interpreter::new(&program);
     let mut expected = Memory::new_boxed();
     let mut actual = Memory::new_boxed();
@@ -94,7 +99,7 @@ pub fn pipeline(data: &[u8]) {
                 mem.d[i] = value.wrapping_add(scan as i16);
             }
             for (x, input) in mem.input_image.iter_mut().enumerate().take(16) {
-                *input = u8::from((x as u32 + scan) % 3 == 0);
+                *input = u8::from((x as u32 + scan).is_multiple_of(3));
             }
         }
         let elapsed = [10, 0, u32::MAX, 100][scan as usize];
@@ -109,9 +114,9 @@ pub fn pipeline(data: &[u8]) {
 }
 
 pub fn modbus(data: &[u8]) {
-    ladderc::serve::fuzzing::modbus_stream(data);
+    ladder_serve::fuzzing::modbus_stream(data);
 }
 
 pub fn http(data: &[u8]) {
-    ladderc::serve::fuzzing::http_request(data);
+    ladder_serve::fuzzing::http_request(data);
 }

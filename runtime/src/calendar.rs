@@ -1,4 +1,4 @@
-//! The calendar clock (DIALECT.md, "Machine programs"): D8013-D8019 hold
+//! The calendar clock (docs/language.md, "Machine programs"): D8013-D8019 hold
 //! the seconds, minutes, hours, day, month, year and day of the week of a
 //! clock that a host sets (`ladder_set_clock`; scenarios: `clock`) and that
 //! advances by the elapsed time reported to each scan, so a test repeats.

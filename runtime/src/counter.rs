@@ -1,4 +1,4 @@
-//! Counters (DIALECT.md, "Timers and counters").
+//! Counters (docs/language.md, "Timers and counters").
 //!
 //! C0–C199 are 16-bit up counters: each rising edge of the coil adds 1 until
 //! the preset. C200–C255 are 32-bit up/down counters: they count down while

@@ -1,4 +1,4 @@
-//! Forced devices (DIALECT.md, small-PLC model of seeds/forced-io.txt):
+//! Forced devices (docs/language.md, small-PLC model of seeds/forced-io.txt):
 //! forced X is what the program reads; forced Y and M are written over the
 //! program's results before the output refresh; a forced T or C contact reads
 //! the forced value and its timer or counter stops timing or counting.

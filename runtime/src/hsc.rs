@@ -1,4 +1,4 @@
-//! High-speed counters C235-C255 (DIALECT.md, "Machine programs").
+//! High-speed counters C235-C255 (docs/language.md, "Machine programs").
 //!
 //! There are no interrupts: each counter counts, at the input refresh, the
 //! rising edges of its FX3U inputs that the refresh saw (a level change of X

@@ -1,4 +1,4 @@
-//! Pulse and positioning outputs (DIALECT.md, "Machine programs"): PLSY,
+//! Pulse and positioning outputs (docs/language.md, "Machine programs"): PLSY,
 //! PLSR, PLSV, DRVI, DRVA, ZRN, DSZR and PWM generate no pulses; the model
 //! advances each output's registers as the pulses would:
 //!
@@ -27,7 +27,7 @@
 //! (the machine) is shared by every engine, as timers are.
 //!
 //! What an instruction reads when its drive turns ON and what at every
-//! execution follows the manual (DIALECT.md, "Machine programs"): PLSY
+//! execution follows the manual (docs/language.md, "Machine programs"): PLSY
 //! takes its pulse count S2 when it starts (0: without end, for the whole
 //! drive) and its frequency S1 at every execution; PLSR takes S1, S2 and S3
 //! when it starts; DRVI/DRVA keep the target they started with; PLSV, ZRN

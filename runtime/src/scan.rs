@@ -1,4 +1,4 @@
-//! The scan sequence around the program (DIALECT.md, "The scan"):
+//! The scan sequence around the program (docs/language.md, "The scan"):
 //!
 //! 1. input refresh (input image to X, forced X over it; the high-speed
 //!    counters count the edges it saw; the clock and the scan-time

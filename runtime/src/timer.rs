@@ -1,4 +1,4 @@
-//! Timers (DIALECT.md, "Timers and counters").
+//! Timers (docs/language.md, "Timers and counters").
 //!
 //! The timer is updated when its `OUT Tn` executes. While the coil is ON the
 //! timer adds the scan's elapsed time, from the scan after the coil turned ON,

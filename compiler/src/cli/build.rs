@@ -3,12 +3,12 @@
 
 use super::output;
 use super::status;
-use super::watch::parse_watch;
-use crate::codegen::ObjectOptions;
-use crate::diagnostics::Shown;
-use crate::image::{c_header, ImageKind};
-use crate::pipeline::ImageRequest;
 use clap::{Args, ValueEnum};
+use ladder_codegen::ObjectOptions;
+use ladder_engine::pipeline::ImageRequest;
+use ladder_engine::watch::parse_watch;
+use ladder_front::diagnostics::Shown;
+use ladder_ir::image::{c_header, ImageKind};
 use ladder_runtime::layout::Layout;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -30,7 +30,7 @@ pub struct BuildArgs {
     target: Option<String>,
     /// Prefix of the exported entry points `<PREFIX>scan` and `<PREFIX>init`,
     /// so that several programs can live in one firmware.
-    #[arg(long, default_value = crate::codegen::DEFAULT_PREFIX)]
+    #[arg(long, default_value = ladder_codegen::DEFAULT_PREFIX)]
     prefix: String,
     /// What to produce.
     #[arg(long, value_enum, default_value_t = Emit::Obj)]
@@ -40,7 +40,7 @@ pub struct BuildArgs {
     /// use (a few hundred bytes for a small program). Default: compact for
     /// the 32-bit targets of the C back end, full otherwise.
     #[arg(long, value_enum)]
-    image: Option<ImageKind>,
+    image: Option<ImageArg>,
     /// Devices the host reads or writes that the program does not use: a
     /// list as `run --watch` takes it (`Y0..Y7,D100..D109,D200:32`). A
     /// compact image holds them; on any image, the scan keeps the parts of
@@ -86,7 +86,7 @@ pub fn run(args: &BuildArgs, shown: Shown) -> u8 {
         say_err!("error: --prefix `{}`: {message}", args.prefix);
         return status::UNUSABLE;
     }
-    let c_target = args.target.as_deref().and_then(crate::cback::targets::c_target);
+    let c_target = args.target.as_deref().and_then(ladder_cback::targets::c_target);
     let image = match image_request(args, c_target.is_some()) {
         Ok(image) => image,
         Err(message) => {
@@ -197,7 +197,7 @@ pub fn run(args: &BuildArgs, shown: Shown) -> u8 {
 /// replaced.
 fn write_c_instead(
     args: &BuildArgs,
-    target: &crate::cback::targets::CTarget,
+    target: &ladder_cback::targets::CTarget,
     image: &ImageRequest,
     shown: Shown,
 ) -> u8 {
@@ -230,7 +230,10 @@ fn write_c_instead(
         output: Some(c_file.clone()),
         target: None,
         emit: Emit::C,
-        image: Some(image.kind),
+        image: Some(match image.kind {
+            ImageKind::Full => ImageArg::Full,
+            ImageKind::Compact => ImageArg::Compact,
+        }),
         ..args.clone()
     };
     let code = run(&as_c, shown);
@@ -252,15 +255,27 @@ fn write_c_instead(
 /// 32-bit targets of the C back end; with the devices `--host-devices`
 /// names (held by a compact image; on either, their parts of the machine
 /// are kept up to date).
+/// `--image`: which layout the image gets (`ladder_ir::image::ImageKind`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ImageArg {
+    /// Every device of the machine model (666,520 bytes).
+    Full,
+    /// Only the devices the program and its host use, packed.
+    Compact,
+}
+
 fn image_request(args: &BuildArgs, c_target: bool) -> Result<ImageRequest, String> {
     let mut devices = Vec::new();
     for entry in args.host_devices.iter().filter(|e| !e.trim().is_empty()) {
         let signals = parse_watch(entry).map_err(|e| format!("--host-devices: {e}"))?;
         devices.extend(signals.into_iter().map(|signal| signal.device));
     }
-    let kind = args
-        .image
-        .unwrap_or(if c_target { ImageKind::Compact } else { ImageKind::Full });
+    let kind = match args.image {
+        Some(ImageArg::Full) => ImageKind::Full,
+        Some(ImageArg::Compact) => ImageKind::Compact,
+        None if c_target => ImageKind::Compact,
+        None => ImageKind::Full,
+    };
     match kind {
         ImageKind::Full => Ok(ImageRequest::full_with(devices)),
         ImageKind::Compact => Ok(ImageRequest::compact(devices)),
@@ -296,24 +311,24 @@ fn source_name(args: &BuildArgs) -> String {
 fn produce(
     args: &BuildArgs,
     image: &ImageRequest,
-    cross: Option<(&crate::cback::targets::CTarget, &str)>,
+    cross: Option<(&ladder_cback::targets::CTarget, &str)>,
     shown: Shown,
 ) -> Result<(Vec<u8>, Option<Layout>), u8> {
     let program = super::compile_file(&args.program, shown)?;
-    let c_options = crate::cback::COptions {
+    let c_options = ladder_cback::COptions {
         prefix: args.prefix.clone(),
         source_name: source_name(args),
         layout: None,
         ..Default::default()
     };
     match (args.emit, cross) {
-        (Emit::Ir, _) => Ok((crate::pipeline::ir(&program).to_string().into_bytes(), None)),
+        (Emit::Ir, _) => Ok((ladder_engine::pipeline::ir(&program).to_string().into_bytes(), None)),
         (Emit::C, _) => {
-            let built = crate::pipeline::c_source(&program, &c_options, image);
+            let built = ladder_engine::pipeline::c_source(&program, &c_options, image);
             Ok((built.output.into_bytes(), built.layout))
         }
         (Emit::Obj, Some((target, compiler))) => {
-            let built = crate::pipeline::c_source(&program, &c_options, image);
+            let built = ladder_engine::pipeline::c_source(&program, &c_options, image);
             let object = target.compile(compiler, &built.output).map_err(|error| {
                 say_err!("error: {error}");
                 status::FAILED
@@ -327,14 +342,14 @@ fn produce(
                 layout: None,
                 ..Default::default()
             };
-            let built = crate::pipeline::object(&program, &options, image).map_err(|error| {
+            let built = ladder_engine::pipeline::object(&program, &options, image).map_err(|error| {
                 say_err!("error: {error}");
                 match error {
                     // A target ladderc cannot build for is a bad argument.
-                    crate::codegen::CodegenError::Target(_) => status::UNUSABLE,
-                    crate::codegen::CodegenError::HostTarget(_)
-                    | crate::codegen::CodegenError::Module(_)
-                    | crate::codegen::CodegenError::Object(_) => status::FAILED,
+                    ladder_codegen::CodegenError::Target(_) => status::UNUSABLE,
+                    ladder_codegen::CodegenError::HostTarget(_)
+                    | ladder_codegen::CodegenError::Module(_)
+                    | ladder_codegen::CodegenError::Object(_) => status::FAILED,
                 }
             })?;
             Ok((built.output, built.layout))
@@ -352,11 +367,11 @@ fn check_prefix(prefix: &str) -> Result<(), String> {
     if !(first.is_ascii_alphabetic() || first == '_') || !chars.all(|c| c.is_ascii_alphanumeric() || c == '_') {
         return Err("a prefix is the start of a C identifier: letters, digits and `_`, not a digit first".into());
     }
-    if prefix.starts_with("ladder_") && prefix != crate::codegen::DEFAULT_PREFIX {
+    if prefix.starts_with("ladder_") && prefix != ladder_codegen::DEFAULT_PREFIX {
         return Err(format!(
             "names starting with `ladder_` belong to the runtime (ladder_begin_scan, ladder_end_scan, ladder_rt_...); \
              use another prefix such as `motor_`, or the default `{}`",
-            crate::codegen::DEFAULT_PREFIX
+            ladder_codegen::DEFAULT_PREFIX
         ));
     }
     Ok(())

@@ -1,7 +1,7 @@
 //! `ladderc check`: diagnostics only.
 
 use super::status;
-use crate::diagnostics::Shown;
+use ladder_front::diagnostics::Shown;
 use std::path::Path;
 
 pub fn run(program: &Path, shown: Shown) -> u8 {

@@ -1,7 +1,7 @@
 //! `ladderc explain CODE`.
 
 use super::status;
-use crate::diagnostics::Code;
+use ladder_front::diagnostics::Code;
 
 /// `explain CODE`, or with no code every code with its title.
 pub fn run(code: Option<&str>) -> u8 {

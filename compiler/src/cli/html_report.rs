@@ -4,11 +4,11 @@
 //! the operands, as the engine left them) and the waveform of the devices
 //! the scenario touches, with the failures marked on it.
 
-use crate::ladder::{self, svg};
-use crate::program::CheckedProgram;
-use crate::scenario::EngineRun;
-use crate::source::SourceFile;
-use crate::waveform::Recorder;
+use ladder_diagram::{self as ladder, svg};
+use ladder_engine::scenario::EngineRun;
+use ladder_engine::waveform::Recorder;
+use ladder_front::program::CheckedProgram;
+use ladder_front::source::SourceFile;
 use quick_xml::escape::escape;
 use std::fmt::Write as _;
 

@@ -5,9 +5,9 @@
 //! written, so an imported file always compiles.
 
 use super::{output, status, write_raw};
-use crate::diagnostics::Shown;
-use crate::source::SourceFile;
-use crate::syntax::export;
+use ladder_front::diagnostics::Shown;
+use ladder_front::source::SourceFile;
+use ladder_front::syntax::export;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -40,21 +40,30 @@ pub fn run(export: &Path, output_path: Option<&PathBuf>, shown: Shown) -> u8 {
     if source.undecodable_at.is_some() || source.text.contains('\0') {
         // Not text: the front end's one diagnostic (E0046 or E0009), and
         // nothing is written.
-        let (_, diagnostics) = crate::check::compile_source(&source);
-        write_raw(true, &crate::diagnostics::render_all(&source, &diagnostics, shown));
+        let (_, diagnostics) = ladder_front::check::compile_source(&source);
+        write_raw(
+            true,
+            &ladder_front::diagnostics::render_all(&source, &diagnostics, shown),
+        );
         return status::FAILED;
     }
     // An export that does not compile is not written.
-    let (program, diagnostics) = crate::check::compile_source(&source);
+    let (program, diagnostics) = ladder_front::check::compile_source(&source);
     if program.is_none() {
-        write_raw(true, &crate::diagnostics::render_all(&source, &diagnostics, shown));
+        write_raw(
+            true,
+            &ladder_front::diagnostics::render_all(&source, &diagnostics, shown),
+        );
         return status::FAILED;
     }
     let il = match export::to_il(&source) {
         Ok(il) => il,
         Err(diagnostics) => {
             let diagnostics = diagnostics.into_sorted();
-            write_raw(true, &crate::diagnostics::render_all(&source, &diagnostics, shown));
+            write_raw(
+                true,
+                &ladder_front::diagnostics::render_all(&source, &diagnostics, shown),
+            );
             return status::FAILED;
         }
     };

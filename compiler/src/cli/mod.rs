@@ -39,11 +39,10 @@ mod report;
 mod run;
 mod serve;
 pub mod test;
-pub(crate) mod watch;
 
-use crate::diagnostics::Shown;
-use crate::scenario::EngineKind;
 use clap::{Parser, Subcommand, ValueEnum};
+use ladder_engine::scenario::EngineKind;
+use ladder_front::diagnostics::Shown;
 use std::path::PathBuf;
 
 /// Exit statuses shared by the commands.
@@ -174,13 +173,16 @@ pub fn main_with_args(args: impl IntoIterator<Item = std::ffi::OsString>) -> u8 
 
 /// Reads and compiles a program file, printing diagnostics to stderr.
 /// `Err` holds the exit status to return.
-fn compile_file(path: &std::path::Path, shown: Shown) -> Result<crate::program::CheckedProgram, u8> {
+fn compile_file(path: &std::path::Path, shown: Shown) -> Result<ladder_front::program::CheckedProgram, u8> {
     let source = read_program(path).map_err(|e| {
         say_err!("error: {e}");
         status::UNUSABLE
     })?;
-    let (program, diagnostics) = crate::check::compile_source(&source);
-    write_raw(true, &crate::diagnostics::render_all(&source, &diagnostics, shown));
+    let (program, diagnostics) = ladder_front::check::compile_source(&source);
+    write_raw(
+        true,
+        &ladder_front::diagnostics::render_all(&source, &diagnostics, shown),
+    );
     program.ok_or(status::FAILED)
 }
 
@@ -190,19 +192,19 @@ fn is_standard_stream(path: &std::path::Path) -> bool {
 }
 
 /// A program file, or standard input for `-` (at most the same 64 MiB).
-fn read_program(path: &std::path::Path) -> Result<crate::source::SourceFile, String> {
+fn read_program(path: &std::path::Path) -> Result<ladder_front::source::SourceFile, String> {
     use std::io::Read as _;
     if !is_standard_stream(path) {
-        return crate::source::SourceFile::read(path).map_err(|e| e.to_string());
+        return ladder_front::source::SourceFile::read(path).map_err(|e| e.to_string());
     }
     let mut bytes = Vec::new();
     std::io::stdin()
         .lock()
-        .take(crate::source::MAX_SOURCE_BYTES + 1)
+        .take(ladder_front::source::MAX_SOURCE_BYTES + 1)
         .read_to_end(&mut bytes)
         .map_err(|e| format!("cannot read standard input: {e}"))?;
-    if bytes.len() as u64 > crate::source::MAX_SOURCE_BYTES {
+    if bytes.len() as u64 > ladder_front::source::MAX_SOURCE_BYTES {
         return Err("standard input is larger than 64 MiB, the most ladderc reads from a program".into());
     }
-    Ok(crate::source::SourceFile::from_bytes("<stdin>", &bytes))
+    Ok(ladder_front::source::SourceFile::from_bytes("<stdin>", &bytes))
 }

@@ -3,9 +3,9 @@
 //! file, it writes only when the program compiles and never over an input.
 
 use super::{output, read_program, status, write_raw};
-use crate::diagnostics::Shown;
-use crate::ladder::{self, svg};
 use clap::{Args, ValueEnum};
+use ladder_diagram::{self as ladder, svg};
+use ladder_front::diagnostics::Shown;
 use quick_xml::escape::escape;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
@@ -45,8 +45,11 @@ pub fn run(args: &RenderArgs, shown: Shown) -> u8 {
             return status::UNUSABLE;
         }
     };
-    let (program, diagnostics) = crate::check::compile_source(&source);
-    write_raw(true, &crate::diagnostics::render_all(&source, &diagnostics, shown));
+    let (program, diagnostics) = ladder_front::check::compile_source(&source);
+    write_raw(
+        true,
+        &ladder_front::diagnostics::render_all(&source, &diagnostics, shown),
+    );
     let Some(program) = program else {
         return status::FAILED;
     };
@@ -81,7 +84,7 @@ fn extension(path: &Path) -> Option<String> {
 }
 
 /// A page with a rung index beside the rungs, one SVG each.
-fn page(diagram: &ladder::Ladder, program: &crate::program::CheckedProgram, file: &str) -> String {
+fn page(diagram: &ladder::Ladder, program: &ladder_front::program::CheckedProgram, file: &str) -> String {
     use std::fmt::Write as _;
     let mut index = String::new();
     let mut rungs = String::new();

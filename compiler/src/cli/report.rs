@@ -2,7 +2,7 @@
 //! (GitLab, Jenkins, GitHub test reporters) read, as TcUnit and CODESYS Test
 //! Manager report PLC tests.
 
-use crate::scenario::ScenarioOutcome;
+use ladder_engine::scenario::ScenarioOutcome;
 use quick_junit::{NonSuccessKind, Report, TestCase, TestCaseStatus, TestSuite};
 use std::path::Path;
 

@@ -3,17 +3,17 @@
 //! as a table, CSV or JSON, with operation errors as they occur, scan-time
 //! statistics and a VCD waveform on request.
 
-use super::watch::{parse_watch, show, Radix};
 use super::{output, status};
-use crate::diagnostics::Shown;
-use crate::host_device::{parse_device, parse_value, HostDevice};
-use crate::program::{BitRef, CheckedProgram, Op, Output};
-use crate::scenario::{
+use clap::{Args, ValueEnum};
+use ladder_engine::scenario::{
     drive, instantiate, parse_stimulus, Directive, Engine, EngineError, EngineKind, Observer, Step, ERROR_CODE,
     ERROR_FLAG, ERROR_LINE,
 };
-use crate::waveform::{Recorder, Signal};
-use clap::{Args, ValueEnum};
+use ladder_engine::watch::parse_watch;
+use ladder_engine::waveform::{Recorder, Signal};
+use ladder_front::diagnostics::Shown;
+use ladder_front::host_device::{parse_device, parse_value, HostDevice};
+use ladder_front::program::{BitRef, CheckedProgram, Op, Output};
 use ladder_runtime::{BitArea, Device, Width};
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
@@ -209,7 +209,7 @@ fn stimulus(args: &RunArgs) -> Result<Vec<Step>, String> {
             },
         ]);
     };
-    let bytes = crate::source::read_bounded(path).map_err(|e| format!("error: {e}"))?;
+    let bytes = ladder_front::source::read_bounded(path).map_err(|e| format!("error: {e}"))?;
     let text = String::from_utf8_lossy(&bytes);
     let mut steps = vec![Step {
         directive: Directive::ScanMs(args.scan_ms),
@@ -486,5 +486,23 @@ impl Observer for Printer {
             .map(|(name, device, value)| format!("{name} = {}", show(value, device, self.radix)))
             .collect();
         say_err!("line {line} after scan {scan}: {}", shown.join(", "));
+    }
+}
+
+/// How `run` shows words: signed decimal or unsigned hex.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum Radix {
+    #[default]
+    Dec,
+    Hex,
+}
+
+/// A value as `run` shows it: bits 0/1; words signed in decimal, or
+/// unsigned `H..` in hex.
+pub fn show(value: i32, device: HostDevice, radix: Radix) -> String {
+    match (device.bits(), radix) {
+        (1, _) | (_, Radix::Dec) => value.to_string(),
+        (16, Radix::Hex) => format!("H{:04X}", value as u16),
+        (_, Radix::Hex) => format!("H{:08X}", value as u32),
     }
 }

@@ -1,10 +1,10 @@
-//! `ladderc serve`: the program as a soft PLC (see `crate::serve`).
+//! `ladderc serve`: the program as a soft PLC (see `ladder_serve`).
 
 use super::status;
-use crate::diagnostics::Shown;
-use crate::scenario::EngineKind;
-use crate::serve::{serve, ServeOptions};
 use clap::{Args, ValueEnum};
+use ladder_engine::scenario::EngineKind;
+use ladder_front::diagnostics::Shown;
+use ladder_serve::{serve, ServeOptions};
 use std::net::SocketAddr;
 use std::path::PathBuf;
 use std::time::Duration;
@@ -100,24 +100,24 @@ pub struct ServeArgs {
     /// Host writes (devices) that may wait for the next scan; a write
     /// beyond gets Modbus exception 06 (busy), HTTP 503 or OPC UA
     /// BadTooManyOperations. A write of a device already waiting replaces it.
-    #[arg(long, default_value_t = crate::serve::Limits::default().queued_writes, value_name = "N")]
+    #[arg(long, default_value_t = ladder_serve::Limits::default().queued_writes, value_name = "N")]
     max_queued_writes: usize,
     /// Modbus TCP connections served at once; a new client gets the place
     /// of the connection idle longest (idle for a second at least).
-    #[arg(long, default_value_t = crate::serve::Limits::default().modbus.connections, value_name = "N")]
+    #[arg(long, default_value_t = ladder_serve::Limits::default().modbus.connections, value_name = "N")]
     max_modbus_connections: usize,
     /// A Modbus TCP connection that sends no request for this long is closed.
-    #[arg(long, default_value_t = crate::serve::Limits::default().modbus.idle.as_secs(), value_name = "SECONDS")]
+    #[arg(long, default_value_t = ladder_serve::Limits::default().modbus.idle.as_secs(), value_name = "SECONDS")]
     modbus_idle_s: u64,
     /// HTTP connections served at once; a new client gets the place of the
     /// connection idle longest (idle for a second at least).
-    #[arg(long, default_value_t = crate::serve::Limits::default().http.connections, value_name = "N")]
+    #[arg(long, default_value_t = ladder_serve::Limits::default().http.connections, value_name = "N")]
     max_http_connections: usize,
     /// An HTTP connection on which nothing moves for this long is closed.
-    #[arg(long, default_value_t = crate::serve::Limits::default().http.idle.as_secs(), value_name = "SECONDS")]
+    #[arg(long, default_value_t = ladder_serve::Limits::default().http.idle.as_secs(), value_name = "SECONDS")]
     http_idle_s: u64,
     /// Event streams (monitor pages, trends) served at once.
-    #[arg(long, default_value_t = crate::serve::Limits::default().event_streams, value_name = "N")]
+    #[arg(long, default_value_t = ladder_serve::Limits::default().event_streams, value_name = "N")]
     max_event_streams: usize,
     /// Serve HTTPS with this certificate chain (PEM); needs --tls-key.
     #[arg(long, value_name = "FILE", requires = "tls_key")]
@@ -159,8 +159,8 @@ pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
         say_err!("error: --scan-ms is 1 to 60000");
         return status::UNUSABLE;
     }
-    let ranges = match args.latch.as_deref().map(crate::serve::retain::parse_latch_list) {
-        None => crate::serve::retain::fx3u_defaults(),
+    let ranges = match args.latch.as_deref().map(ladder_serve::retain::parse_latch_list) {
+        None => ladder_serve::retain::fx3u_defaults(),
         Some(Ok(ranges)) => ranges,
         Some(Err(message)) => {
             say_err!("error: --latch: {message}");
@@ -191,7 +191,7 @@ pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
     }
     let opcua_devices = match args
         .opcua
-        .map(|_| crate::serve::opcua_devices(args.opcua_devices.as_deref()))
+        .map(|_| ladder_serve::opcua_devices(args.opcua_devices.as_deref()))
         .transpose()
     {
         Ok(devices) => devices.unwrap_or_default(),
@@ -201,7 +201,7 @@ pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
         }
     };
     let token = match &args.token_file {
-        Some(path) => match crate::serve::access::read_token_file(path) {
+        Some(path) => match ladder_serve::access::read_token_file(path) {
             Ok(token) => Some(token),
             Err(message) => {
                 say_err!("error: {message}");
@@ -222,8 +222,11 @@ pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
             return status::UNUSABLE;
         }
     };
-    let (program, diagnostics) = crate::check::compile_source(&source);
-    super::write_raw(true, &crate::diagnostics::render_all(&source, &diagnostics, shown));
+    let (program, diagnostics) = ladder_front::check::compile_source(&source);
+    super::write_raw(
+        true,
+        &ladder_front::diagnostics::render_all(&source, &diagnostics, shown),
+    );
     let Some(program) = program else {
         return status::FAILED;
     };
@@ -234,7 +237,7 @@ pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
         read_only: args.read_only,
         watch_file: args.watch_file.then(|| args.program.clone()),
         watch_settle: Duration::from_millis(args.watch_settle_ms),
-        retain: args.retain.clone().map(|path| crate::serve::retain::RetainFile {
+        retain: args.retain.clone().map(|path| ladder_serve::retain::RetainFile {
             path,
             ranges: ranges.clone(),
         }),
@@ -242,24 +245,24 @@ pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
         retain_interval: Duration::from_millis(u64::from(args.retain_ms)),
         realtime: args.realtime,
         modbus_write_from,
-        access: crate::serve::access::Access {
+        access: ladder_serve::access::Access {
             token,
             token_reads: args.token_reads,
             read_only: args.read_only,
             hosts: args.http.map_or_else(Default::default, |address| {
-                crate::serve::access::Hosts::of(address, args.tls_cert.is_some(), &args.allowed_host)
+                ladder_serve::access::Hosts::of(address, args.tls_cert.is_some(), &args.allowed_host)
             }),
         },
-        limits: crate::serve::Limits {
+        limits: ladder_serve::Limits {
             queued_writes: args.max_queued_writes,
-            modbus: crate::serve::modbus_tcp::ConnectionLimits {
+            modbus: ladder_serve::modbus_tcp::ConnectionLimits {
                 connections: args.max_modbus_connections,
                 idle: Duration::from_secs(args.modbus_idle_s.max(1)),
             },
-            http: crate::serve::guard::Bounds {
+            http: ladder_serve::guard::Bounds {
                 connections: args.max_http_connections,
                 idle: Duration::from_secs(args.http_idle_s.max(1)),
-                stall: crate::serve::guard::STALL,
+                stall: ladder_serve::guard::STALL,
             },
             event_streams: args.max_event_streams,
         },

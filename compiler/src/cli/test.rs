@@ -3,10 +3,10 @@
 //! first, with a progress bar on a terminal for long suites.
 
 use super::{output, status};
-use crate::scenario::{
+use clap::Args;
+use ladder_engine::scenario::{
     collect_files, parse_scenario, run_scenario, EngineKind, RunOptions, Scenario, ScenarioOutcome, Waveforms,
 };
-use clap::Args;
 use std::collections::BTreeMap;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -207,11 +207,11 @@ fn results_for_report(results: &[FileResult]) -> Vec<super::report::FileReport<'
 
 /// The program file a scenario names, if it names one and can be read.
 fn program_file(scenario: &Path) -> Option<PathBuf> {
-    let bytes = crate::source::read_bounded(scenario).ok()?;
+    let bytes = ladder_front::source::read_bounded(scenario).ok()?;
     let parsed = parse_scenario(scenario, &String::from_utf8_lossy(&bytes)).ok()?;
     match parsed.program {
-        crate::scenario::ProgramSource::File(path) => Some(path),
-        crate::scenario::ProgramSource::Inline { .. } => None,
+        ladder_engine::scenario::ProgramSource::File(path) => Some(path),
+        ladder_engine::scenario::ProgramSource::Inline { .. } => None,
     }
 }
 
@@ -274,8 +274,8 @@ fn run_file(file: &Path, engines: &[EngineKind], options: RunOptions) -> FileRes
 }
 
 /// Reads and parses a scenario and its program.
-fn load(file: &Path) -> Result<(Scenario, crate::source::SourceFile), String> {
-    let bytes = crate::source::read_bounded(file).map_err(|error| format!("error: {error}"))?;
+fn load(file: &Path) -> Result<(Scenario, ladder_front::source::SourceFile), String> {
+    let bytes = ladder_front::source::read_bounded(file).map_err(|error| format!("error: {error}"))?;
     let text = String::from_utf8_lossy(&bytes).into_owned();
     let scenario = parse_scenario(file, &text).map_err(|error| {
         let hint = match file.extension().and_then(|e| e.to_str()) {
@@ -284,8 +284,8 @@ fn load(file: &Path) -> Result<(Scenario, crate::source::SourceFile), String> {
         };
         format!("{}:{}: error: {}{hint}", file.display(), error.line, error.message)
     })?;
-    let source =
-        crate::scenario::load_program(&scenario).map_err(|message| format!("{}: error: {message}", file.display()))?;
+    let source = ladder_engine::scenario::load_program(&scenario)
+        .map_err(|message| format!("{}: error: {message}", file.display()))?;
     Ok((scenario, source))
 }
 
@@ -312,7 +312,7 @@ fn write_pages(dir: &Path, results: &[FileResult], inputs: &[&Path]) -> Result<(
     let mut taken = std::collections::HashSet::new();
     for result in results {
         let Some(outcome) = &result.outcome else { continue };
-        let failing: Vec<&crate::scenario::EngineRun> = outcome
+        let failing: Vec<&ladder_engine::scenario::EngineRun> = outcome
             .engines
             .iter()
             .filter(|run| outcome.failures.iter().any(|f| f.engine == run.kind.name()))
@@ -322,7 +322,7 @@ fn write_pages(dir: &Path, results: &[FileResult], inputs: &[&Path]) -> Result<(
         }
         // The program again (it compiled for the run).
         let Ok((_, source)) = load(&result.path) else { continue };
-        let (Some(program), _) = crate::check::compile_source(&source) else {
+        let (Some(program), _) = ladder_front::check::compile_source(&source) else {
             continue;
         };
         for run in failing {

@@ -7,14 +7,14 @@
 
 use super::image::{self, Difference};
 use super::stimulus::{self, Step};
+use ladder_codegen::ObjectOptions;
+use ladder_engine::pipeline::ImageRequest;
+use ladder_front::check::compile_source;
+use ladder_front::diagnostics::render_all;
+use ladder_front::program::CheckedProgram;
+use ladder_front::source::SourceFile;
+use ladder_interp::Interpreter;
 use ladder_runtime::Memory;
-use ladderc::check::compile_source;
-use ladderc::codegen::ObjectOptions;
-use ladderc::diagnostics::render_all;
-use ladderc::interp::Interpreter;
-use ladderc::pipeline::ImageRequest;
-use ladderc::program::CheckedProgram;
-use ladderc::source::SourceFile;
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
@@ -62,7 +62,7 @@ pub fn compile(text: &str) -> CheckedProgram {
     program.unwrap_or_else(|| {
         panic!(
             "generated program rejected:\n{text}\n{}",
-            render_all(&file, &diagnostics, ladderc::diagnostics::Shown::All)
+            render_all(&file, &diagnostics, ladder_front::diagnostics::Shown::All)
         )
     })
 }
@@ -72,13 +72,13 @@ pub fn compile(text: &str) -> CheckedProgram {
 /// program's scan keeps them (whole images are compared, so the in-process
 /// engines keep the same).
 pub fn machine(case: &Case, program: &CheckedProgram) -> ladder_runtime::MachineUse {
-    ladderc::image::machine_use(program, &ladderc::pipeline::ir(program), &host_devices(case))
+    ladder_ir::image::machine_use(program, &ladder_engine::pipeline::ir(program), &host_devices(case))
 }
 
 /// Runs `case` on the interpreter and the JIT, comparing whole images after
 /// every scan; returns the interpreter's image digests.
 pub fn in_process(case: &Case, program: &CheckedProgram) -> Result<Vec<u64>, Divergence> {
-    let jit = ladderc::pipeline::jit(program).expect("generated programs compile to native code");
+    let jit = ladder_engine::pipeline::jit(program).expect("generated programs compile to native code");
     let interpreter = Interpreter::new(program);
     let machine = machine(case, program);
     let mut expected = Memory::new_boxed();
@@ -128,7 +128,7 @@ pub enum Route {
 }
 
 /// The devices a case's host calls name: a compact image holds them.
-pub fn host_devices(case: &Case) -> Vec<ladderc::host_device::HostDevice> {
+pub fn host_devices(case: &Case) -> Vec<ladder_front::host_device::HostDevice> {
     use ladder_runtime::capi::{basic_device, LadderDevice};
     use ladder_runtime::{Basic, BitArea, Device, Width};
     use stimulus::HostAction;
@@ -138,7 +138,7 @@ pub fn host_devices(case: &Case) -> Vec<ladderc::host_device::HostDevice> {
             Basic::Word(area, n) => Device::Word(area, n),
             Basic::WideCounter(n) => Device::WideCounter(n),
         };
-        Some(ladderc::host_device::HostDevice {
+        Some(ladder_front::host_device::HostDevice {
             device,
             width: Width::Single,
         })
@@ -159,7 +159,7 @@ pub fn host_devices(case: &Case) -> Vec<ladderc::host_device::HostDevice> {
 
 /// The compact layout of `program` for `case`'s host.
 pub fn compact_layout(case: &Case, program: &CheckedProgram) -> ladder_runtime::layout::Layout {
-    let ir = ladderc::pipeline::ir(program);
+    let ir = ladder_engine::pipeline::ir(program);
     ImageRequest::compact(host_devices(case))
         .layout(program, &ir)
         .expect("a compact layout")
@@ -197,16 +197,16 @@ impl AotHost {
     /// The firmware library when it builds, else the library cargo built
     /// for ladderc; `Err` says why neither can be used.
     pub fn find(route: Route) -> Result<AotHost, String> {
-        let compiler = ladderc::aot::toolchain::c_compiler()?;
+        let compiler = ladder_engine::aot::toolchain::c_compiler()?;
         let (library, libraries) = match super::tools::firmware_runtime_library() {
             Ok(library) => (library, vec!["-nodefaultlibs".to_string(), "-lc".to_string()]),
             Err(why) => {
                 eprintln!("differential aot: using the std runtime library ({why})");
-                let libs = ladderc::aot::toolchain::NATIVE_LIBS
+                let libs = ladder_engine::aot::toolchain::NATIVE_LIBS
                     .iter()
                     .map(|s| s.to_string())
                     .collect();
-                (ladderc::aot::toolchain::runtime_library()?, libs)
+                (ladder_engine::aot::toolchain::runtime_library()?, libs)
             }
         };
         Ok(AotHost {
@@ -233,7 +233,7 @@ impl AotHost {
                         ..Default::default()
                     };
                     let image = ImageRequest::full_with(host_devices(case));
-                    let object = ladderc::pipeline::object(program, &options, &image)
+                    let object = ladder_engine::pipeline::object(program, &options, &image)
                         .map_err(|e| e.to_string())?
                         .output;
                     let path = work.join(format!("p{i}.o"));
@@ -241,7 +241,7 @@ impl AotHost {
                     sources.push(path);
                 }
                 Route::C | Route::CompactC => {
-                    let options = ladderc::cback::COptions {
+                    let options = ladder_cback::COptions {
                         prefix: prefix.clone(),
                         source_name: format!("p{i}.il"),
                         layout: None,
@@ -252,7 +252,7 @@ impl AotHost {
                         Route::Object | Route::C => ImageRequest::full_with(host_devices(case)),
                     };
                     let path = work.join(format!("p{i}.c"));
-                    let source = ladderc::pipeline::c_source(program, &options, &image).output;
+                    let source = ladder_engine::pipeline::c_source(program, &options, &image).output;
                     std::fs::write(&path, source).map_err(|e| e.to_string())?;
                     c_sources.push(path);
                     sources.push(work.join(format!("p{i}.o")));
@@ -279,7 +279,7 @@ impl AotHost {
         let host = work.join("driver");
         let output = Command::new(&self.compiler)
             .args(["-std=c99", "-O1", "-w"])
-            .args(ladderc::aot::toolchain::fast_linker(&self.compiler))
+            .args(ladder_engine::aot::toolchain::fast_linker(&self.compiler))
             .arg("-I")
             .arg(work)
             .arg("-I")

@@ -93,8 +93,8 @@ pub fn link_host(sources: &[&Path], output: &Path) {
 
 /// `link_host` with extra compiler flags (`-DNAME`).
 pub fn link_host_with(flags: &[&str], sources: &[&Path], output: &Path) {
-    let compiler = ladderc::aot::toolchain::c_compiler().expect("a C compiler (gcc is part of every machine)");
-    let runtime = ladderc::aot::toolchain::runtime_library().expect("the runtime library cargo built");
+    let compiler = ladder_engine::aot::toolchain::c_compiler().expect("a C compiler (gcc is part of every machine)");
+    let runtime = ladder_engine::aot::toolchain::runtime_library().expect("the runtime library cargo built");
     let status = Command::new(compiler)
         .args(["-std=c99", "-Wall", "-Wextra", "-Werror"])
         .args(flags)
@@ -102,7 +102,7 @@ pub fn link_host_with(flags: &[&str], sources: &[&Path], output: &Path) {
         .arg(workspace().join("runtime/include"))
         .args(sources)
         .arg(runtime)
-        .args(ladderc::aot::toolchain::NATIVE_LIBS)
+        .args(ladder_engine::aot::toolchain::NATIVE_LIBS)
         .arg("-o")
         .arg(output)
         .status()
@@ -164,7 +164,7 @@ fn cargo_firmware_runtime(triple: Option<&str>) -> Result<PathBuf, String> {
 /// library only (`-nodefaultlibs -lc`: not even libgcc), without dropping
 /// unused sections (a firmware's linker script may keep them all).
 pub fn link_firmware_host(flags: &[&str], sources: &[&Path], library: &Path, output: &Path) {
-    let compiler = ladderc::aot::toolchain::c_compiler().expect("a C compiler (gcc is part of every machine)");
+    let compiler = ladder_engine::aot::toolchain::c_compiler().expect("a C compiler (gcc is part of every machine)");
     let status = Command::new(compiler)
         .args(["-std=c99", "-Os", "-Wall", "-Wextra", "-Werror"])
         .args(flags)
@@ -266,12 +266,12 @@ pub fn layout_header() -> String {
 
 /// The interpreter's digests, in the driver's format.
 pub fn interpreter_digests(program: &Path, scans: u32) -> String {
-    let source = ladderc::source::SourceFile::read(program).unwrap();
-    let (checked, diagnostics) = ladderc::check::compile_source(&source);
+    let source = ladder_front::source::SourceFile::read(program).unwrap();
+    let (checked, diagnostics) = ladder_front::check::compile_source(&source);
     let checked = checked.unwrap_or_else(|| panic!("{diagnostics:?}"));
-    let interpreter = ladderc::interp::Interpreter::new(&checked);
+    let interpreter = ladder_interp::Interpreter::new(&checked);
     // The parts of the machine the built object's scan keeps.
-    let machine = ladderc::image::machine_use(&checked, &ladderc::pipeline::ir(&checked), &[]);
+    let machine = ladder_ir::image::machine_use(&checked, &ladder_engine::pipeline::ir(&checked), &[]);
     let mut mem = Memory::new_boxed();
     let mut out = String::new();
     for scan in 1..=scans {

@@ -5,8 +5,8 @@
 //! a new operand kind or device class does not compile here until it has a
 //! vocabulary.
 
+use ladder_front::isa::{AppOp, DeviceClass, OperandKind};
 use ladder_runtime::Width;
-use ladderc::isa::{AppOp, DeviceClass, OperandKind};
 use proptest::prelude::*;
 
 /// Devices of a class, valid for an operand of `kind` at `width` wherever

@@ -1,0 +1,811 @@
+//! IR to Cranelift IR, one function. Shared by the JIT and object back ends.
+//!
+//! Every device access is a load or store at a fixed offset from the image
+//! pointer, where the image's layout (full or compact) puts the device. A
+//! run-time index is clamped into its area here once more, so no generated
+//! access can leave the device image whatever the lowering did.
+//!
+//! Bit values are `i8` (0 or 1), except on x86-64, where they are "wide
+//! bits" (`wide.rs`): `i32` values whose byte 0 is the bit, so that a
+//! contact's load becomes the memory operand of its AND or OR. Wherever a
+//! bit leaves bit logic (stored, tested, widened to a number, compared,
+//! passed on) it is taken from byte 0.
+
+use cranelift_codegen::ir::condcodes::{FloatCC, IntCC};
+use cranelift_codegen::ir::{types, FuncRef, InstBuilder, MemFlagsData, Value};
+use cranelift_frontend::{FunctionBuilder, Variable};
+use ladder_front::isa::CompareOp;
+use ladder_ir::{self as ir, BinOp, Conversion, FloatOp, FloatUnaryOp, Index, Inst, Terminator, Type, UnaryOp};
+use ladder_runtime::helpers::Helper;
+use ladder_runtime::layout::{Array, Layout, Scalar};
+use ladder_runtime::{BitArea, WordArea};
+use std::collections::HashMap;
+
+/// The Cranelift type of an IR type; a bit is an `i8` (see
+/// `Translator::bit_type` for wide bits).
+fn cl_type(ty: Type) -> types::Type {
+    match ty {
+        Type::Bit => types::I8,
+        Type::I16 => types::I16,
+        Type::I32 => types::I32,
+        Type::I64 => types::I64,
+        Type::F32 => types::F32,
+        Type::F64 => types::F64,
+    }
+}
+
+fn float_condition(op: CompareOp) -> FloatCC {
+    match op {
+        CompareOp::Eq => FloatCC::Equal,
+        CompareOp::Ne => FloatCC::NotEqual,
+        CompareOp::Lt => FloatCC::LessThan,
+        CompareOp::Le => FloatCC::LessThanOrEqual,
+        CompareOp::Gt => FloatCC::GreaterThan,
+        CompareOp::Ge => FloatCC::GreaterThanOrEqual,
+    }
+}
+
+fn condition(op: CompareOp) -> IntCC {
+    match op {
+        CompareOp::Eq => IntCC::Equal,
+        CompareOp::Ne => IntCC::NotEqual,
+        CompareOp::Gt => IntCC::SignedGreaterThan,
+        CompareOp::Lt => IntCC::SignedLessThan,
+        CompareOp::Ge => IntCC::SignedGreaterThanOrEqual,
+        CompareOp::Le => IntCC::SignedLessThanOrEqual,
+    }
+}
+
+/// Loads and stores of the image: aligned, never trapping (in bounds).
+fn flags() -> MemFlagsData {
+    MemFlagsData::trusted()
+}
+
+/// Where the master-control powers and loop counts (IR locals) live while
+/// `translate` runs.
+pub enum Locals {
+    /// In Cranelift variables: the function is the whole program part.
+    Variables,
+    /// In `locals_size` bytes behind the function's second parameter,
+    /// loaded at entry and stored at exit: the function is one chunk of a
+    /// program part compiled as several functions.
+    Memory,
+}
+
+/// Offset of loop count `level` in the locals memory: after one byte per
+/// master-control power, 4-byte aligned.
+fn loop_count_offset(func: &ir::Function, level: u8) -> i32 {
+    (i32::from(func.locals) + 3) / 4 * 4 + 4 * i32::from(level)
+}
+
+/// Bytes of locals memory a chunked function needs.
+pub fn locals_size(func: &ir::Function) -> u32 {
+    loop_count_offset(func, func.loop_levels) as u32
+}
+
+/// Translates blocks `range` of `func` into the builder, whose function
+/// takes the image pointer (and, with `Locals::Memory`, the locals pointer).
+/// A jump to `range.end` and a return both return. `values` maps IR values
+/// to Cranelift values; entries this call defines are cleared again, so one
+/// vector serves every chunk.
+/// `helpers` holds the imported runtime helpers in `Helper::ALL` order,
+/// `subroutines` the program's subroutine functions by number; `layout` is
+/// the image's.
+/// With `wide_bits`, bit values are wide (x86-64, `wide.rs`).
+#[allow(clippy::too_many_arguments)]
+pub fn translate(
+    layout: &Layout,
+    func: &ir::Function,
+    range: std::ops::Range<usize>,
+    locals_at: Locals,
+    builder: &mut FunctionBuilder,
+    helpers: &[FuncRef],
+    subroutines: &[FuncRef],
+    pointer: types::Type,
+    values: &mut [Option<Value>],
+    wide_bits: bool,
+) {
+    let wide_loads = wide_bits.then(|| super::wide::wide_bit_loads(layout, func, range.clone()));
+    let folded_nots = folded_nots(func, range.clone());
+    let bit_type = if wide_bits { types::I32 } else { types::I8 };
+    let entry = builder.create_block();
+    let blocks: Vec<_> = range.clone().map(|_| builder.create_block()).collect();
+    let exit = builder.create_block();
+    builder.append_block_params_for_function_params(entry);
+    builder.switch_to_block(entry);
+    let mem = builder.block_params(entry)[0];
+    let locals_pointer = match locals_at {
+        Locals::Variables => None,
+        Locals::Memory => Some(builder.block_params(entry)[1]),
+    };
+    let locals: Vec<Variable> = (0..func.locals).map(|_| builder.declare_var(bit_type)).collect();
+    let loop_counts: Vec<Variable> = (0..func.loop_levels).map(|_| builder.declare_var(types::I32)).collect();
+    if let Some(at) = locals_pointer {
+        for (offset, &local) in locals.iter().enumerate() {
+            let value = if wide_bits {
+                builder.ins().uload8(types::I32, flags(), at, offset as i32)
+            } else {
+                builder.ins().load(types::I8, flags(), at, offset as i32)
+            };
+            builder.def_var(local, value);
+        }
+        for (level, &count) in (0u8..).zip(&loop_counts) {
+            let value = builder
+                .ins()
+                .load(types::I32, flags(), at, loop_count_offset(func, level));
+            builder.def_var(count, value);
+        }
+    }
+    builder.ins().jump(blocks[0], &[]);
+    let target = |block: ir::BlockId| {
+        let index = block.0 as usize;
+        if range.contains(&index) {
+            blocks[index - range.start]
+        } else {
+            exit
+        }
+    };
+    let mut t = Translator {
+        builder,
+        layout,
+        mem,
+        pointer,
+        helpers,
+        subroutines,
+        locals,
+        loop_counts,
+        value_types: &func.value_types,
+        wide_bits,
+        folded_nots,
+        negations: HashMap::new(),
+    };
+    let mut defined = Vec::new();
+    for number in range.clone() {
+        let block = &func.blocks[number];
+        t.builder.switch_to_block(blocks[number - range.start]);
+        for (position, (result, inst)) in block.insts.iter().enumerate() {
+            if result.is_some_and(|result| t.folded_nots.contains_key(&result)) {
+                continue;
+            }
+            let wide_load = wide_loads
+                .as_ref()
+                .is_some_and(|wide| wide[number - range.start][position]);
+            let value = t.inst(inst, values, wide_load);
+            if let (Some(result), Some(value)) = (result, value) {
+                values[result.0 as usize] = Some(value);
+                defined.push(*result);
+            }
+        }
+        let get = |v: ir::Value| values[v.0 as usize].expect("defined before use");
+        match &block.terminator {
+            Terminator::Jump(to) => {
+                t.builder.ins().jump(target(*to), &[]);
+            }
+            Terminator::Branch {
+                condition,
+                then,
+                otherwise,
+            } => {
+                let condition = t.clean(*condition, get(*condition));
+                t.builder
+                    .ins()
+                    .brif(condition, target(*then), &[], target(*otherwise), &[]);
+            }
+            Terminator::Return => {
+                t.builder.ins().jump(exit, &[]);
+            }
+        }
+    }
+    t.builder.switch_to_block(exit);
+    if let Some(at) = locals_pointer {
+        for (offset, local) in t.locals.clone().into_iter().enumerate() {
+            let value = t.builder.use_var(local);
+            let value = t.bit_byte(value);
+            t.builder.ins().store(flags(), value, at, offset as i32);
+        }
+        for (level, &count) in (0u8..).zip(&t.loop_counts) {
+            let value = t.builder.use_var(count);
+            t.builder
+                .ins()
+                .store(flags(), value, at, loop_count_offset(func, level));
+        }
+    }
+    t.builder.ins().return_(&[]);
+    t.builder.seal_all_blocks();
+    for value in defined {
+        values[value.0 as usize] = None;
+    }
+}
+
+/// The NOTs among blocks `range` of `func` whose one use is an operand of
+/// an AND or an OR there (one per AND or OR), with the value each inverts:
+/// the AND or OR takes its operand inverted (`Translator::and_not`), and
+/// the NOT is not made on its own.
+fn folded_nots(func: &ir::Function, range: std::ops::Range<usize>) -> HashMap<ir::Value, ir::Value> {
+    let mut uses = vec![0u32; func.value_types.len()];
+    for block in &func.blocks {
+        for (_, inst) in &block.insts {
+            for operand in inst.operands() {
+                uses[operand.0 as usize] += 1;
+            }
+        }
+        if let Terminator::Branch { condition, .. } = block.terminator {
+            uses[condition.0 as usize] += 1;
+        }
+    }
+    let mut nots = HashMap::new();
+    for block in &func.blocks[range.clone()] {
+        for (result, inst) in &block.insts {
+            if let (Some(result), Inst::Not { value }) = (result, inst) {
+                if uses[result.0 as usize] == 1 {
+                    nots.insert(*result, *value);
+                }
+            }
+        }
+    }
+    let mut folded = HashMap::new();
+    for block in &func.blocks[range] {
+        for (_, inst) in &block.insts {
+            if let Inst::And { a, b } | Inst::Or { a, b } = inst {
+                if let Some(not) = [*b, *a].into_iter().find(|operand| nots.contains_key(operand)) {
+                    folded.insert(not, nots[&not]);
+                }
+            }
+        }
+    }
+    folded
+}
+
+/// Splits the blocks of `func` into ranges of about `size` IR instructions
+/// that can be compiled as separate functions called one after another:
+/// a cut before block k needs no control flow across it other than falling
+/// into k, no value defined before it used after it, and no return before
+/// it. Cranelift's memory and time grow with the function, so a large
+/// program compiled in chunks builds in memory proportional to a chunk.
+pub fn chunks(func: &ir::Function, size: usize) -> Vec<std::ops::Range<usize>> {
+    let n = func.blocks.len();
+    let mut defined_in = vec![usize::MAX; func.value_types.len()];
+    for (number, block) in func.blocks.iter().enumerate() {
+        for (result, _) in &block.insts {
+            if let Some(result) = result {
+                defined_in[result.0 as usize] = number;
+            }
+        }
+    }
+    // blocked[k] counts the reasons against a cut before block k, as a
+    // difference array: +1 where a reason starts, -1 after it ends.
+    let mut blocked = vec![0i64; n + 2];
+    let mut forbid = |first: usize, last: usize| {
+        if first <= last {
+            blocked[first] += 1;
+            blocked[last + 1] -= 1;
+        }
+    };
+    for (number, block) in func.blocks.iter().enumerate() {
+        let mut uses: Vec<ir::Value> = block.insts.iter().flat_map(|(_, inst)| inst.operands()).collect();
+        if let Terminator::Branch { condition, .. } = block.terminator {
+            uses.push(condition);
+        }
+        for value in uses {
+            let definition = defined_in[value.0 as usize];
+            if definition < number {
+                forbid(definition + 1, number);
+            }
+        }
+        for successor in block.terminator.successors() {
+            let successor = successor.0 as usize;
+            if successor > number {
+                forbid(number + 1, successor - 1);
+            } else {
+                forbid(successor + 1, number);
+            }
+        }
+        if block.terminator == Terminator::Return {
+            forbid(number + 1, n.saturating_sub(1));
+        }
+    }
+    let mut ranges = Vec::new();
+    let (mut start, mut since_cut, mut reasons) = (0, 0, 0i64);
+    for (k, against) in blocked.iter().enumerate().take(n).skip(1) {
+        reasons += against;
+        since_cut += func.blocks[k - 1].insts.len();
+        if reasons == 0 && since_cut >= size {
+            ranges.push(start..k);
+            start = k;
+            since_cut = 0;
+        }
+    }
+    ranges.push(start..n);
+    ranges
+}
+
+struct Translator<'a, 'b> {
+    builder: &'a mut FunctionBuilder<'b>,
+    layout: &'a Layout,
+    mem: Value,
+    pointer: types::Type,
+    helpers: &'a [FuncRef],
+    subroutines: &'a [FuncRef],
+    locals: Vec<Variable>,
+    loop_counts: Vec<Variable>,
+    /// The IR type of every value of the function.
+    value_types: &'a [Type],
+    /// Bits are wide `i32` values (see the module).
+    wide_bits: bool,
+    /// NOTs whose one use is an AND or an OR, with what they invert
+    /// (`folded_nots`).
+    folded_nots: HashMap<ir::Value, ir::Value>,
+    /// Bits made as `x ^ 1`, with their `x`: a later AND-NOT of one takes
+    /// `x` instead, and the XOR goes if nothing else uses it.
+    negations: HashMap<Value, Value>,
+}
+
+impl Translator<'_, '_> {
+    /// The Cranelift type of an IR type here: `cl_type`, with wide bits.
+    fn ty(&self, ty: Type) -> types::Type {
+        match ty {
+            Type::Bit if self.wide_bits => types::I32,
+            Type::Bit | Type::I16 | Type::I32 | Type::I64 | Type::F32 | Type::F64 => cl_type(ty),
+        }
+    }
+
+    /// A bit as an `i8` 0 or 1: byte 0 of a wide bit (free: its low byte;
+    /// a constant stays one, so that a store of it takes it as immediate).
+    fn bit_byte(&mut self, bit: Value) -> Value {
+        if self.builder.func.dfg.value_type(bit) == types::I8 {
+            return bit;
+        }
+        let constant =
+            self.builder
+                .func
+                .dfg
+                .value_def(bit)
+                .inst()
+                .and_then(|inst| match self.builder.func.dfg.insts[inst] {
+                    cranelift_codegen::ir::InstructionData::UnaryImm { imm, .. } => Some(imm.bits()),
+                    _ => None,
+                });
+        match constant {
+            Some(value) => self.iconst(types::I8, value & 1),
+            None => self.builder.ins().ireduce(types::I8, bit),
+        }
+    }
+
+    /// `value` (IR value `ir`) as its type's clean value: a bit as an `i8`
+    /// 0 or 1, anything else as it is.
+    fn clean(&mut self, ir: ir::Value, value: Value) -> Value {
+        match self.value_types[ir.0 as usize] {
+            Type::Bit => self.bit_byte(value),
+            Type::I16 | Type::I32 | Type::I64 | Type::F32 | Type::F64 => value,
+        }
+    }
+
+    /// A bit as this function's bits for logic with wide bits: a bit made
+    /// by a comparison stays an `i8` until then (a store takes it as it is).
+    fn wide(&mut self, bit: Value) -> Value {
+        if self.wide_bits && self.builder.func.dfg.value_type(bit) == types::I8 {
+            self.builder.ins().uextend(types::I32, bit)
+        } else {
+            bit
+        }
+    }
+
+    /// Two bits of the same type, for one instruction.
+    fn alike(&mut self, a: Value, b: Value) -> (Value, Value) {
+        let dfg = &self.builder.func.dfg;
+        if dfg.value_type(a) == dfg.value_type(b) {
+            (a, b)
+        } else {
+            (self.wide(a), self.wide(b))
+        }
+    }
+
+    /// NOT `bit`: `bit ^ 1` (the low byte stays 0 or 1), or what `bit`
+    /// was made from by a NOT.
+    fn not(&mut self, bit: Value) -> Value {
+        if let Some(&original) = self.negations.get(&bit) {
+            return original;
+        }
+        let inverse = self.builder.ins().bxor_imm_u(bit, 1);
+        self.negations.insert(inverse, bit);
+        inverse
+    }
+
+    /// `a AND NOT c` (`andn` on x86 with BMI1): the low byte stays 0 or 1
+    /// (c's bits 1-7 inverted meet a's zeros). Of a `c` made by a NOT, the
+    /// AND of what it inverted.
+    fn and_not(&mut self, a: Value, c: Value) -> Value {
+        match self.negations.get(&c) {
+            Some(&original) => {
+                let (a, original) = self.alike(a, original);
+                self.builder.ins().band(a, original)
+            }
+            None => {
+                let (a, c) = self.alike(a, c);
+                self.builder.ins().band_not(a, c)
+            }
+        }
+    }
+
+    /// A bit of bookkeeping (edge slot, block flag) loaded as this
+    /// function's bits.
+    fn load_bit_byte(&mut self, at: (Value, i32)) -> Value {
+        if self.wide_bits {
+            self.builder.ins().uload8(types::I32, flags(), at.0, at.1)
+        } else {
+            self.load_at(types::I8, at)
+        }
+    }
+
+    fn iconst(&mut self, ty: types::Type, value: i64) -> Value {
+        self.builder.ins().iconst(ty, value)
+    }
+
+    /// Where an access goes that the image's layout lacks. The layout of a
+    /// compact image was made from this program's IR, so this does not
+    /// happen; if it did, the access stays inside the image: at the scalar
+    /// that counts layout misses, where the tests would see it.
+    fn missing(&self) -> (Value, i32) {
+        (self.mem, Scalar::LayoutMisses.offset() as i32)
+    }
+
+    /// The address of element `index` of `array` (numbered from its first
+    /// element), clamped into the `len` elements from there, as (pointer,
+    /// constant offset).
+    fn element(&mut self, array: Array, len: u32, index: Index, values: &[Option<Value>]) -> (Value, i32) {
+        let (first, size) = (array.first(), array.size());
+        let len = len.max(1);
+        match index {
+            Index::Fixed(n) => {
+                let n = n.clamp(first, first + len - 1);
+                match self.layout.offset(array, n) {
+                    Some(offset) => (self.mem, offset as i32),
+                    None => self.missing(),
+                }
+            }
+            Index::Dynamic(v) => {
+                // A run-time index: the layout holds the whole array in one piece.
+                let Some(base) = self.layout.whole(array) else {
+                    return self.missing();
+                };
+                let mut index = values[v.0 as usize].expect("defined before use");
+                if first != 0 {
+                    index = self.builder.ins().iadd_imm_s(index, -i64::from(first));
+                }
+                // Unsigned minimum: a negative index is huge and clamps too.
+                let last = self.iconst(types::I32, i64::from(len - 1));
+                let clamped = self.builder.ins().umin(index, last);
+                let wide = self.builder.ins().uextend(self.pointer, clamped);
+                let scaled = self.builder.ins().imul_imm_u(wide, size as i64);
+                (self.builder.ins().iadd(self.mem, scaled), base as i32)
+            }
+        }
+    }
+
+    fn bit_address(&mut self, area: BitArea, index: Index, values: &[Option<Value>]) -> (Value, i32) {
+        self.element(Array::of_bits(area), area.count(), index, values)
+    }
+
+    fn word_address(&mut self, area: WordArea, index: Index, values: &[Option<Value>]) -> (Value, i32) {
+        self.element(Array::of_words(area), area.count(), index, values)
+    }
+
+    /// A 32-bit counter by device number (C200..C255).
+    fn wide_counter_address(&mut self, index: Index, values: &[Option<Value>]) -> (Value, i32) {
+        let array = Array::WideCounterValue;
+        self.element(array, array.end() - array.first(), index, values)
+    }
+
+    /// `count` elements of `array` from `start` set to `value`: one fill
+    /// where the image holds them in one piece, else element by element.
+    fn fill_run(
+        &mut self,
+        array: Array,
+        area_count: u32,
+        start: Index,
+        count: u32,
+        value: Value,
+        values: &[Option<Value>],
+    ) {
+        // The start clamped so that the whole run stays in the area.
+        let count = count.clamp(1, area_count);
+        let at = self.element(array, area_count - count + 1, start, values);
+        let contiguous = match start {
+            Index::Dynamic(_) => at != self.missing(),
+            Index::Fixed(n) => {
+                let n = n.clamp(array.first(), array.first() + area_count - count);
+                match (self.layout.offset(array, n), self.layout.offset(array, n + count - 1)) {
+                    (Some(a), Some(b)) => b - a == (count as usize - 1) * array.size(),
+                    _ => false,
+                }
+            }
+        };
+        if contiguous {
+            self.fill(at, array.size(), count, value);
+            return;
+        }
+        if let Index::Fixed(n) = start {
+            let n = n.clamp(array.first(), array.first() + area_count - count);
+            for k in 0..count {
+                let at = self.element(array, area_count, Index::Fixed(n + k), values);
+                self.store_at(value, at);
+            }
+        } else {
+            let at = self.missing();
+            self.store_at(value, at);
+        }
+    }
+
+    fn store_at(&mut self, value: Value, (address, offset): (Value, i32)) {
+        self.builder.ins().store(flags(), value, address, offset);
+    }
+
+    fn load_at(&mut self, ty: types::Type, (address, offset): (Value, i32)) -> Value {
+        self.builder.ins().load(ty, flags(), address, offset)
+    }
+
+    /// `count` elements of `size` bytes from an address set to `value`.
+    fn fill(&mut self, (address, offset): (Value, i32), size: usize, count: u32, value: Value) {
+        const UNROLL: u32 = 16;
+        if count <= UNROLL {
+            for i in 0..count {
+                self.builder
+                    .ins()
+                    .store(flags(), value, address, offset + (i as usize * size) as i32);
+            }
+            return;
+        }
+        let start = self.builder.ins().iadd_imm_s(address, i64::from(offset));
+        let end = self.builder.ins().iadd_imm_s(start, (count as usize * size) as i64);
+        let header = self.builder.create_block();
+        let body = self.builder.create_block();
+        let done = self.builder.create_block();
+        self.builder.append_block_param(header, self.pointer);
+        self.builder.ins().jump(header, &[start.into()]);
+        self.builder.switch_to_block(header);
+        let cursor = self.builder.block_params(header)[0];
+        let more = self.builder.ins().icmp(IntCC::UnsignedLessThan, cursor, end);
+        self.builder.ins().brif(more, body, &[], done, &[]);
+        self.builder.switch_to_block(body);
+        self.builder.ins().store(flags(), value, cursor, 0);
+        let next = self.builder.ins().iadd_imm_s(cursor, size as i64);
+        self.builder.ins().jump(header, &[next.into()]);
+        self.builder.switch_to_block(done);
+    }
+
+    /// Calls a runtime helper with the image and `args`; its result, if any.
+    fn call(&mut self, helper: Helper, args: &[Value]) -> Option<Value> {
+        let mut all = vec![self.mem];
+        all.extend_from_slice(args);
+        let call = self.builder.ins().call(self.helpers[helper as usize], &all);
+        self.builder.inst_results(call).first().copied()
+    }
+
+    /// Translates one instruction; `wide_load`: a `LoadBit` that reads four
+    /// bytes (`wide.rs`).
+    fn inst(&mut self, inst: &Inst, values: &[Option<Value>], wide_load: bool) -> Option<Value> {
+        let get = |v: &ir::Value| values[v.0 as usize].expect("defined before use");
+        let ins_value = match inst {
+            Inst::Const { ty: Type::F32, value } => self.builder.ins().f32const(f32::from_bits(*value as u32)),
+            Inst::Const { ty: Type::F64, value } => self.builder.ins().f64const(f64::from_bits(*value as u64)),
+            Inst::Const { ty, value } => {
+                let ty = self.ty(*ty);
+                self.iconst(ty, *value)
+            }
+            Inst::LoadBit { area, index } => {
+                let (address, offset) = self.bit_address(*area, *index, values);
+                if wide_load {
+                    // Unaligned, and reading three bytes past the device.
+                    let flags = MemFlagsData::new().with_notrap();
+                    self.builder.ins().load(types::I32, flags, address, offset)
+                } else if self.wide_bits {
+                    self.builder.ins().uload8(types::I32, flags(), address, offset)
+                } else {
+                    self.load_at(types::I8, (address, offset))
+                }
+            }
+            Inst::StoreBit { area, index, value } => {
+                let at = self.bit_address(*area, *index, values);
+                let value = self.bit_byte(get(value));
+                self.store_at(value, at);
+                return None;
+            }
+            Inst::FillBits { area, start, count, on } => {
+                let value = self.iconst(types::I8, i64::from(*on));
+                self.fill_run(Array::of_bits(*area), area.count(), *start, *count, value, values);
+                return None;
+            }
+            Inst::LoadWord { area, index } => {
+                let at = self.word_address(*area, *index, values);
+                self.load_at(types::I16, at)
+            }
+            Inst::StoreWord { area, index, value } => {
+                let at = self.word_address(*area, *index, values);
+                self.store_at(get(value), at);
+                return None;
+            }
+            Inst::ClearWords { area, start, count } => {
+                let zero = self.iconst(types::I16, 0);
+                self.fill_run(Array::of_words(*area), area.count(), *start, *count, zero, values);
+                return None;
+            }
+            Inst::LoadWideCounter { index } => {
+                let at = self.wide_counter_address(*index, values);
+                self.load_at(types::I32, at)
+            }
+            Inst::StoreWideCounter { index, value } => {
+                let at = self.wide_counter_address(*index, values);
+                self.store_at(get(value), at);
+                return None;
+            }
+            Inst::LoadSlot { slot } => {
+                let at = self.element(Array::EdgeSlot, Array::EdgeSlot.end(), Index::Fixed(*slot), values);
+                self.load_bit_byte(at)
+            }
+            Inst::StoreSlot { slot, value } => {
+                let at = self.element(Array::EdgeSlot, Array::EdgeSlot.end(), Index::Fixed(*slot), values);
+                let value = self.bit_byte(get(value));
+                self.store_at(value, at);
+                return None;
+            }
+            Inst::LoadBlockActive { state } => {
+                let array = Array::StlBlockActive;
+                let at = self.element(array, array.end(), Index::Fixed(*state), values);
+                self.load_bit_byte(at)
+            }
+            Inst::StoreBlockActive { state, value } => {
+                let array = Array::StlBlockActive;
+                let at = self.element(array, array.end(), Index::Fixed(*state), values);
+                let value = self.bit_byte(get(value));
+                self.store_at(value, at);
+                return None;
+            }
+            Inst::GetLocal { local } => self.builder.use_var(self.locals[local.0 as usize]),
+            Inst::SetLocal { local, value } => {
+                let value = self.wide(get(value));
+                self.builder.def_var(self.locals[local.0 as usize], value);
+                return None;
+            }
+            Inst::LoadLoopCount { level } => self.builder.use_var(self.loop_counts[*level as usize]),
+            Inst::StoreLoopCount { level, value } => {
+                self.builder.def_var(self.loop_counts[*level as usize], get(value));
+                return None;
+            }
+            Inst::CallSubroutine { subroutine } => {
+                let mem = self.mem;
+                self.builder.ins().call(self.subroutines[*subroutine as usize], &[mem]);
+                return None;
+            }
+            Inst::Not { value } => self.not(get(value)),
+            // a AND NOT c: `andn` with BMI1 (the NOT is not made).
+            Inst::And { a, b } => match (self.folded_nots.get(a), self.folded_nots.get(b)) {
+                (_, Some(inverted)) => self.and_not(get(a), get(inverted)),
+                (Some(inverted), None) => self.and_not(get(b), get(inverted)),
+                (None, None) => {
+                    let (a, b) = self.alike(get(a), get(b));
+                    self.builder.ins().band(a, b)
+                }
+            },
+            // a OR NOT c = NOT (c AND NOT a): `andn` and one XOR, instead of
+            // materialising NOT c (a constant and an XOR) and an OR.
+            Inst::Or { a, b } => match (self.folded_nots.get(a), self.folded_nots.get(b)) {
+                (_, Some(inverted)) => {
+                    let inverse = self.and_not(get(inverted), get(a));
+                    self.not(inverse)
+                }
+                (Some(inverted), None) => {
+                    let inverse = self.and_not(get(inverted), get(b));
+                    self.not(inverse)
+                }
+                (None, None) => {
+                    let (a, b) = self.alike(get(a), get(b));
+                    self.builder.ins().bor(a, b)
+                }
+            },
+            Inst::Binary { op, a, b } => {
+                // Arithmetic on bits (not made by the lowering today) on
+                // their clean bytes; a bit result stays an `i8` (`wide`).
+                let (a, b) = (self.clean(*a, get(a)), self.clean(*b, get(b)));
+                let ins = self.builder.ins();
+                match op {
+                    BinOp::Add => ins.iadd(a, b),
+                    BinOp::Sub => ins.isub(a, b),
+                    BinOp::Mul => ins.imul(a, b),
+                    BinOp::Div => ins.sdiv(a, b),
+                    BinOp::Rem => ins.srem(a, b),
+                    BinOp::And => ins.band(a, b),
+                    BinOp::Or => ins.bor(a, b),
+                    BinOp::Xor => ins.bxor(a, b),
+                    BinOp::Shl => ins.ishl(a, b),
+                    BinOp::Shr => ins.sshr(a, b),
+                    BinOp::UShr => ins.ushr(a, b),
+                }
+            }
+            Inst::Unary { op, value } => {
+                let value = self.clean(*value, get(value));
+                match op {
+                    UnaryOp::PopCount => self.builder.ins().popcnt(value),
+                    UnaryOp::LeadingZeros => self.builder.ins().clz(value),
+                    UnaryOp::SquareRoot => {
+                        // Exact through f64 for the 32-bit values it is used on.
+                        let ty = self.builder.func.dfg.value_type(value);
+                        let float = self.builder.ins().fcvt_from_sint(types::F64, value);
+                        let root = self.builder.ins().sqrt(float);
+                        self.builder.ins().fcvt_to_sint_sat(ty, root)
+                    }
+                }
+            }
+            Inst::Compare { op, a, b } => {
+                let (a, b) = (self.clean(*a, get(a)), self.clean(*b, get(b)));
+                self.builder.ins().icmp(condition(*op), a, b)
+            }
+            Inst::Extend { value, to, signed } => {
+                let (value, to) = (self.clean(*value, get(value)), cl_type(*to));
+                if *signed {
+                    self.builder.ins().sextend(to, value)
+                } else {
+                    self.builder.ins().uextend(to, value)
+                }
+            }
+            Inst::Truncate { value, to } => self.builder.ins().ireduce(cl_type(*to), get(value)),
+            Inst::Select {
+                condition,
+                if_true,
+                if_false,
+            } => {
+                let condition = self.clean(*condition, get(condition));
+                let (if_true, if_false) = match self.value_types[if_true.0 as usize] {
+                    Type::Bit => self.alike(get(if_true), get(if_false)),
+                    Type::I16 | Type::I32 | Type::I64 | Type::F32 | Type::F64 => (get(if_true), get(if_false)),
+                };
+                self.builder.ins().select(condition, if_true, if_false)
+            }
+            Inst::Float { op, a, b } => {
+                let (a, b) = (get(a), get(b));
+                let ins = self.builder.ins();
+                match op {
+                    FloatOp::Add => ins.fadd(a, b),
+                    FloatOp::Sub => ins.fsub(a, b),
+                    FloatOp::Mul => ins.fmul(a, b),
+                    FloatOp::Div => ins.fdiv(a, b),
+                }
+            }
+            Inst::FloatUnary { op, value } => {
+                let value = get(value);
+                let ins = self.builder.ins();
+                match op {
+                    FloatUnaryOp::SquareRoot => ins.sqrt(value),
+                    FloatUnaryOp::Neg => ins.fneg(value),
+                    FloatUnaryOp::Abs => ins.fabs(value),
+                }
+            }
+            Inst::FloatCompare { op, a, b } => self.builder.ins().fcmp(float_condition(*op), get(a), get(b)),
+            Inst::Bitcast { value, to } => self
+                .builder
+                .ins()
+                .bitcast(cl_type(*to), MemFlagsData::new(), get(value)),
+            Inst::Convert { value, to, conversion } => {
+                let (value, to) = (get(value), cl_type(*to));
+                let ins = self.builder.ins();
+                match conversion {
+                    Conversion::IntToFloat => ins.fcvt_from_sint(to, value),
+                    // Saturating: never a trap, whatever the value.
+                    Conversion::FloatToInt => ins.fcvt_to_sint_sat(to, value),
+                    Conversion::FloatToFloat if to == types::F64 => ins.fpromote(to, value),
+                    Conversion::FloatToFloat => ins.fdemote(to, value),
+                }
+            }
+            Inst::RecordError { error, line } => {
+                let code = self.iconst(types::I32, i64::from(error.code()));
+                let line = self.iconst(types::I32, i64::from(*line as i32));
+                self.call(Helper::RecordError, &[code, line]);
+                return None;
+            }
+            Inst::Call { helper, args } => {
+                let args: Vec<Value> = args.iter().map(|arg| self.clean(*arg, get(arg))).collect();
+                return self.call(*helper, &args);
+            }
+        };
+        Some(ins_value)
+    }
+}

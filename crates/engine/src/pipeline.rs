@@ -1,0 +1,110 @@
+//! The stages after the checker, in order: lowering to IR, IR passes, the
+//! image's layout, and code generation.
+
+use ladder_codegen::{emit_object, CodegenError, JitProgram, ObjectOptions};
+use ladder_front::host_device::HostDevice;
+use ladder_front::program::CheckedProgram;
+use ladder_ir::image::{compact_layout, machine_use, ImageKind};
+use ladder_ir::Program;
+use ladder_runtime::layout::Layout;
+
+/// The optimised IR of a checked program.
+pub fn ir(program: &CheckedProgram) -> Program {
+    ladder_ir::lower_and_optimize(program)
+}
+
+/// The program compiled into this process (which runs it on `Memory`: the
+/// full layout).
+pub fn jit(program: &CheckedProgram) -> Result<JitProgram, CodegenError> {
+    JitProgram::compile(&ir(program))
+}
+
+/// The image a built program gets: the full layout, or a compact one that
+/// also holds the devices the host names. Either way the scan keeps up to
+/// date the parts of the machine (calendar, scan time, special relays, ...)
+/// that the program or the host's devices use.
+#[derive(Clone, Debug)]
+pub struct ImageRequest {
+    pub kind: ImageKind,
+    pub host_devices: Vec<HostDevice>,
+}
+
+impl Default for ImageRequest {
+    fn default() -> Self {
+        ImageRequest::full()
+    }
+}
+
+impl ImageRequest {
+    /// Every device (the runtime's `Memory`).
+    pub fn full() -> ImageRequest {
+        ImageRequest::full_with(Vec::new())
+    }
+
+    /// Every device, for a host that reads and writes `host_devices`.
+    pub fn full_with(host_devices: Vec<HostDevice>) -> ImageRequest {
+        ImageRequest {
+            kind: ImageKind::Full,
+            host_devices,
+        }
+    }
+
+    /// The devices the program uses and `host_devices`.
+    pub fn compact(host_devices: Vec<HostDevice>) -> ImageRequest {
+        ImageRequest {
+            kind: ImageKind::Compact,
+            host_devices,
+        }
+    }
+
+    /// The layout for `program`, optimised as `ir`; `None` for the full one.
+    pub fn layout(&self, program: &CheckedProgram, ir: &Program) -> Option<Layout> {
+        match self.kind {
+            ImageKind::Full => None,
+            ImageKind::Compact => Some(compact_layout(program, ir, &self.host_devices)),
+        }
+    }
+}
+
+/// What a back end made, and the compact layout it was made for (`None`:
+/// the full layout).
+#[derive(Clone, Debug)]
+pub struct Built<T> {
+    pub output: T,
+    pub layout: Option<Layout>,
+}
+
+/// The program as an object file (`options.layout` is set from `image`).
+pub fn object(
+    program: &CheckedProgram,
+    options: &ObjectOptions,
+    image: &ImageRequest,
+) -> Result<Built<Vec<u8>>, CodegenError> {
+    let ir = ir(program);
+    let layout = image.layout(program, &ir);
+    let options = ObjectOptions {
+        layout,
+        machine: machine_use(program, &ir, &image.host_devices),
+        ..options.clone()
+    };
+    Ok(Built {
+        output: emit_object(&ir, &options)?,
+        layout,
+    })
+}
+
+/// The program as portable C (the C back end, from the same optimised IR;
+/// `options.layout` is set from `image`).
+pub fn c_source(program: &CheckedProgram, options: &ladder_cback::COptions, image: &ImageRequest) -> Built<String> {
+    let ir = ir(program);
+    let layout = image.layout(program, &ir);
+    let options = ladder_cback::COptions {
+        layout,
+        machine: machine_use(program, &ir, &image.host_devices),
+        ..options.clone()
+    };
+    Built {
+        output: ladder_cback::emit_c(&ir, &options),
+        layout,
+    }
+}

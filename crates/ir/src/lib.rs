@@ -1,0 +1,488 @@
+//! The SSA intermediate representation between the checked program and
+//! machine code. It makes the PLC's hidden state explicit:
+//!
+//! - device reads and writes are typed loads and stores of the device image;
+//! - every edge instruction's previous-scan slot is a named load and store;
+//! - an STL block is a gated region: run while its state is ON, reset once
+//!   (OUT coils off, timers cleared, slots cleared) when found OFF after running,
+//!   skipped otherwise, with the block's "last ran active" flag loaded and stored;
+//! - timer and counter updates are explicit operations;
+//! - the logic stack (ANB/ORB/MPS) lives in SSA values, never in memory.
+//!
+//! A function is a list of blocks; each block holds instructions and ends in a
+//! terminator. A value is defined once and used in blocks its definition
+//! dominates. The master-control power of each level is a local variable.
+
+#![deny(clippy::wildcard_enum_match_arm)]
+
+mod builder;
+pub mod image;
+pub mod lower;
+mod memory;
+pub mod passes;
+mod print;
+
+pub use builder::Builder;
+
+/// The optimised IR of a checked program: lowered once, then the passes;
+/// what every back end compiles.
+pub fn lower_and_optimize(program: &ladder_front::program::CheckedProgram) -> Program {
+    let mut ir = lower::lower(program);
+    passes::optimize(&mut ir);
+    ir
+}
+
+use ladder_front::isa::CompareOp;
+use ladder_runtime::helpers::Helper;
+use ladder_runtime::{BitArea, OperationError, WordArea};
+
+/// An SSA value.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Value(pub u32);
+
+/// A basic block.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct BlockId(pub u32);
+
+/// A local variable (the power of a master-control level).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Local(pub u8);
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Type {
+    /// 0 or 1.
+    Bit,
+    I16,
+    I32,
+    I64,
+    /// IEEE-754 binary32 (the floats of the image's word pairs); a
+    /// constant's value holds its bits.
+    F32,
+    /// IEEE-754 binary64, for exact intermediate results of float
+    /// instructions; a constant's value holds its bits.
+    F64,
+}
+
+/// A device number: fixed, or computed at run time and already brought into
+/// the area by the lowering (code generation clamps it once more, so a
+/// lowering mistake cannot reach outside the image).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Index {
+    Fixed(u32),
+    /// An I32 value.
+    Dynamic(Value),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum BinOp {
+    Add,
+    Sub,
+    Mul,
+    /// Signed, truncating toward zero. The divisor is never zero.
+    Div,
+    /// Signed remainder (sign of the dividend). The divisor is never zero.
+    Rem,
+    And,
+    Or,
+    Xor,
+    Shl,
+    /// Arithmetic shift right.
+    Shr,
+    /// Logical shift right.
+    UShr,
+}
+
+/// Float operations of two operands (both F32 or both F64), IEEE-754
+/// round to nearest.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum FloatOp {
+    Add,
+    Sub,
+    Mul,
+    /// The divisor is never zero.
+    Div,
+}
+
+/// Float operations of one operand.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum FloatUnaryOp {
+    /// Of a value that is not negative.
+    SquareRoot,
+    Neg,
+    Abs,
+}
+
+/// Numeric conversions (not bit casts).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Conversion {
+    /// A signed integer to the nearest float.
+    IntToFloat,
+    /// A float to a signed integer, toward zero, saturating (NaN is 0):
+    /// callers check the range first.
+    FloatToInt,
+    /// F32 to F64 (exact) or F64 to F32 (to nearest).
+    FloatToFloat,
+}
+
+/// Integer operations of one operand.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum UnaryOp {
+    /// The number of one bits.
+    PopCount,
+    /// The number of leading zero bits.
+    LeadingZeros,
+    /// The integer square root (rounded down) of a value that is not
+    /// negative.
+    SquareRoot,
+}
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Inst {
+    Const {
+        ty: Type,
+        value: i64,
+    },
+    LoadBit {
+        area: BitArea,
+        index: Index,
+    },
+    StoreBit {
+        area: BitArea,
+        index: Index,
+        value: Value,
+    },
+    /// `count` consecutive bits from `start` set to `on` (SET/RST Kn).
+    FillBits {
+        area: BitArea,
+        start: Index,
+        count: u32,
+        on: bool,
+    },
+    LoadWord {
+        area: WordArea,
+        index: Index,
+    },
+    StoreWord {
+        area: WordArea,
+        index: Index,
+        value: Value,
+    },
+    /// `count` consecutive words from `start` set to 0 (RST Dn Kn).
+    ClearWords {
+        area: WordArea,
+        start: Index,
+        count: u32,
+    },
+    /// The current value of a 32-bit counter (index = device number).
+    LoadWideCounter {
+        index: Index,
+    },
+    StoreWideCounter {
+        index: Index,
+        value: Value,
+    },
+    /// The previous-scan value of edge instruction `slot`.
+    LoadSlot {
+        slot: u32,
+    },
+    StoreSlot {
+        slot: u32,
+        value: Value,
+    },
+    /// Whether the block of `state` last ran with its state ON.
+    LoadBlockActive {
+        state: u32,
+    },
+    StoreBlockActive {
+        state: u32,
+        value: Value,
+    },
+    GetLocal {
+        local: Local,
+    },
+    SetLocal {
+        local: Local,
+        value: Value,
+    },
+    /// The repetitions left in the FOR/NEXT loop at nesting `level` (an
+    /// I32 local of the function).
+    LoadLoopCount {
+        level: u8,
+    },
+    StoreLoopCount {
+        level: u8,
+        value: Value,
+    },
+    /// Runs subroutine `subroutine` (its function in `Program`): may read
+    /// and write anything in the image.
+    CallSubroutine {
+        subroutine: u32,
+    },
+    Not {
+        value: Value,
+    },
+    And {
+        a: Value,
+        b: Value,
+    },
+    Or {
+        a: Value,
+        b: Value,
+    },
+    Binary {
+        op: BinOp,
+        a: Value,
+        b: Value,
+    },
+    Unary {
+        op: UnaryOp,
+        value: Value,
+    },
+    /// Signed comparison giving a Bit.
+    Compare {
+        op: CompareOp,
+        a: Value,
+        b: Value,
+    },
+    Extend {
+        value: Value,
+        to: Type,
+        signed: bool,
+    },
+    Truncate {
+        value: Value,
+        to: Type,
+    },
+    Select {
+        condition: Value,
+        if_true: Value,
+        if_false: Value,
+    },
+    Float {
+        op: FloatOp,
+        a: Value,
+        b: Value,
+    },
+    FloatUnary {
+        op: FloatUnaryOp,
+        value: Value,
+    },
+    /// Ordered float comparison giving a Bit (-0 equals +0).
+    FloatCompare {
+        op: CompareOp,
+        a: Value,
+        b: Value,
+    },
+    /// The same bits as another type of the same size (I32 <-> F32).
+    Bitcast {
+        value: Value,
+        to: Type,
+    },
+    Convert {
+        value: Value,
+        to: Type,
+        conversion: Conversion,
+    },
+    /// M8067 ON, D8067 = code, D8069 = line (a call of the runtime's
+    /// `RecordError` helper in machine code).
+    RecordError {
+        error: OperationError,
+        line: u32,
+    },
+    /// A call of a runtime helper; the arguments follow the helper's
+    /// declaration (I32 values; places packed by `Place::pack`). Defines a
+    /// value when the helper returns one.
+    Call {
+        helper: Helper,
+        args: Vec<Value>,
+    },
+}
+
+impl Inst {
+    /// The type of the value the instruction defines, if it defines one;
+    /// `value_type` gives the types of its operands.
+    pub fn result_type(&self, value_type: impl Fn(Value) -> Type) -> Option<Type> {
+        Some(match self {
+            Inst::Const { ty, .. } => *ty,
+            Inst::LoadBit { .. }
+            | Inst::LoadSlot { .. }
+            | Inst::LoadBlockActive { .. }
+            | Inst::GetLocal { .. }
+            | Inst::Not { .. }
+            | Inst::And { .. }
+            | Inst::Or { .. }
+            | Inst::Compare { .. }
+            | Inst::FloatCompare { .. } => Type::Bit,
+            Inst::LoadWord { .. } => Type::I16,
+            Inst::LoadWideCounter { .. } | Inst::LoadLoopCount { .. } => Type::I32,
+            Inst::Binary { a, .. } => value_type(*a),
+            Inst::Unary { value, .. } => value_type(*value),
+            Inst::Extend { to, .. } | Inst::Truncate { to, .. } => *to,
+            Inst::Select { if_true, .. } => value_type(*if_true),
+            Inst::Float { a, .. } => value_type(*a),
+            Inst::FloatUnary { value, .. } => value_type(*value),
+            Inst::Bitcast { to, .. } | Inst::Convert { to, .. } => *to,
+            Inst::Call { helper, .. } => return helper.decl().returns.map(|_| Type::I32),
+            Inst::StoreBit { .. }
+            | Inst::FillBits { .. }
+            | Inst::StoreWord { .. }
+            | Inst::ClearWords { .. }
+            | Inst::StoreWideCounter { .. }
+            | Inst::StoreSlot { .. }
+            | Inst::StoreBlockActive { .. }
+            | Inst::SetLocal { .. }
+            | Inst::StoreLoopCount { .. }
+            | Inst::CallSubroutine { .. }
+            | Inst::RecordError { .. } => return None,
+        })
+    }
+
+    /// Has no effect besides its result, so it may be removed when unused:
+    /// every instruction that defines a value (loads of the image included)
+    /// except helper calls.
+    pub fn is_pure(&self) -> bool {
+        !matches!(self, Inst::Call { .. }) && self.result_type(|_| Type::Bit).is_some()
+    }
+
+    /// Values the instruction reads.
+    pub fn operands(&self) -> Vec<Value> {
+        let mut operands = Vec::new();
+        self.clone().for_each_operand_mut(|v| operands.push(*v));
+        operands
+    }
+
+    /// Visits every value the instruction reads, mutably (for rewriting).
+    pub fn for_each_operand_mut(&mut self, mut visit: impl FnMut(&mut Value)) {
+        let index = |i: &mut Index, visit: &mut dyn FnMut(&mut Value)| {
+            if let Index::Dynamic(v) = i {
+                visit(v);
+            }
+        };
+        match self {
+            Inst::Const { .. }
+            | Inst::LoadSlot { .. }
+            | Inst::LoadBlockActive { .. }
+            | Inst::GetLocal { .. }
+            | Inst::LoadLoopCount { .. }
+            | Inst::CallSubroutine { .. }
+            | Inst::RecordError { .. } => {}
+            Inst::LoadBit { index: i, .. } | Inst::LoadWord { index: i, .. } | Inst::LoadWideCounter { index: i } => {
+                index(i, &mut visit)
+            }
+            Inst::FillBits { start, .. } | Inst::ClearWords { start, .. } => index(start, &mut visit),
+            Inst::StoreBit { index: i, value, .. }
+            | Inst::StoreWord { index: i, value, .. }
+            | Inst::StoreWideCounter { index: i, value } => {
+                index(i, &mut visit);
+                visit(value);
+            }
+            Inst::StoreSlot { value, .. }
+            | Inst::StoreBlockActive { value, .. }
+            | Inst::SetLocal { value, .. }
+            | Inst::StoreLoopCount { value, .. }
+            | Inst::Not { value }
+            | Inst::Unary { value, .. }
+            | Inst::Extend { value, .. }
+            | Inst::Truncate { value, .. }
+            | Inst::FloatUnary { value, .. }
+            | Inst::Bitcast { value, .. }
+            | Inst::Convert { value, .. } => visit(value),
+            Inst::And { a, b }
+            | Inst::Or { a, b }
+            | Inst::Binary { a, b, .. }
+            | Inst::Compare { a, b, .. }
+            | Inst::Float { a, b, .. }
+            | Inst::FloatCompare { a, b, .. } => {
+                visit(a);
+                visit(b);
+            }
+            Inst::Select {
+                condition,
+                if_true,
+                if_false,
+            } => {
+                visit(condition);
+                visit(if_true);
+                visit(if_false);
+            }
+            Inst::Call { args, .. } => args.iter_mut().for_each(&mut visit),
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Terminator {
+    Jump(BlockId),
+    Branch {
+        condition: Value,
+        then: BlockId,
+        otherwise: BlockId,
+    },
+    Return,
+}
+
+impl Terminator {
+    /// The same terminator with every target passed through `map`.
+    pub fn map_targets(&self, map: impl Fn(BlockId) -> BlockId) -> Terminator {
+        match *self {
+            Terminator::Jump(target) => Terminator::Jump(map(target)),
+            Terminator::Branch {
+                condition,
+                then,
+                otherwise,
+            } => Terminator::Branch {
+                condition,
+                then: map(then),
+                otherwise: map(otherwise),
+            },
+            Terminator::Return => Terminator::Return,
+        }
+    }
+
+    pub fn successors(&self) -> Vec<BlockId> {
+        match self {
+            Terminator::Jump(b) => vec![*b],
+            Terminator::Branch { then, otherwise, .. } => vec![*then, *otherwise],
+            Terminator::Return => vec![],
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Block {
+    /// Instructions with the value each defines (None for effects).
+    pub insts: Vec<(Option<Value>, Inst)>,
+    pub terminator: Terminator,
+}
+
+/// One function: the main program (the body of the scan, step 3) or a
+/// subroutine.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Function {
+    pub blocks: Vec<Block>,
+    /// The type of every value, by number.
+    pub value_types: Vec<Type>,
+    /// Number of bit locals (master-control levels).
+    pub locals: u8,
+    /// Number of loop-count locals (FOR/NEXT nesting levels).
+    pub loop_levels: u8,
+}
+
+/// A whole program: the main program and its subroutines, each compiled
+/// once (a CALL is a call, not a copy).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Program {
+    pub main: Function,
+    /// By subroutine number (`Inst::CallSubroutine`).
+    pub subroutines: Vec<Function>,
+}
+
+impl Function {
+    pub fn value_type(&self, value: Value) -> Type {
+        self.value_types[value.0 as usize]
+    }
+
+    pub fn block(&self, block: BlockId) -> &Block {
+        &self.blocks[block.0 as usize]
+    }
+}

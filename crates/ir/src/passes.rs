@@ -1,0 +1,648 @@
+//! IR passes that pay for themselves on real programs:
+//!
+//! - constant folding, including the always-ON/OFF relays (SM0, M8000, M8001,
+//!   ...) when the program never writes them: `LD M8000` costs nothing; a
+//!   run-time index that folds to a device of its area becomes a fixed one
+//!   (addressed directly, and all a compact image needs to hold);
+//! - branch folding and removal of unreachable blocks;
+//! - merging a block into its only predecessor;
+//! - removal of pure instructions whose values are never used;
+//! - memory forwarding across rungs (`memory.rs`).
+
+use super::{BinOp, Block, BlockId, Function, Index, Inst, Program, Terminator, Type, UnaryOp, Value};
+use ladder_front::isa::CompareOp;
+use ladder_runtime::device::{FIRST_WIDE_COUNTER, WIDE_COUNTER_COUNT};
+use ladder_runtime::helpers::{Param, Writes};
+use ladder_runtime::special::{M_ALWAYS_OFF, M_ALWAYS_ON, M_OPERATION_ERROR, SM_ALWAYS_OFF, SM_ALWAYS_ON};
+use ladder_runtime::{BitArea, Place};
+use std::collections::HashMap;
+
+/// Runs every pass on every function of the program. The relays the
+/// runtime holds constant are found over the whole program (a subroutine
+/// may write one), before any pass removes a write.
+pub fn optimize(program: &mut Program) {
+    let relays = constant_relays(std::iter::once(&program.main).chain(&program.subroutines));
+    for function in std::iter::once(&mut program.main).chain(&mut program.subroutines) {
+        optimize_function(function, &relays);
+    }
+}
+
+/// Forwarding memory works best on merged blocks, and what it forwards may
+/// fold further.
+fn optimize_function(function: &mut Function, relays: &Relays) {
+    simplify_control(function, relays);
+    super::memory::forward_memory(function);
+    simplify_control(function, relays);
+    remove_dead_values(function);
+}
+
+fn simplify_control(function: &mut Function, relays: &Relays) {
+    fold_constants(function, relays);
+    fold_branches(function);
+    remove_unreachable(function);
+    thread_jumps(function);
+    merge_blocks(function);
+}
+
+/// Sends jumps and branches that land on an empty block that only jumps on
+/// straight to where it jumps.
+pub fn thread_jumps(function: &mut Function) {
+    let forward: Vec<Option<BlockId>> = function
+        .blocks
+        .iter()
+        .enumerate()
+        .map(|(index, block)| match block.terminator {
+            Terminator::Jump(target) if index != 0 && block.insts.is_empty() && target.0 as usize != index => {
+                Some(target)
+            }
+            Terminator::Jump(_) | Terminator::Branch { .. } | Terminator::Return => None,
+        })
+        .collect();
+    let resolve = |mut block: BlockId| {
+        // Follow chains of empty blocks, at most once around any cycle.
+        for _ in 0..forward.len() {
+            match forward[block.0 as usize] {
+                Some(next) => block = next,
+                None => break,
+            }
+        }
+        block
+    };
+    for block in &mut function.blocks {
+        block.terminator = block.terminator.map_targets(resolve);
+    }
+    fold_branches(function);
+    remove_unreachable(function);
+}
+
+/// Blocks in reverse postorder from the entry: every definition comes before
+/// its uses in this order.
+pub(super) fn reverse_postorder(function: &Function) -> Vec<BlockId> {
+    let mut visited = vec![false; function.blocks.len()];
+    let mut order = Vec::new();
+    let mut stack = vec![(BlockId(0), false)];
+    while let Some((block, done)) = stack.pop() {
+        if done {
+            order.push(block);
+            continue;
+        }
+        if std::mem::replace(&mut visited[block.0 as usize], true) {
+            continue;
+        }
+        stack.push((block, true));
+        for successor in function.block(block).terminator.successors().into_iter().rev() {
+            if !visited[successor.0 as usize] {
+                stack.push((successor, false));
+            }
+        }
+    }
+    order.reverse();
+    order
+}
+
+/// The value of every constant of the function.
+fn constant_values(function: &Function) -> HashMap<Value, i64> {
+    function
+        .blocks
+        .iter()
+        .flat_map(|b| b.insts.iter())
+        .filter_map(|(result, inst)| match (result, inst) {
+            (Some(r), Inst::Const { value, .. }) => Some((*r, *value)),
+            _ => None,
+        })
+        .collect()
+}
+
+/// Relays with a value known for the whole program run.
+type Relays = HashMap<(BitArea, u32), bool>;
+
+/// The relays the runtime holds constant during the program, and their value,
+/// unless some function of the program may write them.
+fn constant_relays<'f>(functions: impl Iterator<Item = &'f Function>) -> Relays {
+    let mut known: HashMap<(BitArea, u32), bool> = HashMap::new();
+    known.insert((BitArea::Sm, SM_ALWAYS_ON), true);
+    known.insert((BitArea::Sm, SM_ALWAYS_OFF), false);
+    for n in M_ALWAYS_ON {
+        known.insert((BitArea::M, n), true);
+    }
+    for n in M_ALWAYS_OFF {
+        known.insert((BitArea::M, n), false);
+    }
+    for function in functions {
+        let constants = constant_values(function);
+        for block in &function.blocks {
+            for (_, inst) in &block.insts {
+                for (area, start, count) in written_bits(inst, &constants) {
+                    match start {
+                        Some(start) => known.retain(|&(a, n), _| a != area || !(start..start + count).contains(&n)),
+                        None => known.retain(|&(a, _), _| a != area),
+                    }
+                }
+            }
+        }
+    }
+    known
+}
+
+/// The bit devices an instruction may write: (area, first, count), with no
+/// first when the index is dynamic (the whole area may be written).
+fn written_bits(inst: &Inst, constants: &HashMap<Value, i64>) -> Vec<(BitArea, Option<u32>, u32)> {
+    let fixed = |index: &Index| match index {
+        Index::Fixed(n) => Some(*n),
+        Index::Dynamic(_) => None,
+    };
+    match inst {
+        Inst::StoreBit { area, index, .. } => vec![(*area, fixed(index), 1)],
+        Inst::FillBits { area, start, count, .. } => vec![(*area, fixed(start), *count)],
+        Inst::Call { helper, args } => {
+            let decl = helper.decl();
+            let effects = decl.writes.iter().flat_map(|w| match w {
+                // The error flag is one relay, not the whole of M.
+                Writes::OperationError => vec![(BitArea::M, Some(M_OPERATION_ERROR), 1)],
+                Writes::Timers | Writes::Counters | Writes::StlBookkeeping | Writes::Bits(_) | Writes::Image => {
+                    w.bit_areas().iter().map(|&area| (area, None, 0)).collect()
+                }
+            });
+            let places = decl
+                .params
+                .iter()
+                .zip(args)
+                .filter(|((_, param), _)| *param == Param::DestinationPlace)
+                .flat_map(|(_, arg)| {
+                    let place = constants.get(arg).and_then(|&packed| Place::unpack(packed as u32));
+                    match place {
+                        // A digit group writes bits of its area.
+                        Some(Place::Digits(area, ..) | Place::Bit(area, _)) => vec![(area, None, 0)],
+                        Some(Place::Word(..) | Place::WordBit(..) | Place::WideCounter(_) | Place::Constant(_)) => {
+                            Vec::new()
+                        }
+                        // Not known here: any bit area.
+                        None => BitArea::ALL.iter().map(|&area| (area, None, 0)).collect(),
+                    }
+                });
+            effects.chain(places).collect()
+        }
+        Inst::Const { .. }
+        | Inst::LoadBit { .. }
+        | Inst::LoadWord { .. }
+        | Inst::StoreWord { .. }
+        | Inst::ClearWords { .. }
+        | Inst::LoadWideCounter { .. }
+        | Inst::StoreWideCounter { .. }
+        | Inst::LoadSlot { .. }
+        | Inst::StoreSlot { .. }
+        | Inst::LoadBlockActive { .. }
+        | Inst::StoreBlockActive { .. }
+        | Inst::GetLocal { .. }
+        | Inst::SetLocal { .. }
+        | Inst::LoadLoopCount { .. }
+        | Inst::StoreLoopCount { .. }
+        | Inst::Not { .. }
+        | Inst::And { .. }
+        | Inst::Or { .. }
+        | Inst::Binary { .. }
+        | Inst::Unary { .. }
+        | Inst::Compare { .. }
+        | Inst::Extend { .. }
+        | Inst::Truncate { .. }
+        | Inst::Select { .. }
+        | Inst::Float { .. }
+        | Inst::FloatUnary { .. }
+        | Inst::FloatCompare { .. }
+        | Inst::Bitcast { .. }
+        | Inst::Convert { .. }
+        // The subroutine's own writes are counted with its function.
+        | Inst::CallSubroutine { .. }
+        | Inst::RecordError { .. } => Vec::new(),
+    }
+}
+
+/// Wraps `value` to the bits of `ty`, sign-extended (Bits are 0/1).
+fn wrap(ty: Type, value: i64) -> i64 {
+    match ty {
+        Type::Bit => value & 1,
+        Type::I16 => i64::from(value as i16),
+        Type::I32 => i64::from(value as i32),
+        Type::I64 => value,
+        // Float constants hold their bits.
+        Type::F32 => i64::from(value as u32),
+        Type::F64 => value,
+    }
+}
+
+fn fold_binary(op: BinOp, ty: Type, a: i64, b: i64) -> Option<i64> {
+    let value = match op {
+        BinOp::Add => a.wrapping_add(b),
+        BinOp::Sub => a.wrapping_sub(b),
+        BinOp::Mul => a.wrapping_mul(b),
+        BinOp::Div | BinOp::Rem if b == 0 => return None,
+        BinOp::Div => a.wrapping_div(b),
+        BinOp::Rem => a.wrapping_rem(b),
+        BinOp::And => a & b,
+        BinOp::Or => a | b,
+        BinOp::Xor => a ^ b,
+        BinOp::Shl => a.wrapping_shl(b as u32),
+        BinOp::Shr => a.wrapping_shr(b as u32),
+        BinOp::UShr => (unsigned(ty, a)).wrapping_shr(b as u32) as i64,
+    };
+    Some(wrap(ty, value))
+}
+
+/// The bits of `value` at `ty`, as an unsigned number.
+fn unsigned(ty: Type, value: i64) -> u64 {
+    match ty {
+        Type::Bit => value as u64 & 1,
+        Type::I16 => u64::from(value as u16),
+        Type::I32 | Type::F32 => u64::from(value as u32),
+        Type::I64 | Type::F64 => value as u64,
+    }
+}
+
+fn bits_of(ty: Type) -> u32 {
+    match ty {
+        Type::Bit => 1,
+        Type::I16 => 16,
+        Type::I32 | Type::F32 => 32,
+        Type::I64 | Type::F64 => 64,
+    }
+}
+
+fn fold_unary(op: UnaryOp, ty: Type, value: i64) -> Option<i64> {
+    let bits = unsigned(ty, value);
+    Some(match op {
+        UnaryOp::PopCount => i64::from(bits.count_ones()),
+        UnaryOp::LeadingZeros => i64::from(bits.leading_zeros() - (64 - bits_of(ty))),
+        UnaryOp::SquareRoot if value < 0 => return None,
+        UnaryOp::SquareRoot => (value as u64).isqrt() as i64,
+    })
+}
+
+fn compare(op: CompareOp, a: i64, b: i64) -> bool {
+    op.holds(a, b)
+}
+
+/// What an instruction folds to.
+enum Folded {
+    Constant(i64),
+    /// The instruction computes an existing value.
+    Same(Value),
+    Nothing,
+}
+
+/// AND (`absorbing` 0) or OR (`absorbing` 1) with known operands.
+fn fold_logic(a: Value, b: Value, known_a: Option<i64>, known_b: Option<i64>, absorbing: i64) -> Folded {
+    match (known_a, known_b) {
+        (Some(v), _) | (_, Some(v)) if v == absorbing => Folded::Constant(absorbing),
+        (Some(_), Some(_)) => Folded::Constant(1 - absorbing),
+        (Some(_), None) => Folded::Same(b),
+        (None, Some(_)) => Folded::Same(a),
+        (None, None) if a == b => Folded::Same(a),
+        (None, None) => Folded::Nothing,
+    }
+}
+
+/// Folds one instruction given the constants and extensions known so far.
+fn fold(
+    inst: &Inst,
+    ty: Type,
+    types: &[Type],
+    constants: &HashMap<Value, i64>,
+    extended_from: &HashMap<Value, Value>,
+    relays: &HashMap<(BitArea, u32), bool>,
+) -> Folded {
+    let known = |v: &Value| constants.get(v).copied();
+    let constant = |value: Option<i64>| value.map_or(Folded::Nothing, Folded::Constant);
+    match inst {
+        Inst::Const { value, .. } => Folded::Constant(*value),
+        Inst::LoadBit {
+            area,
+            index: Index::Fixed(n),
+        } => constant(relays.get(&(*area, *n)).map(|&on| on as i64)),
+        Inst::Not { value } => constant(known(value).map(|v| 1 - v)),
+        Inst::And { a, b } => fold_logic(*a, *b, known(a), known(b), 0),
+        Inst::Or { a, b } => fold_logic(*a, *b, known(a), known(b), 1),
+        Inst::Binary { op, a, b } => match (op, known(a), known(b)) {
+            (_, Some(x), Some(y)) => constant(fold_binary(*op, ty, x, y)),
+            // x + 0, x - 0, x | 0, x << 0, x >> 0, x * 1
+            (BinOp::Add | BinOp::Sub | BinOp::Or | BinOp::Shl | BinOp::Shr, None, Some(0))
+            | (BinOp::Mul, None, Some(1)) => Folded::Same(*a),
+            // 0 + x, 0 | x, 1 * x
+            (BinOp::Add | BinOp::Or, Some(0), None) | (BinOp::Mul, Some(1), None) => Folded::Same(*b),
+            _ => Folded::Nothing,
+        },
+        Inst::Unary { op, value } => constant(known(value).and_then(|v| fold_unary(*op, ty, v))),
+        Inst::Compare { op, a, b } => match (known(a), known(b)) {
+            (Some(x), Some(y)) => Folded::Constant(compare(*op, x, y) as i64),
+            _ => Folded::Nothing,
+        },
+        Inst::Extend { value, signed, .. } => {
+            constant(known(value).map(|v| match (*signed, types[value.0 as usize]) {
+                (false, Type::I16) => i64::from(v as u16),
+                (false, Type::I32) => i64::from(v as u32),
+                _ => v,
+            }))
+        }
+        Inst::Truncate { value, to } => match (known(value), extended_from.get(value)) {
+            (Some(v), _) => Folded::Constant(wrap(*to, v)),
+            // trunc(ext(x)) back to x's own type is x.
+            (None, Some(&inner)) if types[inner.0 as usize] == *to => Folded::Same(inner),
+            _ => Folded::Nothing,
+        },
+        Inst::Select {
+            condition,
+            if_true,
+            if_false,
+        } => match known(condition) {
+            Some(c) => {
+                let chosen = if c != 0 { *if_true } else { *if_false };
+                known(&chosen).map_or(Folded::Same(chosen), Folded::Constant)
+            }
+            None if if_true == if_false => Folded::Same(*if_true),
+            None => Folded::Nothing,
+        },
+        // Float arithmetic is left to the machine (folding it would need
+        // the same rounding here as there), and bit casts keep their bits.
+        Inst::Bitcast { value, .. } => constant(known(value)),
+        Inst::Float { .. } | Inst::FloatUnary { .. } | Inst::FloatCompare { .. } | Inst::Convert { .. } => {
+            Folded::Nothing
+        }
+        // Loads of the image and of bookkeeping, and effects: nothing known.
+        Inst::LoadLoopCount { .. }
+        | Inst::StoreLoopCount { .. }
+        | Inst::CallSubroutine { .. }
+        | Inst::LoadBit { .. }
+        | Inst::StoreBit { .. }
+        | Inst::FillBits { .. }
+        | Inst::LoadWord { .. }
+        | Inst::StoreWord { .. }
+        | Inst::ClearWords { .. }
+        | Inst::LoadWideCounter { .. }
+        | Inst::StoreWideCounter { .. }
+        | Inst::LoadSlot { .. }
+        | Inst::StoreSlot { .. }
+        | Inst::LoadBlockActive { .. }
+        | Inst::StoreBlockActive { .. }
+        | Inst::GetLocal { .. }
+        | Inst::SetLocal { .. }
+        | Inst::RecordError { .. }
+        | Inst::Call { .. } => Folded::Nothing,
+    }
+}
+
+/// Makes a run-time index that is a known constant a fixed one, when the
+/// device (or the run of `count` from it) lies inside its area: there code
+/// generation addresses both the same way, while outside it clamps a
+/// run-time index differently from a fixed one (a negative index clamps to
+/// the last device), so those stay as they are.
+fn fix_index(inst: &mut Inst, constants: &HashMap<Value, i64>) {
+    let fix = |index: &mut Index, first: u32, end: u32, count: u32| {
+        if let Index::Dynamic(value) = *index {
+            if let Some(&n) = constants.get(&value) {
+                if n >= i64::from(first) && n + i64::from(count.max(1)) <= i64::from(end) {
+                    *index = Index::Fixed(n as u32);
+                }
+            }
+        }
+    };
+    let wide_counters = (FIRST_WIDE_COUNTER, FIRST_WIDE_COUNTER + WIDE_COUNTER_COUNT);
+    match inst {
+        Inst::LoadBit { area, index } | Inst::StoreBit { area, index, .. } => fix(index, 0, area.count(), 1),
+        Inst::FillBits { area, start, count, .. } => fix(start, 0, area.count(), *count),
+        Inst::LoadWord { area, index } | Inst::StoreWord { area, index, .. } => fix(index, 0, area.count(), 1),
+        Inst::ClearWords { area, start, count } => fix(start, 0, area.count(), *count),
+        Inst::LoadWideCounter { index } | Inst::StoreWideCounter { index, .. } => {
+            fix(index, wide_counters.0, wide_counters.1, 1)
+        }
+        Inst::Const { .. }
+        | Inst::LoadSlot { .. }
+        | Inst::StoreSlot { .. }
+        | Inst::LoadBlockActive { .. }
+        | Inst::StoreBlockActive { .. }
+        | Inst::GetLocal { .. }
+        | Inst::SetLocal { .. }
+        | Inst::LoadLoopCount { .. }
+        | Inst::StoreLoopCount { .. }
+        | Inst::CallSubroutine { .. }
+        | Inst::Call { .. }
+        | Inst::RecordError { .. }
+        | Inst::Not { .. }
+        | Inst::And { .. }
+        | Inst::Or { .. }
+        | Inst::Binary { .. }
+        | Inst::Unary { .. }
+        | Inst::Compare { .. }
+        | Inst::Extend { .. }
+        | Inst::Truncate { .. }
+        | Inst::Select { .. }
+        | Inst::Float { .. }
+        | Inst::FloatUnary { .. }
+        | Inst::FloatCompare { .. }
+        | Inst::Bitcast { .. }
+        | Inst::Convert { .. } => {}
+    }
+}
+
+/// Folds instructions with constant operands to constants, and instructions
+/// that compute an existing value (`x AND 1`, `x + 0`) to that value.
+pub fn fold_constants(function: &mut Function, relays: &Relays) {
+    let mut constants: HashMap<Value, i64> = HashMap::new();
+    let mut replaced: HashMap<Value, Value> = HashMap::new();
+    // Value defined by an Extend -> the value it extended.
+    let mut extended_from: HashMap<Value, Value> = HashMap::new();
+    let types = function.value_types.clone();
+    for block in reverse_postorder(function) {
+        let block = &mut function.blocks[block.0 as usize];
+        for (result, inst) in block.insts.iter_mut() {
+            inst.for_each_operand_mut(|v| {
+                // Definitions come first in this order, so one step suffices.
+                if let Some(&other) = replaced.get(v) {
+                    *v = other;
+                }
+            });
+            fix_index(inst, &constants);
+            let Some(result) = *result else { continue };
+            let ty = types[result.0 as usize];
+            if let Inst::Extend { value, .. } = inst {
+                extended_from.insert(result, *value);
+            }
+            match fold(inst, ty, &types, &constants, &extended_from, relays) {
+                Folded::Constant(value) => {
+                    let value = wrap(ty, value);
+                    constants.insert(result, value);
+                    *inst = Inst::Const { ty, value };
+                }
+                Folded::Same(other) => {
+                    replaced.insert(result, other);
+                }
+                Folded::Nothing => {}
+            }
+        }
+    }
+    for block in &mut function.blocks {
+        if let Terminator::Branch { condition, .. } = &mut block.terminator {
+            if let Some(&other) = replaced.get(condition) {
+                *condition = other;
+            }
+        }
+    }
+}
+
+/// A branch on a constant becomes a jump.
+pub fn fold_branches(function: &mut Function) {
+    let constants = constant_values(function);
+    for block in &mut function.blocks {
+        if let Terminator::Branch {
+            condition,
+            then,
+            otherwise,
+        } = block.terminator
+        {
+            match constants.get(&condition) {
+                Some(0) => block.terminator = Terminator::Jump(otherwise),
+                Some(_) => block.terminator = Terminator::Jump(then),
+                None if then == otherwise => block.terminator = Terminator::Jump(then),
+                None => {}
+            }
+        }
+    }
+}
+
+/// Drops blocks the entry cannot reach and renumbers the rest in reverse
+/// postorder (so the text form reads top to bottom).
+pub fn remove_unreachable(function: &mut Function) {
+    let order = reverse_postorder(function);
+    let mut renumber = vec![None; function.blocks.len()];
+    for (new, old) in order.iter().enumerate() {
+        renumber[old.0 as usize] = Some(BlockId(new as u32));
+    }
+    let map = |b: BlockId| renumber[b.0 as usize].expect("successor of a reachable block is reachable");
+    let mut old_blocks: Vec<Option<Block>> = std::mem::take(&mut function.blocks).into_iter().map(Some).collect();
+    function.blocks = order
+        .iter()
+        .map(|old| {
+            let mut block = old_blocks[old.0 as usize].take().expect("each block once");
+            block.terminator = block.terminator.map_targets(map);
+            block
+        })
+        .collect();
+}
+
+/// Appends a block to its predecessor when the predecessor jumps to it and
+/// nothing else does. Merging keeps every other block's predecessor count, so
+/// one sweep with counts taken once is enough.
+pub fn merge_blocks(function: &mut Function) {
+    let mut predecessors = vec![0usize; function.blocks.len()];
+    for block in &function.blocks {
+        for successor in block.terminator.successors() {
+            predecessors[successor.0 as usize] += 1;
+        }
+    }
+    for into in 0..function.blocks.len() {
+        while let Terminator::Jump(target) = function.blocks[into].terminator {
+            let from = target.0 as usize;
+            if from == 0 || from == into || predecessors[from] != 1 {
+                break;
+            }
+            let moved = std::mem::replace(
+                &mut function.blocks[from],
+                Block {
+                    insts: Vec::new(),
+                    terminator: Terminator::Return,
+                },
+            );
+            predecessors[from] = 0;
+            let target = &mut function.blocks[into];
+            target.insts.extend(moved.insts);
+            target.terminator = moved.terminator;
+        }
+    }
+    // The emptied blocks are unreachable now.
+    remove_unreachable(function);
+}
+
+/// Removes pure instructions whose values nothing uses, following chains:
+/// removing a use may make its operands dead in turn.
+pub fn remove_dead_values(function: &mut Function) {
+    let mut uses = vec![0u32; function.value_types.len()];
+    for block in &function.blocks {
+        for (_, inst) in &block.insts {
+            for value in inst.operands() {
+                uses[value.0 as usize] += 1;
+            }
+        }
+        if let Terminator::Branch { condition, .. } = block.terminator {
+            uses[condition.0 as usize] += 1;
+        }
+    }
+    // Walk each block backwards so a dead use is removed before its operands
+    // are judged; repeat while a sweep removes something in an earlier block.
+    loop {
+        let mut removed = false;
+        for block in function.blocks.iter_mut().rev() {
+            let mut kept = Vec::with_capacity(block.insts.len());
+            for (result, inst) in block.insts.drain(..).rev() {
+                let dead = inst.is_pure() && matches!(result, Some(v) if uses[v.0 as usize] == 0);
+                if dead {
+                    removed = true;
+                    for operand in inst.operands() {
+                        uses[operand.0 as usize] -= 1;
+                    }
+                } else {
+                    kept.push((result, inst));
+                }
+            }
+            kept.reverse();
+            block.insts = kept;
+        }
+        if !removed {
+            break;
+        }
+    }
+}
+
+#[cfg(test)]
+pub(super) mod tests {
+    use ladder_front::check::compile_source;
+    use ladder_front::source::SourceFile;
+
+    /// The optimised IR of a program text.
+    pub(crate) fn ir(text: &str) -> String {
+        let (program, diagnostics) = compile_source(&SourceFile::new("t.il", text));
+        let program = program.unwrap_or_else(|| panic!("{diagnostics:?}"));
+        crate::lower_and_optimize(&program).to_string()
+    }
+
+    #[test]
+    fn always_on_relays_cost_nothing() {
+        let text = ir("LD M8000\nAND X0\nOUT Y0\nLD M8001\nOUT Y1\n");
+        assert!(!text.contains("M8000") && !text.contains("M8001"), "{text}");
+        assert!(text.contains("store.bit Y1, v"), "{text}");
+        assert_eq!(text.matches("block").count(), 1, "one block:\n{text}");
+    }
+
+    #[test]
+    fn written_special_relays_are_not_folded() {
+        let text = ir("LD X0\nOUT M8000\nLD M8000\nOUT Y0\n");
+        // Y0 gets what was stored in M8000 (forwarded), not a constant.
+        assert!(!text.contains("const"), "{text}");
+        assert!(
+            text.contains("v2 = load.bit X0") && text.contains("store.bit Y0, v2"),
+            "{text}"
+        );
+    }
+
+    #[test]
+    fn logic_stack_makes_no_memory_traffic() {
+        let text = ir("LD X0\nOR X1\nLD X2\nOR X3\nANB\nMPS\nAND X4\nOUT Y0\nMPP\nOUT Y1\n");
+        assert_eq!(text.matches("load.").count(), 5, "{text}");
+        assert_eq!(text.matches("store.").count(), 2, "{text}");
+    }
+
+    #[test]
+    fn dead_set_branches_disappear() {
+        let text = ir("LD M8001\nSET Y0\nLD SM0\nRST Y1\n");
+        assert!(!text.contains("Y0"), "{text}");
+        assert!(text.contains("const.bit 0") && text.contains("store.bit Y1"), "{text}");
+        assert!(!text.contains("br "), "{text}");
+    }
+}

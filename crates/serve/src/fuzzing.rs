@@ -1,0 +1,133 @@
+//! Entry points for the fuzz targets of the servers (`fuzz/`): whatever
+//! the bytes, nothing panics, and what comes back is well formed.
+//!
+//! - `modbus_stream`: bytes as a client's side of a connection, split into
+//!   frames as the server splits them; each answer must echo the
+//!   transaction and unit, carry a length that matches, and answer the
+//!   request's function (or its exception).
+//! - `http_request`: bytes as a method, a path with its query and a body,
+//!   sent to the real router (with the access layer) of a server that has
+//!   published an image; no answer may be a 5xx.
+
+use super::modbus::Service;
+use super::modbus_tcp::{answer, header, Header, HEADER_LEN};
+use super::shared::Shared;
+use std::sync::Arc;
+
+/// A server's shared state with a program's drawing and identity, as after
+/// start.
+fn started() -> Arc<Shared> {
+    let shared = Arc::new(Shared::default());
+    let source = ladder_front::source::SourceFile::new("fuzz.il", "LD X0\nOUT Y0\nLD M8000\nINC D0\n".to_string());
+    if let (Some(program), _) = ladder_front::check::compile_source(&source) {
+        let loaded = super::change::Loaded::new(program, &source);
+        shared.set_view(Arc::clone(&loaded.view));
+        shared.set_identity(Arc::clone(&loaded.identity));
+    }
+    shared.publish(&ladder_runtime::Memory::new_boxed());
+    shared
+}
+
+pub fn modbus_stream(data: &[u8]) {
+    let (may_write, mut rest) = match data.split_first() {
+        Some((&flags, rest)) => (flags & 1 != 0, rest),
+        None => return,
+    };
+    let service = Service {
+        shared: started(),
+        may_write,
+    };
+    while rest.len() >= HEADER_LEN {
+        let mut head = [0u8; HEADER_LEN];
+        head.copy_from_slice(&rest[..HEADER_LEN]);
+        let Header::Frame { pdu_len } = header(&head) else {
+            return;
+        };
+        let Some(pdu) = rest.get(HEADER_LEN..HEADER_LEN + pdu_len) else {
+            return;
+        };
+        let reply = answer(&service, &head, pdu);
+        assert!(reply.len() >= HEADER_LEN + 2, "a reply has a function and data");
+        assert_eq!(reply[..4], head[..4], "transaction and protocol echoed");
+        assert_eq!(reply[6], head[6], "unit echoed");
+        let length = usize::from(u16::from_be_bytes([reply[4], reply[5]]));
+        assert_eq!(length, reply.len() - 6, "the length field counts unit and PDU");
+        assert!(reply.len() <= 260, "an ADU is at most 260 bytes");
+        assert_eq!(
+            reply[7] & 0x7F,
+            pdu[0] & 0x7F,
+            "the reply answers the request's function"
+        );
+        rest = &rest[HEADER_LEN + pdu_len..];
+    }
+}
+
+pub fn http_request(data: &[u8]) {
+    use axum::body::Body;
+    use axum::extract::ConnectInfo;
+    use tower::ServiceExt as _;
+    let text = String::from_utf8_lossy(data);
+    let (head, body) = text.split_once('\n').unwrap_or((&text, ""));
+    let mut words = head.splitn(2, ' ');
+    let method = match words.next().unwrap_or("") {
+        "P" | "POST" => "POST",
+        "D" | "DELETE" => "DELETE",
+        "H" | "HEAD" => "HEAD",
+        "U" | "PUT" => "PUT",
+        _ => "GET",
+    };
+    let path = words.next().unwrap_or("/");
+    let path = if path.starts_with('/') {
+        path.to_string()
+    } else {
+        format!("/{path}")
+    };
+    let Ok(request) = axum::http::Request::builder()
+        .method(method)
+        .uri(path.as_str())
+        .header("content-type", "application/json")
+        .body(Body::from(body.to_string()))
+    else {
+        return;
+    };
+    let mut request = request;
+    let peer: std::net::SocketAddr = if data.first().is_some_and(|b| b & 1 != 0) {
+        ([192, 0, 2, 7], 50_000).into()
+    } else {
+        ([127, 0, 0, 1], 50_000).into()
+    };
+    request.extensions_mut().insert(ConnectInfo(peer));
+    let access = super::access::Access {
+        token: data
+            .get(1)
+            .filter(|b| **b & 1 != 0)
+            .map(|_| "0123456789abcdef".to_string()),
+        token_reads: data.get(1).is_some_and(|b| b & 2 != 0),
+        read_only: data.get(1).is_some_and(|b| b & 4 != 0),
+        hosts: super::access::Hosts::of(([127, 0, 0, 1], 8080).into(), false, &[]),
+    };
+    let router = super::http::router(started(), false).layer(axum::middleware::from_fn_with_state(
+        Arc::new(access),
+        super::access::check,
+    ));
+    let Ok(runtime) = tokio::runtime::Builder::new_current_thread().enable_all().build() else {
+        return;
+    };
+    runtime.block_on(async {
+        let response = router.oneshot(request).await;
+        let Ok(response) = response;
+        assert!(
+            !response.status().is_server_error(),
+            "{method} {path}: {}",
+            response.status()
+        );
+        // Event streams do not end; everything else is read whole.
+        if !path.starts_with("/api/events") {
+            let _ = tokio::time::timeout(
+                std::time::Duration::from_secs(2),
+                axum::body::to_bytes(response.into_body(), 16 * 1024 * 1024),
+            )
+            .await;
+        }
+    });
+}
