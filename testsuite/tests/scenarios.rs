@@ -125,7 +125,8 @@ fn suite_checks(files: Vec<PathBuf>) -> Trial {
         let mut missing = Vec::new();
         for file in &files {
             let text = std::fs::read_to_string(file).map_err(|e| format!("{}: {e}", file.display()))?;
-            let scenario = parse_scenario(file, &text).map_err(|e| format!("{}:{}: {}", file.display(), e.line, e.message))?;
+            let scenario =
+                parse_scenario(file, &text).map_err(|e| format!("{}:{}: {}", file.display(), e.line, e.message))?;
             if let Some((_, None, line)) = scenario.expected_reject() {
                 missing.push(format!("{}:{line}", file.display()));
             }
