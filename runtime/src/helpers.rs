@@ -550,17 +550,14 @@ helpers! {
         }
     }
 
-    /// DHSCS (`kind` 0), DHSCR (1), DHSZ (2) instance `instance`: registers (`power` 1) or withdraws the compare of
-    /// counter `counter` with `low`, `high` and the checked destination.
+    /// DHSCS, DHSCR, DHSZ instance `instance` (`kind`: `HscCompare::code`, 1, 2, 3): registers (`power` 1) or
+    /// withdraws the compare of counter `counter` with `low`, `high` and the checked destination.
     HighSpeedCompare = fn ladder_rt_high_speed_compare(
         mem, instance: u32, kind: u32, power: u32, counter: u32, low: i32, high: i32, destination: destination_place
     ) -> none writes [Image] {
-        let kind = match kind {
-            0 => crate::hsc::HscCompare::Set,
-            1 => crate::hsc::HscCompare::Reset,
-            _ => crate::hsc::HscCompare::Zone,
-        };
-        mem.high_speed_compare(instance, kind, power != 0, counter, [low, high], destination)
+        if let Some(kind) = crate::hsc::HscCompare::from_code(kind) {
+            mem.high_speed_compare(instance, kind, power != 0, counter, [low, high], destination)
+        }
     }
 
     /// SPD: the rising edges of X`input` over `period` ms into D, D+1, D+2 (a checked place, 32-bit when

@@ -112,8 +112,12 @@ pub fn read_composite(access: &mut impl BasicAccess, device: Device, width: Widt
                 Width::Double => bits as i32,
             })
         }
-        (Device::WideCounter(n), _) => access.read_basic(Basic::WideCounter(n)),
-        _ => Err(AccessError::OutOfRange),
+        (Device::WideCounter(n), Width::Single | Width::Double) => access.read_basic(Basic::WideCounter(n)),
+        // A bit read as a pair, a bit of a word beyond bit 15, more digits
+        // than the width holds.
+        (Device::Bit(..) | Device::WordBit(..), Width::Double)
+        | (Device::WordBit(..), Width::Single)
+        | (Device::Digits(..), Width::Single | Width::Double) => Err(AccessError::OutOfRange),
     }
 }
 
@@ -155,8 +159,15 @@ pub fn write_composite(
             }
             Ok(())
         }
-        (Device::WideCounter(n), _) if n >= FIRST_WIDE_COUNTER => access.write_basic(Basic::WideCounter(n), value),
-        _ => Err(AccessError::OutOfRange),
+        (Device::WideCounter(n), Width::Single | Width::Double) if n >= FIRST_WIDE_COUNTER => {
+            access.write_basic(Basic::WideCounter(n), value)
+        }
+        // A bit written as a pair, a bit of a word beyond bit 15, more
+        // digits than the width holds or beyond the area, a 16-bit counter
+        // written as a 32-bit one.
+        (Device::Bit(..) | Device::WordBit(..), Width::Double)
+        | (Device::WordBit(..), Width::Single)
+        | (Device::Digits(..) | Device::WideCounter(_), Width::Single | Width::Double) => Err(AccessError::OutOfRange),
     }
 }
 

@@ -98,22 +98,33 @@ pub enum HscCompare {
 /// `InstanceState::phase` of a registered compare: the kind in the low
 /// byte, the counter number above it (0: nothing registered).
 const fn compare_phase(kind: HscCompare, counter: u32) -> u32 {
-    let code = match kind {
-        HscCompare::Set => 1,
-        HscCompare::Reset => 2,
-        HscCompare::Zone => 3,
-    };
-    code | (counter << 8)
+    kind.code() | (counter << 8)
 }
 
 fn compare_of(phase: u32) -> Option<(HscCompare, u32)> {
-    let kind = match phase & 0xFF {
-        1 => HscCompare::Set,
-        2 => HscCompare::Reset,
-        3 => HscCompare::Zone,
-        _ => return None,
-    };
-    Some((kind, phase >> 8))
+    Some((HscCompare::from_code(phase & 0xFF)?, phase >> 8))
+}
+
+impl HscCompare {
+    /// The one code of each compare: what compiled code passes to
+    /// `ladder_rt_high_speed_compare`, and the low byte of a registered
+    /// compare's phase (where 0 means none is registered).
+    pub const fn code(self) -> u32 {
+        match self {
+            HscCompare::Set => 1,
+            HscCompare::Reset => 2,
+            HscCompare::Zone => 3,
+        }
+    }
+
+    pub const fn from_code(code: u32) -> Option<HscCompare> {
+        match code {
+            1 => Some(HscCompare::Set),
+            2 => Some(HscCompare::Reset),
+            3 => Some(HscCompare::Zone),
+            _ => None,
+        }
+    }
 }
 
 impl ImageMut<'_> {

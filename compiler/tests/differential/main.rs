@@ -4,5 +4,4 @@
 #[path = "../common/mod.rs"]
 mod common;
 
-mod chunked;
 mod differential;

@@ -22,7 +22,7 @@
 //! load again). A value the program stored is usually forwarded in a
 //! register by the memory pass anyway (`crates/ir/src/memory.rs`).
 
-use ladder_ir::{Function, Index, Inst};
+use ladder_ir::{Effect, Function, Index, Inst};
 use ladder_runtime::helpers::Helper;
 use ladder_runtime::layout::{Array, Layout};
 use ladder_runtime::BitArea;
@@ -138,41 +138,13 @@ fn element(layout: &Layout, array: Array, index: Index) -> Writes {
 }
 
 fn writes(layout: &Layout, inst: &Inst) -> Writes {
-    match inst {
-        Inst::StoreBit { area, index, .. } => element(layout, Array::of_bits(*area), *index),
-        Inst::FillBits { area, .. } => whole(layout, Array::of_bits(*area)),
-        Inst::StoreWord { area, index, .. } => element(layout, Array::of_words(*area), *index),
-        Inst::ClearWords { area, .. } => whole(layout, Array::of_words(*area)),
-        Inst::StoreWideCounter { index, .. } => element(layout, Array::WideCounterValue, *index),
-        Inst::StoreSlot { slot, .. } => element(layout, Array::EdgeSlot, Index::Fixed(*slot)),
-        Inst::StoreBlockActive { state, .. } => element(layout, Array::StlBlockActive, Index::Fixed(*state)),
-        Inst::Call { helper, .. } => call_writes(layout, *helper),
-        Inst::RecordError { .. } => call_writes(layout, Helper::RecordError),
-        Inst::CallSubroutine { .. } => Writes::Everything,
-        Inst::Const { .. }
-        | Inst::LoadBit { .. }
-        | Inst::LoadWord { .. }
-        | Inst::LoadWideCounter { .. }
-        | Inst::LoadSlot { .. }
-        | Inst::LoadBlockActive { .. }
-        | Inst::GetLocal { .. }
-        | Inst::SetLocal { .. }
-        | Inst::LoadLoopCount { .. }
-        | Inst::StoreLoopCount { .. }
-        | Inst::Not { .. }
-        | Inst::And { .. }
-        | Inst::Or { .. }
-        | Inst::Binary { .. }
-        | Inst::Unary { .. }
-        | Inst::Compare { .. }
-        | Inst::Extend { .. }
-        | Inst::Truncate { .. }
-        | Inst::Select { .. }
-        | Inst::Float { .. }
-        | Inst::FloatUnary { .. }
-        | Inst::FloatCompare { .. }
-        | Inst::Bitcast { .. }
-        | Inst::Convert { .. } => Writes::Nothing,
+    match inst.effect() {
+        Effect::Store(span, _) => element(layout, span.space.array(), span.start),
+        Effect::Fill(span) => whole(layout, span.space.array()),
+        Effect::Helper(helper, _) => call_writes(layout, helper),
+        Effect::OperationError => call_writes(layout, Helper::RecordError),
+        Effect::Subroutine => Writes::Everything,
+        Effect::Pure | Effect::ReadsLocal | Effect::WritesLocal | Effect::Load(_) => Writes::Nothing,
     }
 }
 

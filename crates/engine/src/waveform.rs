@@ -24,7 +24,11 @@ pub fn device_name(device: HostDevice) -> String {
     };
     match (device.device, device.width) {
         (Device::Word(..), Width::Double) => format!("{name}:32"),
-        _ => name,
+        (Device::Word(..), Width::Single)
+        | (
+            Device::Bit(..) | Device::WordBit(..) | Device::Digits(..) | Device::WideCounter(_),
+            Width::Single | Width::Double,
+        ) => name,
     }
 }
 

@@ -16,6 +16,7 @@
 #![deny(clippy::wildcard_enum_match_arm)]
 
 mod builder;
+mod effect;
 pub mod image;
 pub mod lower;
 mod memory;
@@ -23,6 +24,7 @@ pub mod passes;
 mod print;
 
 pub use builder::Builder;
+pub use effect::{Effect, Space, Span};
 
 /// The optimised IR of a checked program: lowered once, then the passes;
 /// what every back end compiles.
@@ -337,11 +339,10 @@ impl Inst {
         })
     }
 
-    /// Has no effect besides its result, so it may be removed when unused:
-    /// every instruction that defines a value (loads of the image included)
-    /// except helper calls.
+    /// Has no effect besides its result, so it may be removed when unused
+    /// (loads of the image included; see `Effect::is_removable`).
     pub fn is_pure(&self) -> bool {
-        !matches!(self, Inst::Call { .. }) && self.result_type(|_| Type::Bit).is_some()
+        self.effect().is_removable()
     }
 
     /// Values the instruction reads.

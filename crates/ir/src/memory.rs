@@ -22,7 +22,7 @@
 //! The interpreter has no such pass: it is the specification the
 //! differential test holds this against.
 
-use super::{Block, BlockId, Function, Index, Inst, Terminator, Value};
+use super::{Block, BlockId, Effect, Function, Index, Inst, Space, Terminator, Value};
 use ladder_runtime::device::{FIRST_WIDE_COUNTER, WIDE_COUNTER_COUNT};
 use ladder_runtime::helpers::{Helper, Param, Writes};
 use ladder_runtime::special::{D_ERROR_CODE, D_ERROR_LINE, M_OPERATION_ERROR};
@@ -275,78 +275,60 @@ enum Access {
 }
 
 fn access(inst: &Inst) -> Access {
-    match inst {
-        Inst::LoadBit { area, index } => match index {
-            Index::Fixed(n) => Access::Load(bit_place(*area, *n)),
-            Index::Dynamic(_) => Access::LoadAnywhere(Region::Bits(*area)),
+    let place = |space: Space, n: u32| match space {
+        Space::Bits(area) => Some(bit_place(area, n)),
+        Space::Words(area) => Some(word_place(area, n)),
+        Space::WideCounters => Some(wide_counter_place(n)),
+        Space::EdgeSlots => Some(Place::Slot(n)),
+        Space::BlockActive => Some(Place::BlockActive(n)),
+    };
+    // Where a run-time index may land; a space without one (never indexed
+    // at run time) is a barrier.
+    let region = |space: Space| match space {
+        Space::Bits(area) => Some(Region::Bits(area)),
+        Space::Words(area) => Some(Region::Words(area)),
+        Space::WideCounters => Some(Region::WideCounters),
+        Space::EdgeSlots | Space::BlockActive => None,
+    };
+    let anywhere = |space: Space, access: fn(Region) -> Access| match region(space) {
+        Some(region) => access(region),
+        None => Access::Call(Footprint::Everything),
+    };
+    match inst.effect() {
+        Effect::Load(span) => match span.start {
+            Index::Fixed(n) => place(span.space, n).map_or(Access::Call(Footprint::Everything), Access::Load),
+            Index::Dynamic(_) => anywhere(span.space, Access::LoadAnywhere),
         },
-        Inst::StoreBit { area, index, value } => match index {
-            Index::Fixed(n) => Access::Store(bit_place(*area, *n), *value),
-            Index::Dynamic(_) => Access::StoreAnywhere(Region::Bits(*area)),
-        },
-        Inst::FillBits { area, start, count, .. } => match start {
-            Index::Fixed(n) if *count <= 64 => {
-                let first = (*n).min(area.count().saturating_sub(*count));
-                Access::Fill((first..first + count).map(|n| bit_place(*area, n)).collect())
+        Effect::Store(span, value) => match span.start {
+            Index::Fixed(n) => {
+                place(span.space, n).map_or(Access::Call(Footprint::Everything), |p| Access::Store(p, value))
             }
-            Index::Fixed(_) | Index::Dynamic(_) => Access::StoreAnywhere(Region::Bits(*area)),
+            Index::Dynamic(_) => anywhere(span.space, Access::StoreAnywhere),
         },
-        Inst::LoadWord { area, index } => match index {
-            Index::Fixed(n) => Access::Load(word_place(*area, *n)),
-            Index::Dynamic(_) => Access::LoadAnywhere(Region::Words(*area)),
-        },
-        Inst::StoreWord { area, index, value } => match index {
-            Index::Fixed(n) => Access::Store(word_place(*area, *n), *value),
-            Index::Dynamic(_) => Access::StoreAnywhere(Region::Words(*area)),
-        },
-        Inst::ClearWords { area, start, count } => match start {
-            Index::Fixed(n) if *count <= 64 => {
-                let count = (*count).clamp(1, area.count());
-                let first = (*n).min(area.count() - count);
-                Access::Fill((first..first + count).map(|n| word_place(*area, n)).collect())
+        Effect::Fill(span) => {
+            let area_count = match span.space {
+                Space::Bits(area) => area.count(),
+                Space::Words(area) => area.count(),
+                Space::WideCounters | Space::EdgeSlots | Space::BlockActive => 0,
+            };
+            match span
+                .fixed_run(area_count)
+                .filter(|run| area_count > 0 && run.len() <= 64)
+            {
+                Some(run) => Access::Fill(run.filter_map(|n| place(span.space, n)).collect()),
+                None => anywhere(span.space, Access::StoreAnywhere),
             }
-            Index::Fixed(_) | Index::Dynamic(_) => Access::StoreAnywhere(Region::Words(*area)),
-        },
-        Inst::LoadWideCounter { index } => match index {
-            Index::Fixed(n) => Access::Load(wide_counter_place(*n)),
-            Index::Dynamic(_) => Access::LoadAnywhere(Region::WideCounters),
-        },
-        Inst::StoreWideCounter { index, value } => match index {
-            Index::Fixed(n) => Access::Store(wide_counter_place(*n), *value),
-            Index::Dynamic(_) => Access::StoreAnywhere(Region::WideCounters),
-        },
-        Inst::LoadSlot { slot } => Access::Load(Place::Slot(*slot)),
-        Inst::StoreSlot { slot, value } => Access::Store(Place::Slot(*slot), *value),
-        Inst::LoadBlockActive { state } => Access::Load(Place::BlockActive(*state)),
-        Inst::StoreBlockActive { state, value } => Access::Store(Place::BlockActive(*state), *value),
-        Inst::Call { helper, .. } => Access::Call(call_footprint(*helper)),
-        Inst::CallSubroutine { .. } => Access::Call(Footprint::Everything),
+        }
+        Effect::Helper(helper, _) => Access::Call(call_footprint(helper)),
+        Effect::Subroutine => Access::Call(Footprint::Everything),
         // The runtime's `record_error` sets M8067, D8067 and D8069 and
         // reads nothing.
-        Inst::RecordError { .. } => Access::Fill(vec![
+        Effect::OperationError => Access::Fill(vec![
             bit_place(BitArea::M, M_OPERATION_ERROR),
             word_place(WordArea::D, D_ERROR_CODE),
             word_place(WordArea::D, D_ERROR_LINE),
         ]),
-        Inst::Const { .. }
-        | Inst::GetLocal { .. }
-        | Inst::SetLocal { .. }
-        | Inst::LoadLoopCount { .. }
-        | Inst::StoreLoopCount { .. }
-        | Inst::Not { .. }
-        | Inst::And { .. }
-        | Inst::Or { .. }
-        | Inst::Binary { .. }
-        | Inst::Unary { .. }
-        | Inst::Compare { .. }
-        | Inst::Extend { .. }
-        | Inst::Truncate { .. }
-        | Inst::Select { .. }
-        | Inst::Float { .. }
-        | Inst::FloatUnary { .. }
-        | Inst::FloatCompare { .. }
-        | Inst::Bitcast { .. }
-        | Inst::Convert { .. } => Access::None,
+        Effect::Pure | Effect::ReadsLocal | Effect::WritesLocal => Access::None,
     }
 }
 

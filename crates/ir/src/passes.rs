@@ -9,7 +9,7 @@
 //! - removal of pure instructions whose values are never used;
 //! - memory forwarding across rungs (`memory.rs`).
 
-use super::{BinOp, Block, BlockId, Function, Index, Inst, Program, Terminator, Type, UnaryOp, Value};
+use super::{BinOp, Block, BlockId, Effect, Function, Index, Inst, Program, Space, Terminator, Type, UnaryOp, Value};
 use ladder_front::isa::CompareOp;
 use ladder_runtime::device::{FIRST_WIDE_COUNTER, WIDE_COUNTER_COUNT};
 use ladder_runtime::helpers::{Param, Writes};
@@ -147,14 +147,16 @@ fn constant_relays<'f>(functions: impl Iterator<Item = &'f Function>) -> Relays 
 /// The bit devices an instruction may write: (area, first, count), with no
 /// first when the index is dynamic (the whole area may be written).
 fn written_bits(inst: &Inst, constants: &HashMap<Value, i64>) -> Vec<(BitArea, Option<u32>, u32)> {
-    let fixed = |index: &Index| match index {
-        Index::Fixed(n) => Some(*n),
+    let fixed = |index: Index| match index {
+        Index::Fixed(n) => Some(n),
         Index::Dynamic(_) => None,
     };
-    match inst {
-        Inst::StoreBit { area, index, .. } => vec![(*area, fixed(index), 1)],
-        Inst::FillBits { area, start, count, .. } => vec![(*area, fixed(start), *count)],
-        Inst::Call { helper, args } => {
+    match inst.effect() {
+        Effect::Store(span, _) | Effect::Fill(span) => match span.space {
+            Space::Bits(area) => vec![(area, fixed(span.start), span.count)],
+            Space::Words(_) | Space::WideCounters | Space::EdgeSlots | Space::BlockActive => Vec::new(),
+        },
+        Effect::Helper(helper, args) => {
             let decl = helper.decl();
             let effects = decl.writes.iter().flat_map(|w| match w {
                 // The error flag is one relay, not the whole of M.
@@ -182,38 +184,9 @@ fn written_bits(inst: &Inst, constants: &HashMap<Value, i64>) -> Vec<(BitArea, O
                 });
             effects.chain(places).collect()
         }
-        Inst::Const { .. }
-        | Inst::LoadBit { .. }
-        | Inst::LoadWord { .. }
-        | Inst::StoreWord { .. }
-        | Inst::ClearWords { .. }
-        | Inst::LoadWideCounter { .. }
-        | Inst::StoreWideCounter { .. }
-        | Inst::LoadSlot { .. }
-        | Inst::StoreSlot { .. }
-        | Inst::LoadBlockActive { .. }
-        | Inst::StoreBlockActive { .. }
-        | Inst::GetLocal { .. }
-        | Inst::SetLocal { .. }
-        | Inst::LoadLoopCount { .. }
-        | Inst::StoreLoopCount { .. }
-        | Inst::Not { .. }
-        | Inst::And { .. }
-        | Inst::Or { .. }
-        | Inst::Binary { .. }
-        | Inst::Unary { .. }
-        | Inst::Compare { .. }
-        | Inst::Extend { .. }
-        | Inst::Truncate { .. }
-        | Inst::Select { .. }
-        | Inst::Float { .. }
-        | Inst::FloatUnary { .. }
-        | Inst::FloatCompare { .. }
-        | Inst::Bitcast { .. }
-        | Inst::Convert { .. }
+        Effect::OperationError => vec![(BitArea::M, Some(M_OPERATION_ERROR), 1)],
         // The subroutine's own writes are counted with its function.
-        | Inst::CallSubroutine { .. }
-        | Inst::RecordError { .. } => Vec::new(),
+        Effect::Subroutine | Effect::Pure | Effect::ReadsLocal | Effect::WritesLocal | Effect::Load(_) => Vec::new(),
     }
 }
 
@@ -339,7 +312,8 @@ fn fold(
             constant(known(value).map(|v| match (*signed, types[value.0 as usize]) {
                 (false, Type::I16) => i64::from(v as u16),
                 (false, Type::I32) => i64::from(v as u32),
-                _ => v,
+                // Constants are held sign-extended; a bit is 0 or 1.
+                (true, _) | (false, Type::Bit | Type::I64 | Type::F32 | Type::F64) => v,
             }))
         }
         Inst::Truncate { value, to } => match (known(value), extended_from.get(value)) {

@@ -717,13 +717,12 @@ impl Checker {
     /// A SET (or OUT) of states inside the block of another state moves
     /// out of that block: the state to turn OFF at the next scan.
     fn transfer_source(&self, target: BitRef, count: u32) -> Option<u32> {
-        match (self.blocks.current_state(), target) {
-            (Some(source), BitRef::Device(BitArea::S, address)) => {
-                let covers_source = address.is_fixed() && (address.index..address.index + count).contains(&source);
-                (!covers_source).then_some(source)
-            }
-            _ => None,
-        }
+        let (Some(source), BitRef::Device(BitArea::S, address)) = (self.blocks.current_state(), target) else {
+            // Outside a state's block, or not a state.
+            return None;
+        };
+        let covers_source = address.is_fixed() && (address.index..address.index + count).contains(&source);
+        (!covers_source).then_some(source)
     }
 
     /// The count of a SET/RST on bits; word bits take no count.

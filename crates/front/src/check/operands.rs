@@ -442,9 +442,26 @@ pub fn table_end(operand: &Operand, width: Width) -> Resolved<WordRef> {
     match (width, d.prefix) {
         // 32-bit counters are 32-bit devices; other words are resolved as
         // their first word.
-        (Width::Double, Prefix::C | Prefix::Cn) => word_device(operand, d, width, 1),
-        (Width::Double, Prefix::T | Prefix::Tn) => word_device(operand, d, width, 1),
-        _ => word_device(operand, d, Width::Single, 1),
+        (Width::Double, Prefix::C | Prefix::Cn | Prefix::T | Prefix::Tn) => word_device(operand, d, width, 1),
+        (Width::Single, _)
+        | (
+            Width::Double,
+            Prefix::X
+            | Prefix::Y
+            | Prefix::M
+            | Prefix::S
+            | Prefix::Sm
+            | Prefix::Ts
+            | Prefix::Cs
+            | Prefix::D
+            | Prefix::Sd
+            | Prefix::R
+            | Prefix::P
+            | Prefix::N
+            | Prefix::V
+            | Prefix::Z
+            | Prefix::U,
+        ) => word_device(operand, d, Width::Single, 1),
     }
 }
 

@@ -687,54 +687,30 @@ impl Footprint {
     }
 
     fn ir_inst(&mut self, inst: &ir::Inst) {
-        use ir::{Index, Inst};
-        let fixed_or_whole_bits = |this: &mut Self, area: BitArea, index: Index, count: u32| match index {
-            Index::Fixed(n) => this.bits(area, n, count),
-            Index::Dynamic(_) => this.whole_bits(area),
-        };
-        let fixed_or_whole_words = |this: &mut Self, area: WordArea, index: Index, count: u32| match index {
-            Index::Fixed(n) => this.words(area, n, count),
-            Index::Dynamic(_) => this.whole_words(area),
-        };
-        match inst {
-            Inst::LoadBit { area, index } | Inst::StoreBit { area, index, .. } => {
-                fixed_or_whole_bits(self, *area, *index, 1)
-            }
-            Inst::FillBits { area, start, count, .. } => fixed_or_whole_bits(self, *area, *start, *count),
-            Inst::LoadWord { area, index } | Inst::StoreWord { area, index, .. } => {
-                fixed_or_whole_words(self, *area, *index, 1)
-            }
-            Inst::ClearWords { area, start, count } => fixed_or_whole_words(self, *area, *start, *count),
-            Inst::LoadWideCounter { index } | Inst::StoreWideCounter { index, .. } => match index {
-                Index::Fixed(n) => self.counter(*n),
-                Index::Dynamic(_) => self.all_counters(),
+        use ir::{Effect, Index, Space};
+        match inst.effect() {
+            Effect::Load(span) | Effect::Store(span, _) | Effect::Fill(span) => match (span.space, span.start) {
+                (Space::Bits(area), Index::Fixed(n)) => self.bits(area, n, span.count),
+                (Space::Bits(area), Index::Dynamic(_)) => self.whole_bits(area),
+                (Space::Words(area), Index::Fixed(n)) => self.words(area, n, span.count),
+                (Space::Words(area), Index::Dynamic(_)) => self.whole_words(area),
+                (Space::WideCounters, Index::Fixed(n)) => self.counter(n),
+                (Space::WideCounters, Index::Dynamic(_)) => self.all_counters(),
+                (Space::EdgeSlots, Index::Fixed(slot)) => {
+                    self.builder.include(Array::EdgeSlot, slot, slot + 1);
+                }
+                (Space::EdgeSlots, Index::Dynamic(_)) => {
+                    self.builder
+                        .include(Array::EdgeSlot, Array::EdgeSlot.first(), Array::EdgeSlot.end());
+                }
+                // A block's "last ran active" flag lives with its state.
+                (Space::BlockActive, Index::Fixed(state)) => self.bits(BitArea::S, state, 1),
+                (Space::BlockActive, Index::Dynamic(_)) => self.whole_bits(BitArea::S),
             },
-            Inst::LoadSlot { slot } | Inst::StoreSlot { slot, .. } => {
-                self.builder.include(Array::EdgeSlot, *slot, slot + 1);
-            }
-            Inst::LoadBlockActive { state } | Inst::StoreBlockActive { state, .. } => self.bits(BitArea::S, *state, 1),
-            Inst::Call { helper, .. } => self.helper(*helper),
-            Inst::RecordError { .. } => self.operation_error(),
-            Inst::Const { .. }
-            | Inst::GetLocal { .. }
-            | Inst::SetLocal { .. }
-            | Inst::LoadLoopCount { .. }
-            | Inst::StoreLoopCount { .. }
-            | Inst::CallSubroutine { .. }
-            | Inst::Not { .. }
-            | Inst::And { .. }
-            | Inst::Or { .. }
-            | Inst::Binary { .. }
-            | Inst::Unary { .. }
-            | Inst::Compare { .. }
-            | Inst::Extend { .. }
-            | Inst::Truncate { .. }
-            | Inst::Select { .. }
-            | Inst::Float { .. }
-            | Inst::FloatUnary { .. }
-            | Inst::FloatCompare { .. }
-            | Inst::Bitcast { .. }
-            | Inst::Convert { .. } => {}
+            Effect::Helper(helper, _) => self.helper(helper),
+            Effect::OperationError => self.operation_error(),
+            // A subroutine's accesses are its own function's.
+            Effect::Subroutine | Effect::Pure | Effect::ReadsLocal | Effect::WritesLocal => {}
         }
     }
 

@@ -61,11 +61,7 @@ pub fn compare(
     while read.len() < 2 {
         read.push(step.b().constant(Type::I32, 0));
     }
-    let code = match kind {
-        HscCompare::Set => 0,
-        HscCompare::Reset => 1,
-        HscCompare::Zone => 2,
-    };
+    let code = kind.code();
     let b = step.b();
     let instance = b.number(run.job);
     let code = b.number(code);

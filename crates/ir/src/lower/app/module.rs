@@ -47,7 +47,7 @@ pub fn transfer(step: &mut Step, m1: &WordRef, m2: &WordRef, other: &WordRef, n:
             let value = step.b().constant(Type::I32, i64::from(*value));
             step.b().call(Helper::Fill, vec![buffer, count, width, value]);
         }
-        _ => {
+        (true, _) | (false, WordRef::Word(..) | WordRef::WideCounter(_) | WordRef::Digits(..)) => {
             let device = step.l.place(&device);
             let (source, destination) = if from { (buffer, device) } else { (device, buffer) };
             step.b()

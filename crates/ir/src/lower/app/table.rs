@@ -42,7 +42,9 @@ pub fn extreme(step: &mut Step, s1: &WordRef, s2: &WordRef, d: &WordRef, largest
     let same_device = match (s1, s2) {
         (WordRef::Word(a, _), WordRef::Word(b, _)) => a == b,
         (WordRef::WideCounter(_), WordRef::WideCounter(_)) => true,
-        _ => false,
+        (WordRef::Word(..), WordRef::Constant(_) | WordRef::WideCounter(_) | WordRef::Digits(..))
+        | (WordRef::WideCounter(_), WordRef::Constant(_) | WordRef::Word(..) | WordRef::Digits(..))
+        | (WordRef::Constant(_) | WordRef::Digits(..), _) => false,
     };
     let (Some((start, first)), Some((_, last)), true) = (first, last, same_device) else {
         let never = step.b().bit(false);
