@@ -136,3 +136,34 @@ fn the_generator_knows_every_application_form() {
         }
     }
 }
+
+/// The FX3U instructions ladderc does not implement are listed once
+/// (`isa::fx::UNSUPPORTED_FX`, E0032): none of them is also declared, and
+/// docs/language.md's table of them names exactly that list, so an
+/// instruction that becomes supported leaves both.
+#[test]
+fn the_unsupported_list_and_its_table_agree_with_the_instruction_set() {
+    use ladder_front::isa::fx::UNSUPPORTED_FX;
+    let declared: BTreeSet<String> = ladder_front::isa::mnemonics().into_iter().map(str::to_string).collect();
+    let both: Vec<&&str> = UNSUPPORTED_FX.iter().filter(|m| declared.contains(**m)).collect();
+    assert!(both.is_empty(), "declared and listed as not supported: {both:?}");
+    let text = std::fs::read_to_string(workspace().join("docs/language.md")).unwrap();
+    let section = text
+        .split("### FX3U instructions that are not supported")
+        .nth(1)
+        .expect("the section of unsupported instructions");
+    let section = section.split("\n#").next().unwrap_or(section);
+    let in_table: BTreeSet<&str> = section
+        .lines()
+        .filter_map(|line| line.strip_prefix("| "))
+        .filter_map(|row| row.split(" |").next())
+        .filter(|cell| !cell.starts_with("instructions") && !cell.starts_with("---"))
+        .flat_map(|cell| cell.split(", "))
+        .map(str::trim)
+        .collect();
+    let listed: BTreeSet<&str> = UNSUPPORTED_FX.iter().copied().collect();
+    assert_eq!(
+        in_table, listed,
+        "docs/language.md's table of unsupported instructions against isa::fx::UNSUPPORTED_FX"
+    );
+}

@@ -15,7 +15,6 @@ mod emulated_controllers;
 mod frontend_never_panics;
 mod independence;
 mod instruction_table;
-mod kernels;
 mod ladder;
 mod layers;
 mod native_hosts;

@@ -621,6 +621,12 @@ app_instructions! {
         (s1: TableEnd(WORDS), s2: TableEnd(WORDS), d: Destination(WORDS))
         reads [] writes []
         "D = the smallest value from device S1 to device S2 (4093H, 4094H as MAX)";
+    /// LIMIT S1 S2 S3 D: S3 kept within the lower limit S1 and the upper
+    /// limit S2.
+    Limit: "LIMIT" "DLIMIT" pulse Table on
+        (s1: Source(ANY_VALUE), s2: Source(ANY_VALUE), s3: Source(ANY_VALUE), d: Destination(WRITABLE_WORD))
+        reads [] writes []
+        "D = S1 when S3 < S1, S2 when S3 > S2, else S3 (S1 > S2: 4084H, D unchanged)";
     /// MEAN S D N: the mean of N values from S.
     Mean: "MEAN" "DMEAN" pulse Table on
         (s: BlockSource(ANY_WORD) [n units], d: Destination(WRITABLE_WORD), n: Source(COUNT))

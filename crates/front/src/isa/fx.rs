@@ -8,7 +8,7 @@ use std::sync::OnceLock;
 /// FX3U instructions (base names, without the D prefix and P suffix of
 /// their forms) that ladderc does not implement.
 #[rustfmt::skip]
-const UNSUPPORTED_FX: &[&str] = &[
+pub const UNSUPPORTED_FX: &[&str] = &[
     // Interrupts and the watchdog: no interrupts in the model.
     "IRET", "EI", "DI", "WDT",
     // Digit shifts, rotations with carry, word shifts and FIFO tables.
@@ -32,7 +32,7 @@ const UNSUPPORTED_FX: &[&str] = &[
     // Character strings.
     "BINDA", "DABIN", "STR", "VAL", "LEN", "RIGHT", "LEFT", "MIDR", "MIDW", "INSTR",
     // Data operation and data tables.
-    "FDEL", "FINS", "SFR", "SFL", "LIMIT", "BAND", "ZONE", "SCL", "SCL2",
+    "FDEL", "FINS", "SFR", "SFL", "BAND", "ZONE", "SCL", "SCL2",
     // Inverter communication, buffer memory blocks, file registers.
     "IVCK", "IVDR", "IVRD", "IVWR", "IVBWR", "ADPRW", "RBFM", "WBFM",
     "LOADR", "SAVER", "INITR", "LOGR", "RWER", "INITER",

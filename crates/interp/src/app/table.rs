@@ -34,6 +34,15 @@ fn end(step: &Step, word: &WordRef) -> Option<(Run, u32)> {
     }
 }
 
+/// LIMIT S1 S2 S3 D: S3 kept within S1 (lower) and S2 (upper); a lower
+/// limit above the upper one is 4084H and D is left as it is.
+pub fn limit([low, high, value]: [i64; 3], _: Width) -> Result<i64, OperationError> {
+    if low > high {
+        return Err(OperationError::DataOutOfRange);
+    }
+    Ok(value.clamp(low, high))
+}
+
 /// MAX/MIN S1 S2 D: the largest (smallest) value of the devices from S1 to
 /// S2 — for 32-bit words the pairs starting at S1, S1+2, ... up to S2.
 /// 4093H when S1 and S2 are not the same device, 4094H when S1 is after S2.

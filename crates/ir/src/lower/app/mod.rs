@@ -102,6 +102,7 @@ fn dispatch(step: &mut Step, args: &AppArgs, run: &Execution) {
         AppArgs::ZoneSet { d1, d2 } => zone::set(step, d1, d2),
         AppArgs::Max { s1, s2, d } => table::extreme(step, s1, s2, d, true),
         AppArgs::Min { s1, s2, d } => table::extreme(step, s1, s2, d, false),
+        AppArgs::Limit { s1, s2, s3, d } => step.map([s1, s2, s3], d, table::limit),
         AppArgs::Mean { s, d, n } => table::mean(step, s, d, n),
         AppArgs::Wsum { s, d, n } => table::sum(step, s, d, n),
         AppArgs::Sort { s, n1, n2, d, n3 } => table::sort(step, run, [s, n1, n2, d, n3], false),

@@ -32,6 +32,18 @@ fn constant(step: &mut Step, value: i64) -> Value {
     step.b().constant(Type::I32, value)
 }
 
+/// LIMIT S1 S2 S3 D: S3 kept within S1 (lower) and S2 (upper); 4084H
+/// (D unchanged) when S1 is above S2.
+pub fn limit(step: &mut Step, [low, high, value]: [Value; 3]) -> Value {
+    let ordered = step.b().compare(CompareOp::Le, low, high);
+    step.require(ordered, OperationError::DataOutOfRange);
+    let b = step.b();
+    let below = b.compare(CompareOp::Lt, value, low);
+    let raised = b.select(below, low, value);
+    let above = b.compare(CompareOp::Gt, raised, high);
+    b.select(above, high, raised)
+}
+
 /// MAX/MIN S1 S2 D over the devices from S1 to S2 (32-bit words: pairs from
 /// S1 in steps of 2): 4093H when the ends are not the same device, 4094H
 /// when S1 is after S2, 4085H when the last pair runs past the area.
