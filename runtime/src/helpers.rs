@@ -537,16 +537,17 @@ helpers! {
         }
     }
 
-    /// ASCI (`op` 0), HEX (1) or CCD (2) of `n` characters between checked places (M8161: one per word); 1, or
-    /// 0 when HEX met a character that is not a hex digit.
+    /// ASCI, HEX or CCD (`op`: `CharacterOp::code`, 0, 1, 2) of `n` characters between checked places (M8161:
+    /// one per word); 1, or 0 when HEX met a character that is not a hex digit (or `op` is no operation).
     Characters = fn ladder_rt_characters(
         mem, op: u32, source: source_place, destination: destination_place, n: u32
     ) -> i32 writes [] {
-        match (Place::unpack(source), Place::unpack(destination)) {
-            (Some(source), Some(destination)) => {
+        let op = compiled::handy::CharacterOp::from_code(op);
+        match (op, Place::unpack(source), Place::unpack(destination)) {
+            (Some(op), Some(source), Some(destination)) => {
                 i32::from(compiled::handy::characters(mem, op, source, destination, n))
             }
-            _ => 0,
+            (None, _, _) | (_, None, _) | (_, _, None) => 0,
         }
     }
 

@@ -5,6 +5,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod c_header;
 mod c_route;
 mod cli;
 mod cli_rough_edges;
@@ -13,6 +14,7 @@ mod compact_image;
 mod cross_targets;
 mod emulated_controllers;
 mod frontend_never_panics;
+mod helper_docs;
 mod independence;
 mod instruction_table;
 mod ladder;

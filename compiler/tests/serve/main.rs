@@ -5,6 +5,19 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+/// These tests mostly wait: on sockets, on the server's timeouts, on a
+/// headless browser. Four at a time on a two-core machine halve the
+/// binary's time (64 -> 36 s here) where the compiling and simulating test
+/// binaries gain nothing from more threads than cores. Set before the test
+/// harness reads it, and only when the caller chose nothing
+/// (`--test-threads` and `RUST_TEST_THREADS` still decide).
+#[ctor::ctor(unsafe)]
+fn wait_bound_tests_run_four_at_a_time() {
+    if std::env::var_os("RUST_TEST_THREADS").is_none() {
+        std::env::set_var("RUST_TEST_THREADS", "4");
+    }
+}
+
 mod serve;
 mod serve_bounds;
 mod serve_opcua;

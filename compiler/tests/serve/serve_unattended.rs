@@ -249,9 +249,17 @@ fn statistics_have_a_resettable_window_and_d8010_shows_the_scan_time() {
     assert!(p50 <= p99 && p99 <= max, "{stats}");
     assert!(stats["jitter_average_us"].as_f64().unwrap() <= max, "{stats}");
     // D8010: the latest scan's time in 0.1 ms; with 10 ms scans about 100.
+    // Scans are due on a fixed grid, so the scan after one that started
+    // late (a busy machine) reports less than the period: only the largest
+    // (D8012) must reach it.
     let d8010 = value(web, "D8010");
-    assert!((90..=400).contains(&d8010), "D8010 = {d8010}");
-    assert!(value(web, "D8011") <= d8010 && d8010 <= value(web, "D8012"));
+    assert!((10..=400).contains(&d8010), "D8010 = {d8010}");
+    let (d8011, d8012) = (value(web, "D8011"), value(web, "D8012"));
+    assert!(
+        d8011 <= d8010 && d8010 <= d8012,
+        "D8011 {d8011}, D8010 {d8010}, D8012 {d8012}"
+    );
+    assert!(d8012 >= 95, "D8012 = {d8012}");
     let (status, _) = http(web, "POST", "/api/stats/reset", "");
     assert_eq!(status, 200);
     let after = json(&http(web, "GET", "/api/stats", "").1);

@@ -5,6 +5,7 @@
 
 use crate::isa::{AppArgs, CompareOp, Sense};
 use crate::source::Span;
+use ladder_runtime::pulse::PulseKind;
 use ladder_runtime::{BitArea, Width, WordArea};
 
 /// The register whose value modifies a device number at run time: `Dk` in
@@ -395,4 +396,84 @@ pub struct CheckedProgram {
     pub main_end: usize,
     /// Number of previous-scan slots used.
     pub edge_slots: u32,
+}
+
+/// The operands of a pulse instruction (PLSY, PLSR, PLSV, DRVI, DRVA, ZRN,
+/// DSZR) by their role, built once in the dispatch both engines share.
+pub struct PulseOperands<'a> {
+    pub kind: PulseKind,
+    pub frequency: Option<&'a WordRef>,
+    pub amount: Option<&'a WordRef>,
+    pub ramp: Option<&'a WordRef>,
+    pub creep: Option<&'a WordRef>,
+    pub near_point: Option<&'a BitRef>,
+    /// DSZR's zero signal: read (its range checked), not used by the model.
+    pub zero_signal: Option<&'a BitRef>,
+    pub output: &'a BitRef,
+    pub direction: Option<&'a BitRef>,
+}
+
+impl<'a> PulseOperands<'a> {
+    pub fn new(kind: PulseKind, output: &'a BitRef) -> PulseOperands<'a> {
+        PulseOperands {
+            kind,
+            frequency: None,
+            amount: None,
+            ramp: None,
+            creep: None,
+            near_point: None,
+            zero_signal: None,
+            output,
+            direction: None,
+        }
+    }
+
+    pub fn frequency(self, word: &'a WordRef) -> Self {
+        PulseOperands {
+            frequency: Some(word),
+            ..self
+        }
+    }
+
+    pub fn amount(self, word: &'a WordRef) -> Self {
+        PulseOperands {
+            amount: Some(word),
+            ..self
+        }
+    }
+
+    pub fn ramp(self, word: &'a WordRef) -> Self {
+        PulseOperands {
+            ramp: Some(word),
+            ..self
+        }
+    }
+
+    pub fn creep(self, word: &'a WordRef) -> Self {
+        PulseOperands {
+            creep: Some(word),
+            ..self
+        }
+    }
+
+    pub fn near_point(self, bit: &'a BitRef) -> Self {
+        PulseOperands {
+            near_point: Some(bit),
+            ..self
+        }
+    }
+
+    pub fn zero_signal(self, bit: &'a BitRef) -> Self {
+        PulseOperands {
+            zero_signal: Some(bit),
+            ..self
+        }
+    }
+
+    pub fn direction(self, bit: &'a BitRef) -> Self {
+        PulseOperands {
+            direction: Some(bit),
+            ..self
+        }
+    }
 }

@@ -244,9 +244,40 @@ pub fn segment_latch(
     true
 }
 
-/// ASCI (`op` 0), HEX (1), CCD (2) over `n` characters; M8161 decides one
-/// or two per word. False when HEX met a character that is not a hex digit.
-pub fn characters(mem: &mut ImageMut<'_>, op: u32, source: Place, destination: Place, n: u32) -> bool {
+/// The three character conversions, with the one code each that compiled
+/// code passes to `ladder_rt_characters`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CharacterOp {
+    /// ASCI: hex digits to ASCII characters.
+    Ascii,
+    /// HEX: ASCII characters to hex digits.
+    Hex,
+    /// CCD: the sum and the horizontal parity of the characters.
+    CheckCode,
+}
+
+impl CharacterOp {
+    pub const fn code(self) -> u32 {
+        match self {
+            CharacterOp::Ascii => 0,
+            CharacterOp::Hex => 1,
+            CharacterOp::CheckCode => 2,
+        }
+    }
+
+    pub const fn from_code(code: u32) -> Option<CharacterOp> {
+        match code {
+            0 => Some(CharacterOp::Ascii),
+            1 => Some(CharacterOp::Hex),
+            2 => Some(CharacterOp::CheckCode),
+            _ => None,
+        }
+    }
+}
+
+/// ASCI, HEX or CCD over `n` characters; M8161 decides one or two per
+/// word. False when HEX met a character that is not a hex digit.
+pub fn characters(mem: &mut ImageMut<'_>, op: CharacterOp, source: Place, destination: Place, n: u32) -> bool {
     let eight_bit = mem.get_u8(Array::M, M_EIGHT_BIT_MODE_FX) != 0;
     let byte_at = |mem: &ImageMut<'_>, place: Place, i: u32| -> i64 {
         if eight_bit {
@@ -256,7 +287,7 @@ pub fn characters(mem: &mut ImageMut<'_>, op: u32, source: Place, destination: P
         }
     };
     match op {
-        0 => {
+        CharacterOp::Ascii => {
             // The source words first: D may overlap S (at most 256
             // characters, 64 words).
             let n = n.min(256);
@@ -287,7 +318,7 @@ pub fn characters(mem: &mut ImageMut<'_>, op: u32, source: Place, destination: P
             }
             true
         }
-        1 => {
+        CharacterOp::Hex => {
             let mut words = [0i64; 64];
             for i in 0..n {
                 let digit = match byte_at(mem, source, i) as u8 {
@@ -304,7 +335,7 @@ pub fn characters(mem: &mut ImageMut<'_>, op: u32, source: Place, destination: P
             }
             true
         }
-        _ => {
+        CharacterOp::CheckCode => {
             let (mut sum, mut parity) = (0i64, 0i64);
             for i in 0..n {
                 let byte = byte_at(mem, source, i);

@@ -17,6 +17,7 @@
 pub mod reach;
 pub mod app;
 pub mod bits;
+mod dispatch;
 pub mod fx;
 pub mod operand;
 pub mod reference;

@@ -8,9 +8,10 @@
 
 use super::{Execution, Outcome, Step};
 use crate::access::effective_index;
+use ladder_front::program::PulseOperands;
 use ladder_front::program::{BitRef, CounterRef, WordRef};
 use ladder_runtime::hsc::HscCompare;
-use ladder_runtime::pulse::{PulseKind, PulseRequest, NO_PLACE};
+use ladder_runtime::pulse::{PulseRequest, NO_PLACE};
 use ladder_runtime::{BitArea, OperationError, Place, Width};
 
 /// The number of a bit device of `area` (not of a word bit).
@@ -91,85 +92,6 @@ pub fn speed(step: &mut Step, s1: &BitRef, s2: &WordRef, d: &WordRef) -> Outcome
     step.write_at(counting, width, count);
     step.write_at(left, width, remaining);
     Ok(())
-}
-
-/// The operands of a pulse instruction, by their role.
-pub struct PulseOperands<'a> {
-    kind: PulseKind,
-    frequency: Option<&'a WordRef>,
-    amount: Option<&'a WordRef>,
-    ramp: Option<&'a WordRef>,
-    creep: Option<&'a WordRef>,
-    near_point: Option<&'a BitRef>,
-    /// DSZR's zero signal: read (its range checked), not used by the model.
-    zero_signal: Option<&'a BitRef>,
-    output: &'a BitRef,
-    direction: Option<&'a BitRef>,
-}
-
-impl<'a> PulseOperands<'a> {
-    pub fn new(kind: PulseKind, output: &'a BitRef) -> PulseOperands<'a> {
-        PulseOperands {
-            kind,
-            frequency: None,
-            amount: None,
-            ramp: None,
-            creep: None,
-            near_point: None,
-            zero_signal: None,
-            output,
-            direction: None,
-        }
-    }
-
-    pub fn frequency(self, word: &'a WordRef) -> Self {
-        PulseOperands {
-            frequency: Some(word),
-            ..self
-        }
-    }
-
-    pub fn amount(self, word: &'a WordRef) -> Self {
-        PulseOperands {
-            amount: Some(word),
-            ..self
-        }
-    }
-
-    pub fn ramp(self, word: &'a WordRef) -> Self {
-        PulseOperands {
-            ramp: Some(word),
-            ..self
-        }
-    }
-
-    pub fn creep(self, word: &'a WordRef) -> Self {
-        PulseOperands {
-            creep: Some(word),
-            ..self
-        }
-    }
-
-    pub fn near_point(self, bit: &'a BitRef) -> Self {
-        PulseOperands {
-            near_point: Some(bit),
-            ..self
-        }
-    }
-
-    pub fn zero_signal(self, bit: &'a BitRef) -> Self {
-        PulseOperands {
-            zero_signal: Some(bit),
-            ..self
-        }
-    }
-
-    pub fn direction(self, bit: &'a BitRef) -> Self {
-        PulseOperands {
-            direction: Some(bit),
-            ..self
-        }
-    }
 }
 
 /// PLSY, PLSR, PLSV, DRVI, DRVA, ZRN, DSZR (every scan): with the drive ON

@@ -7,6 +7,7 @@ use crate::lower::operand::Units;
 use crate::{BinOp, Index, Type, Value};
 use ladder_front::isa::CompareOp;
 use ladder_front::program::{Address, BitRef, CounterRef, WordRef};
+use ladder_runtime::compiled::handy::CharacterOp;
 use ladder_runtime::helpers::{width_arg, Helper};
 use ladder_runtime::special::M_EIGHT_BIT_MODE_FX;
 use ladder_runtime::{BitArea, OperationError, Width};
@@ -192,23 +193,37 @@ pub fn segment_latch(step: &mut Step, run: &Execution, s: &WordRef, d: &BitRef, 
     step.require(ok, OperationError::DataOutOfRange);
 }
 
-/// ASCI (`op` 0), HEX (1), CCD (2) S D n.
-pub fn characters(step: &mut Step, op: u32, s: &WordRef, d: &WordRef, n: &WordRef) {
+/// ASCI S D n: hex digits to characters.
+pub fn ascii(step: &mut Step, s: &WordRef, d: &WordRef, n: &WordRef) {
+    characters(step, CharacterOp::Ascii, s, d, n);
+}
+
+/// HEX S D n: characters to hex digits.
+pub fn hex(step: &mut Step, s: &WordRef, d: &WordRef, n: &WordRef) {
+    characters(step, CharacterOp::Hex, s, d, n);
+}
+
+/// CCD S D n: the sum and parity of n characters.
+pub fn check_code(step: &mut Step, s: &WordRef, d: &WordRef, n: &WordRef) {
+    characters(step, CharacterOp::CheckCode, s, d, n);
+}
+
+fn characters(step: &mut Step, op: CharacterOp, s: &WordRef, d: &WordRef, n: &WordRef) {
     let n = step.count_within(n, 1, 256);
     let eight_bit = step.b().load_bit(BitArea::M, Index::Fixed(M_EIGHT_BIT_MODE_FX));
     let pairs = step.ceil_div(n, 2);
     let character_words = step.b().select(eight_bit, n, pairs);
     let digit_words = step.ceil_div(n, 4);
     let (source_units, destination_units) = match op {
-        0 => (Units::Dynamic(digit_words), Units::Dynamic(character_words)),
-        1 => (Units::Dynamic(character_words), Units::Dynamic(digit_words)),
-        _ => (Units::Dynamic(character_words), step.run_of(2)),
+        CharacterOp::Ascii => (Units::Dynamic(digit_words), Units::Dynamic(character_words)),
+        CharacterOp::Hex => (Units::Dynamic(character_words), Units::Dynamic(digit_words)),
+        CharacterOp::CheckCode => (Units::Dynamic(character_words), step.run_of(2)),
     };
     let s = step.resolve(s, Width::Single, source_units, true);
     let d = step.resolve(d, Width::Single, destination_units, false);
     step.commit();
     let (s, d) = (step.l.place(&s), step.l.place(&d));
-    let op = step.b().number(op);
+    let op = step.b().number(op.code());
     let answer = match step.b().call(Helper::Characters, vec![op, s, d, n]) {
         Some(answer) => answer,
         None => step.b().constant(Type::I32, 0),

@@ -6,10 +6,11 @@ use super::{Execution, Step};
 use crate::lower::operand::{Operand, Units};
 use crate::{Index, Type, Value};
 use ladder_front::isa::CompareOp;
+use ladder_front::program::PulseOperands;
 use ladder_front::program::{BitRef, CounterRef, WordRef};
 use ladder_runtime::helpers::{width_arg, Helper};
 use ladder_runtime::hsc::{HscCompare, FIRST_HSC, LAST_HSC};
-use ladder_runtime::pulse::{PulseKind, NO_PLACE};
+use ladder_runtime::pulse::NO_PLACE;
 use ladder_runtime::{OperationError, Width};
 
 impl Step<'_, '_> {
@@ -90,19 +91,6 @@ pub fn speed(step: &mut Step, s1: &BitRef, s2: &WordRef, d: &WordRef) {
     let d = step.l.place(&d);
     let width = step.b().number(width_arg(width));
     step.b().call(Helper::Speed, vec![input, period, d, width]);
-}
-
-/// The operands of a pulse instruction by their role.
-pub struct PulseOperands<'a> {
-    pub kind: PulseKind,
-    pub frequency: Option<&'a WordRef>,
-    pub amount: Option<&'a WordRef>,
-    pub ramp: Option<&'a WordRef>,
-    pub creep: Option<&'a WordRef>,
-    pub near_point: Option<&'a BitRef>,
-    pub zero_signal: Option<&'a BitRef>,
-    pub output: &'a BitRef,
-    pub direction: Option<&'a BitRef>,
 }
 
 /// PLSY, PLSR, PLSV, DRVI, DRVA, ZRN, DSZR every scan.

@@ -1,10 +1,10 @@
 //! docs/runtime.md lists every runtime helper with its C prototype and what
-//! it does, as declared in `src/helpers.rs`. `LADDER_BLESS=1 cargo test -p
-//! ladder-runtime --test helper_docs` rewrites the table from the
+//! it does, as declared in `runtime/src/helpers.rs`. `LADDER_BLESS=1 cargo test -p
+//! ladderc --test commands helper_docs` rewrites the table from the
 //! declarations.
 
+use crate::common::tools::workspace;
 use ladder_runtime::helpers::Helper;
-use std::path::Path;
 
 const TABLE_HEADER: &str = "| C prototype | does |\n|---|---|\n";
 
@@ -26,7 +26,7 @@ fn table() -> String {
 
 #[test]
 fn every_helper_is_documented_as_declared() {
-    let docs = Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/runtime.md");
+    let docs = workspace().join("docs/runtime.md");
     let text = std::fs::read_to_string(&docs).expect("docs/runtime.md");
     let start = text.find(TABLE_HEADER).expect("the helper table in docs/runtime.md");
     let end = text[start..].find("\n\n").map_or(text.len(), |i| start + i + 1);
@@ -38,6 +38,6 @@ fn every_helper_is_documented_as_declared() {
     assert_eq!(
         &text[start..end],
         table(),
-        "docs/runtime.md's helper table is out of date; regenerate it with\n  LADDER_BLESS=1 cargo test -p ladder-runtime --test helper_docs"
+        "docs/runtime.md's helper table is out of date; regenerate it with\n  LADDER_BLESS=1 cargo test -p ladderc --test commands helper_docs"
     );
 }

@@ -1,10 +1,11 @@
-//! The committed C header matches the C API in `src/capi/mod.rs`.
+//! The runtime's committed C header (`runtime/include/ladder_runtime.h`)
+//! matches its C API in `runtime/src/capi/mod.rs`.
 
-use std::path::Path;
+use crate::common::tools::workspace;
 
 #[test]
 fn c_header_is_current() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = workspace().join("runtime");
     let config = cbindgen::Config::from_file(root.join("cbindgen.toml")).expect("cbindgen.toml");
     let bindings = cbindgen::Builder::new()
         .with_config(config)
@@ -20,7 +21,7 @@ fn c_header_is_current() {
     let committed = std::fs::read(&path).unwrap_or_default();
     assert!(
         committed == generated,
-        "include/ladder_runtime.h is out of date; regenerate it with\n  LADDER_BLESS=1 cargo test -p ladder-runtime --test c_header\n--- generated ---\n{}",
+        "include/ladder_runtime.h is out of date; regenerate it with\n  LADDER_BLESS=1 cargo test -p ladderc --test commands c_header\n--- generated ---\n{}",
         String::from_utf8_lossy(&generated)
     );
 }
