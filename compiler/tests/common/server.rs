@@ -108,6 +108,17 @@ impl Server {
     }
 }
 
+/// A test that fails (panics) with its server running must not leave the
+/// server behind: it would take CPU from every test after it.
+impl Drop for Server {
+    fn drop(&mut self) {
+        if let Ok(None) = self.child.try_wait() {
+            let _ = self.child.kill();
+            let _ = self.child.wait();
+        }
+    }
+}
+
 /// One HTTP/1.1 request on a fresh connection: (status, body).
 pub fn http(address: SocketAddr, method: &str, path: &str, body: &str) -> (u16, String) {
     http_with(address, method, path, body, &[])
