@@ -10,8 +10,8 @@
 //! devices the program and its host use; every other batch of programs). A
 //! divergence is shrunk and written out as a scenario file.
 //!
-//! CI runs 360 programs (four tests of 60 random programs, so both cores
-//! work, and 60 each of memory-forwarding and FX-structured programs: the
+//! CI runs 300 programs (four tests of 50 random programs, so both cores
+//! work, and 50 each of memory-forwarding and FX-structured programs: the
 //! share that keeps CI within its time; the seed changes with every commit,
 //! so the programs do too, and the suite covers more with every commit).
 //! The long run is an ignored test:
@@ -30,7 +30,7 @@ use crate::common::tools;
 use proptest::strategy::{BoxedStrategy, Strategy};
 
 fn run_share(test: &str, share: u64) -> Totals {
-    run_programs(test, share, common::program().boxed(), 60)
+    run_programs(test, share, common::program().boxed(), 50)
 }
 
 fn run_programs(test: &str, share: u64, programs: BoxedStrategy<String>, count: usize) -> Totals {
@@ -54,7 +54,7 @@ fn memory_forwarding_matches_the_interpreter() {
         "memory_forwarding_matches_the_interpreter",
         5,
         common::memory_program().boxed(),
-        60,
+        50,
     );
 }
 
@@ -67,7 +67,7 @@ fn fx_structure_matches_the_interpreter() {
         "fx_structure_matches_the_interpreter",
         6,
         common::fx::fx_program().boxed(),
-        60,
+        50,
     );
 }
 
