@@ -95,10 +95,14 @@ impl Span {
         Span { space, start, count: 1 }
     }
 
-    /// The elements of a run at a fixed start as code generation writes
-    /// them (`Effect::Fill`): `None` for a run-time start.
+    /// The elements of a run at a fixed start in an area of `area_count`
+    /// elements, as code generation writes them (`Effect::Fill`): `None`
+    /// for a run-time start (or an empty area).
     pub fn fixed_run(self, area_count: u32) -> Option<std::ops::Range<u32>> {
         let Index::Fixed(n) = self.start else { return None };
+        if area_count == 0 {
+            return None;
+        }
         let count = self.count.clamp(1, area_count);
         let first = n.min(area_count - count);
         Some(first..first + count)

@@ -276,11 +276,11 @@ enum Access {
 
 fn access(inst: &Inst) -> Access {
     let place = |space: Space, n: u32| match space {
-        Space::Bits(area) => Some(bit_place(area, n)),
-        Space::Words(area) => Some(word_place(area, n)),
-        Space::WideCounters => Some(wide_counter_place(n)),
-        Space::EdgeSlots => Some(Place::Slot(n)),
-        Space::BlockActive => Some(Place::BlockActive(n)),
+        Space::Bits(area) => bit_place(area, n),
+        Space::Words(area) => word_place(area, n),
+        Space::WideCounters => wide_counter_place(n),
+        Space::EdgeSlots => Place::Slot(n),
+        Space::BlockActive => Place::BlockActive(n),
     };
     // Where a run-time index may land; a space without one (never indexed
     // at run time) is a barrier.
@@ -296,26 +296,25 @@ fn access(inst: &Inst) -> Access {
     };
     match inst.effect() {
         Effect::Load(span) => match span.start {
-            Index::Fixed(n) => place(span.space, n).map_or(Access::Call(Footprint::Everything), Access::Load),
+            Index::Fixed(n) => Access::Load(place(span.space, n)),
             Index::Dynamic(_) => anywhere(span.space, Access::LoadAnywhere),
         },
         Effect::Store(span, value) => match span.start {
-            Index::Fixed(n) => {
-                place(span.space, n).map_or(Access::Call(Footprint::Everything), |p| Access::Store(p, value))
-            }
+            Index::Fixed(n) => Access::Store(place(span.space, n), value),
             Index::Dynamic(_) => anywhere(span.space, Access::StoreAnywhere),
         },
         Effect::Fill(span) => {
+            // Only SET/RST of bit and word runs fill.
             let area_count = match span.space {
-                Space::Bits(area) => area.count(),
-                Space::Words(area) => area.count(),
-                Space::WideCounters | Space::EdgeSlots | Space::BlockActive => 0,
+                Space::Bits(area) => Some(area.count()),
+                Space::Words(area) => Some(area.count()),
+                Space::WideCounters | Space::EdgeSlots | Space::BlockActive => None,
             };
-            match span
-                .fixed_run(area_count)
-                .filter(|run| area_count > 0 && run.len() <= 64)
+            match area_count
+                .and_then(|count| span.fixed_run(count))
+                .filter(|run| run.len() <= 64)
             {
-                Some(run) => Access::Fill(run.filter_map(|n| place(span.space, n)).collect()),
+                Some(run) => Access::Fill(run.map(|n| place(span.space, n)).collect()),
                 None => anywhere(span.space, Access::StoreAnywhere),
             }
         }
