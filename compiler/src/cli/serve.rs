@@ -37,6 +37,12 @@ pub struct ServeArgs {
     /// Serve Modbus TCP on this address (loopback unless --allow-remote).
     #[arg(long, value_name = "ADDRESS:PORT")]
     modbus: Option<SocketAddr>,
+    /// Serve the MELSEC communication protocol (MC protocol) on this TCP
+    /// address and the same UDP port: 1E frames as an FX3U-ENET-ADP
+    /// answers them, 3E and 4E frames (SLMP) as an iQ-F does, binary and
+    /// ASCII (loopback unless --allow-remote).
+    #[arg(long, value_name = "ADDRESS:PORT")]
+    melsec: Option<SocketAddr>,
     /// Serve the live monitor page and the JSON API on this address
     /// (loopback unless --allow-remote).
     #[arg(long, value_name = "ADDRESS:PORT")]
@@ -78,8 +84,9 @@ pub struct ServeArgs {
     /// process's memory locked; says so and goes on where not permitted.
     #[arg(long)]
     realtime: bool,
-    /// Modbus clients in these networks may write (`192.168.1.0/24`, an
-    /// address alone, comma-separated); beyond loopback, nobody else may.
+    /// Modbus and MELSEC clients in these networks may write (and switch
+    /// RUN/STOP over MELSEC) (`192.168.1.0/24`, an address alone,
+    /// comma-separated); beyond loopback, nobody else may.
     #[arg(long, value_name = "ADDR/NET,...", value_delimiter = ',')]
     modbus_write_from: Vec<String>,
     /// HTTP writes need the token in this file (`Authorization: Bearer
@@ -109,6 +116,13 @@ pub struct ServeArgs {
     /// A Modbus TCP connection that sends no request for this long is closed.
     #[arg(long, default_value_t = ladder_serve::Limits::default().modbus.idle.as_secs(), value_name = "SECONDS")]
     modbus_idle_s: u64,
+    /// MELSEC TCP connections served at once; a new client gets the place
+    /// of the connection idle longest (idle for a second at least).
+    #[arg(long, default_value_t = ladder_serve::Limits::default().melsec.connections, value_name = "N")]
+    max_melsec_connections: usize,
+    /// A MELSEC connection that sends no frame for this long is closed.
+    #[arg(long, default_value_t = ladder_serve::Limits::default().melsec.idle.as_secs(), value_name = "SECONDS")]
+    melsec_idle_s: u64,
     /// HTTP connections served at once; a new client gets the place of the
     /// connection idle longest (idle for a second at least).
     #[arg(long, default_value_t = ladder_serve::Limits::default().http.connections, value_name = "N")]
@@ -147,6 +161,7 @@ pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
         ("--modbus", args.modbus),
         ("--http", args.http),
         ("--opcua", args.opcua),
+        ("--melsec", args.melsec),
     ] {
         if let Some(address) = address {
             if !address.ip().is_loopback() && !args.allow_remote {
@@ -233,6 +248,7 @@ pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
     let options = ServeOptions {
         period: Duration::from_millis(u64::from(args.scan_ms)),
         modbus: args.modbus,
+        melsec: args.melsec,
         http: args.http,
         read_only: args.read_only,
         watch_file: args.watch_file.then(|| args.program.clone()),
@@ -258,6 +274,10 @@ pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
             modbus: ladder_serve::modbus_tcp::ConnectionLimits {
                 connections: args.max_modbus_connections,
                 idle: Duration::from_secs(args.modbus_idle_s.max(1)),
+            },
+            melsec: ladder_serve::modbus_tcp::ConnectionLimits {
+                connections: args.max_melsec_connections,
+                idle: Duration::from_secs(args.melsec_idle_s.max(1)),
             },
             http: ladder_serve::guard::Bounds {
                 connections: args.max_http_connections,

@@ -173,6 +173,15 @@ impl Condition {
 }
 
 impl Control {
+    /// RUN is RUN: it also ends a pause (and pending steps), as the switch
+    /// on a PLC would.
+    pub fn run(&mut self) {
+        self.stopped = false;
+        self.paused = false;
+        self.steps = 0;
+        self.hit = None;
+    }
+
     /// A step was asked for while paused: it runs without waiting for the
     /// period.
     pub fn step_waiting(&self) -> bool {

@@ -170,14 +170,7 @@ pub async fn set_control(
     {
         let mut control = app.shared.control();
         match body.action.to_ascii_lowercase().as_str() {
-            // RUN is RUN: it also ends a pause (and pending steps), as the
-            // switch on a PLC would.
-            "run" => {
-                control.stopped = false;
-                control.paused = false;
-                control.steps = 0;
-                control.hit = None;
-            }
+            "run" => control.run(),
             "stop" => control.stopped = true,
             "pause" => control.paused = true,
             "resume" => {

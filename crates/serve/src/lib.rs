@@ -6,12 +6,14 @@
 
 pub mod access;
 mod change;
+mod connections;
 mod control;
 mod debug;
 #[doc(hidden)]
 pub mod fuzzing;
 pub mod guard;
 mod http;
+mod melsec;
 mod modbus;
 pub mod modbus_tcp;
 mod opcua;
@@ -40,6 +42,8 @@ pub struct Limits {
     pub queued_writes: usize,
     /// Modbus TCP connections, and how long one may be idle.
     pub modbus: modbus_tcp::ConnectionLimits,
+    /// MELSEC TCP connections, and how long one may be idle.
+    pub melsec: modbus_tcp::ConnectionLimits,
     /// HTTP connections at once, how long one may be idle, how long a
     /// write may wait for a client that does not read.
     pub http: guard::Bounds,
@@ -52,6 +56,7 @@ impl Default for Limits {
         Limits {
             queued_writes: shared::DEFAULT_QUEUED_WRITES,
             modbus: modbus_tcp::ConnectionLimits::default(),
+            melsec: modbus_tcp::ConnectionLimits::default(),
             http: guard::Bounds {
                 connections: guard::MOST_CONNECTIONS,
                 idle: guard::IDLE,
@@ -67,6 +72,8 @@ impl Default for Limits {
 pub struct ServeOptions {
     pub period: Duration,
     pub modbus: Option<SocketAddr>,
+    /// MELSEC frames on this TCP address and its UDP port.
+    pub melsec: Option<SocketAddr>,
     pub http: Option<SocketAddr>,
     pub read_only: bool,
     pub engine: EngineKind,
@@ -182,6 +189,17 @@ pub fn serve(
         })?),
         None => None,
     };
+    let melsec = listen(&runtime, options.melsec, "MELSEC", "melsec")?
+        .map(|listener| {
+            // UDP on the port TCP has (the same number when it was 0).
+            let udp = listener.local_addr().map_err(|e| e.to_string()).and_then(|address| {
+                runtime
+                    .block_on(tokio::net::UdpSocket::bind(address))
+                    .map_err(|e| format!("cannot listen for MELSEC on UDP {address}: {e}"))
+            })?;
+            Ok::<_, String>((listener, udp))
+        })
+        .transpose()?;
     let (ready, started) = std::sync::mpsc::channel();
     let scanner = {
         let shared = Arc::clone(&shared);
@@ -210,7 +228,6 @@ pub fn serve(
         let settle = options.watch_settle;
         std::thread::spawn(move || watch_file(&path, &shared, native, settle));
     }
-    let read_only = options.read_only;
     let mut access = options.access.clone();
     // Listening on port 0 (any free port): the host names carry the port
     // the system chose.
@@ -222,21 +239,32 @@ pub fn serve(
     let limits = options.limits;
     shared.limit_writes(limits.queued_writes);
     shared.limit_recorders(limits.event_streams);
-    let modbus_write_from = options.modbus_write_from.clone();
+    // Who may write over Modbus and MELSEC.
+    let permission = connections::Permission {
+        read_only: options.read_only,
+        write_from: options.modbus_write_from.clone(),
+    };
     let native = options.engine == EngineKind::Jit;
     let served = Arc::clone(&shared);
     runtime.block_on(async move {
         if let Some(listener) = listener {
             let shared = Arc::clone(&served);
-            let write_from = modbus_write_from.clone();
+            let permission = permission.clone();
             tokio::spawn(modbus_tcp::serve(listener, limits.modbus, move |peer| {
                 modbus::Service {
                     shared: Arc::clone(&shared),
-                    may_write: !read_only
-                        && (peer.ip().to_canonical().is_loopback()
-                            || write_from.iter().any(|net| net.contains(&peer.ip().to_canonical()))),
+                    may_write: permission.may_write(peer),
                 }
             }));
+        }
+        if let Some((listener, udp)) = melsec {
+            tokio::spawn(melsec::serve(
+                listener,
+                Some(udp),
+                limits.melsec,
+                permission,
+                Arc::clone(&served),
+            ));
         }
         if let Some(web) = web {
             let app = http::router(Arc::clone(&served), native)

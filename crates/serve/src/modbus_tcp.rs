@@ -17,15 +17,12 @@
 //!   next frame after a length it cannot trust), as is a frame that does
 //!   not arrive whole within `FRAME_TIMEOUT`.
 //!
-//! Connections are bounded (`ConnectionLimits`): one that sends no request
-//! for the idle time is closed, and a new client that finds every place
-//! taken gets the place of the connection idle longest (when that one has
-//! been idle for a second at least), so idle or abandoned connections never
-//! lock a working client out.
+//! Connections are bounded as `connections` bounds them.
 
 use super::modbus::Service;
+pub use crate::connections::ConnectionLimits;
+use crate::connections::{accept, Open};
 use std::borrow::Cow;
-use std::sync::Arc;
 use std::time::Duration;
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio_modbus::prelude::{ExceptionCode, Request, Response};
@@ -36,49 +33,6 @@ pub const HEADER_LEN: usize = 7;
 const MAX_PDU_LEN: usize = 253;
 /// A frame that has started must be complete within this time.
 const FRAME_TIMEOUT: Duration = Duration::from_secs(5);
-/// Connections served at once by default.
-pub const MOST_CONNECTIONS: usize = 64;
-/// How long a connection may send nothing, by default.
-pub const IDLE_TIMEOUT: Duration = Duration::from_secs(60);
-/// A connection idle this long gives its place to a new client when every
-/// place is taken.
-const YIELDS_AFTER: Duration = Duration::from_secs(1);
-
-/// How many connections are served, and how long one may be idle.
-#[derive(Clone, Copy, Debug)]
-pub struct ConnectionLimits {
-    pub connections: usize,
-    pub idle: Duration,
-}
-
-impl Default for ConnectionLimits {
-    fn default() -> Self {
-        ConnectionLimits {
-            connections: MOST_CONNECTIONS,
-            idle: IDLE_TIMEOUT,
-        }
-    }
-}
-
-/// A served connection, as the acceptor sees it.
-struct Open {
-    /// When it last sent a whole request (or connected).
-    active: std::sync::Mutex<tokio::time::Instant>,
-    /// Told to close (its place goes to a new client).
-    close: tokio::sync::Notify,
-}
-
-impl Open {
-    fn idle(&self) -> Duration {
-        self.active.lock().map_or(Duration::ZERO, |at| at.elapsed())
-    }
-
-    fn touch(&self) {
-        if let Ok(mut at) = self.active.lock() {
-            *at = tokio::time::Instant::now();
-        }
-    }
-}
 
 /// What to do with the bytes of a frame.
 #[derive(Debug, PartialEq, Eq)]
@@ -269,55 +223,12 @@ pub async fn serve(
     limits: ConnectionLimits,
     make_service: impl Fn(std::net::SocketAddr) -> Service + Send + 'static,
 ) {
-    let places = Arc::new(tokio::sync::Semaphore::new(limits.connections.max(1)));
-    let served: Arc<std::sync::Mutex<Vec<std::sync::Weak<Open>>>> = Arc::default();
-    loop {
-        let Ok((stream, peer)) = listener.accept().await else {
-            // Out of file descriptors or similar: try again shortly.
-            tokio::time::sleep(Duration::from_millis(50)).await;
-            continue;
-        };
-        let permit = match Arc::clone(&places).try_acquire_owned() {
-            Ok(permit) => permit,
-            Err(_) => {
-                // Every place is taken: the connection idle longest makes room
-                // if it has been idle a while; else the newcomer is closed.
-                let longest = served.lock().ok().and_then(|served| {
-                    served
-                        .iter()
-                        .filter_map(std::sync::Weak::upgrade)
-                        .max_by_key(|open| open.idle())
-                        .filter(|open| open.idle() >= YIELDS_AFTER)
-                });
-                let Some(longest) = longest else {
-                    drop(stream);
-                    continue;
-                };
-                longest.close.notify_one();
-                match tokio::time::timeout(Duration::from_secs(1), Arc::clone(&places).acquire_owned()).await {
-                    Ok(Ok(permit)) => permit,
-                    Ok(Err(_)) | Err(_) => {
-                        drop(stream);
-                        continue;
-                    }
-                }
-            }
-        };
-        let open = Arc::new(Open {
-            active: std::sync::Mutex::new(tokio::time::Instant::now()),
-            close: tokio::sync::Notify::new(),
-        });
-        if let Ok(mut served) = served.lock() {
-            served.retain(|open| open.strong_count() > 0);
-            served.push(Arc::downgrade(&open));
-        }
+    let idle = limits.idle;
+    accept(listener, limits, move |stream, peer, open| {
         let service = make_service(peer);
-        let idle = limits.idle;
-        tokio::spawn(async move {
-            serve_connection(stream, service, &open, idle).await;
-            drop(permit);
-        });
-    }
+        async move { serve_connection(stream, service, &open, idle).await }
+    })
+    .await;
 }
 
 #[cfg(test)]

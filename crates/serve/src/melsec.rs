@@ -1,0 +1,264 @@
+//! The MELSEC side of `ladderc serve` (`--melsec`): 1E, 3E and 4E frames,
+//! binary and ASCII, on one TCP port and the same UDP port, answered by
+//! the `ladder-melsec` crate over the soft PLC's image. Reads see the
+//! image the latest scan published; writes go to the same queue of host
+//! writes as Modbus and HTTP (applied before the next scan); remote
+//! RUN/STOP/PAUSE move the same switch as the monitor's buttons. Writes
+//! and remote operations follow the Modbus rules: refused with
+//! `--read-only`, and from peers beyond loopback unless they are in a
+//! `--modbus-write-from` network.
+//!
+//! A connection is bounded as Modbus connections are (`connections`); a
+//! frame must arrive whole within `FRAME_TIMEOUT`; bytes that cannot
+//! start a frame, or a header whose length cannot be right, close the
+//! connection (a stream cannot find the next frame after them).
+
+use crate::connections::{accept, ConnectionLimits, Open, Permission};
+use crate::shared::{HostWrite, Shared};
+use ladder_front::host_device::HostDevice;
+use ladder_melsec::{Device, Family, Length, Plc, Refusal, Remote, Write};
+use ladder_runtime::device::FIRST_WIDE_COUNTER;
+use ladder_runtime::{BitArea, Memory, Width, WordArea};
+use std::sync::Arc;
+use std::time::Duration;
+use tokio::io::{AsyncReadExt, AsyncWriteExt};
+
+/// A frame that has started must be complete within this time.
+const FRAME_TIMEOUT: Duration = Duration::from_secs(5);
+
+/// The PLC as one request sees it: one image for all its reads.
+pub struct Station {
+    pub shared: Arc<Shared>,
+    pub image: Arc<Memory>,
+    pub may_write: bool,
+}
+
+fn bit_area(family: Family) -> Option<BitArea> {
+    match family {
+        Family::X => Some(BitArea::X),
+        Family::Y => Some(BitArea::Y),
+        Family::M => Some(BitArea::M),
+        Family::S => Some(BitArea::S),
+        Family::Sm => Some(BitArea::Sm),
+        Family::TimerContact => Some(BitArea::TimerContact),
+        Family::CounterContact => Some(BitArea::CounterContact),
+        Family::TimerCoil
+        | Family::CounterCoil
+        | Family::Sd
+        | Family::D
+        | Family::R
+        | Family::TimerValue
+        | Family::CounterValue
+        | Family::LongCounterValue => None,
+    }
+}
+
+fn word_area(family: Family) -> Option<WordArea> {
+    match family {
+        Family::Sd => Some(WordArea::Sd),
+        Family::D => Some(WordArea::D),
+        Family::R => Some(WordArea::R),
+        Family::TimerValue => Some(WordArea::TimerValue),
+        Family::CounterValue => Some(WordArea::CounterValue),
+        Family::X
+        | Family::Y
+        | Family::M
+        | Family::S
+        | Family::Sm
+        | Family::TimerContact
+        | Family::TimerCoil
+        | Family::CounterContact
+        | Family::CounterCoil
+        | Family::LongCounterValue => None,
+    }
+}
+
+/// The host device a MELSEC device is.
+fn host_device(device: Device, wide: bool) -> Option<HostDevice> {
+    let single = |device| HostDevice {
+        device,
+        width: Width::Single,
+    };
+    if wide {
+        return Some(HostDevice {
+            device: ladder_runtime::Device::WideCounter(device.number),
+            width: Width::Double,
+        });
+    }
+    if let Some(area) = bit_area(device.family) {
+        return Some(single(ladder_runtime::Device::Bit(area, device.number)));
+    }
+    word_area(device.family).map(|area| single(ladder_runtime::Device::Word(area, device.number)))
+}
+
+impl Plc for Station {
+    fn points(&self, family: Family) -> u32 {
+        match family {
+            Family::TimerCoil => BitArea::TimerContact.count(),
+            Family::CounterCoil => BitArea::CounterContact.count(),
+            // C0-C199 are 16-bit, C200-C255 32-bit: CN and LCN number them
+            // all (the protocol crate refuses each where it does not fit).
+            Family::CounterValue | Family::LongCounterValue => BitArea::CounterContact.count(),
+            other => bit_area(other)
+                .map(BitArea::count)
+                .or_else(|| word_area(other).map(WordArea::count))
+                .unwrap_or(0),
+        }
+    }
+
+    fn wide(&self, device: Device) -> bool {
+        device.family == Family::CounterValue && device.number >= FIRST_WIDE_COUNTER
+    }
+
+    fn bit(&self, device: Device) -> bool {
+        let index = device.number as usize;
+        match device.family {
+            Family::TimerCoil => self.image.timer_coil_was_on.get(index).is_some_and(|&on| on != 0),
+            Family::CounterCoil => self.image.counter_coil_was_on.get(index).is_some_and(|&on| on != 0),
+            _ => host_device(device, false)
+                .and_then(|host| self.image.read_device(host.device, host.width))
+                .is_some_and(|value| value != 0),
+        }
+    }
+
+    fn word(&self, device: Device) -> u16 {
+        host_device(device, false)
+            .and_then(|host| self.image.read_device(host.device, host.width))
+            .unwrap_or(0) as u16
+    }
+
+    fn dword(&self, device: Device) -> u32 {
+        host_device(device, self.wide(device))
+            .and_then(|host| self.image.read_device(host.device, host.width))
+            .unwrap_or(0) as u32
+    }
+
+    fn write(&mut self, writes: Vec<Write>) -> Result<(), Refusal> {
+        if !self.may_write {
+            return Err(Refusal::NotAllowed);
+        }
+        let mut queued = Vec::with_capacity(writes.len());
+        for write in writes {
+            let (device, value) = match write {
+                Write::Bit(device, on) => (host_device(device, false), i32::from(on)),
+                Write::Word(device, value) => (host_device(device, false), i32::from(value as i16)),
+                Write::Dword(device, value) => (host_device(device, self.wide(device)), value as i32),
+            };
+            // The protocol crate has checked every device against `points`;
+            // one without a host device (a coil) never reaches here.
+            let Some(device) = device else {
+                return Err(Refusal::NotAllowed);
+            };
+            queued.push(HostWrite::Set(device, value));
+        }
+        if self.shared.queue(queued) {
+            Ok(())
+        } else {
+            Err(Refusal::Busy)
+        }
+    }
+
+    fn remote(&mut self, operation: Remote) -> Result<(), Refusal> {
+        if !self.may_write {
+            return Err(Refusal::NotAllowed);
+        }
+        {
+            let mut control = self.shared.control();
+            match operation {
+                Remote::Run => control.run(),
+                Remote::Stop => control.stopped = true,
+                Remote::Pause => control.paused = true,
+            }
+        }
+        self.shared.wake();
+        Ok(())
+    }
+}
+
+/// The answer to one frame, from the latest image.
+pub fn answer(shared: &Arc<Shared>, may_write: bool, frame: &[u8]) -> Option<Vec<u8>> {
+    let mut station = Station {
+        shared: Arc::clone(shared),
+        image: shared.image(),
+        may_write,
+    };
+    ladder_melsec::answer(frame, &mut station)
+}
+
+async fn serve_connection(
+    mut stream: tokio::net::TcpStream,
+    shared: Arc<Shared>,
+    may_write: bool,
+    open: &Open,
+    idle: Duration,
+) {
+    let _ = stream.set_nodelay(true);
+    let mut buffer: Vec<u8> = Vec::new();
+    let mut chunk = vec![0u8; 4096];
+    loop {
+        match ladder_melsec::frame_length(&buffer) {
+            Length::Frame(length) if length <= buffer.len() => {
+                let frame: Vec<u8> = buffer.drain(..length).collect();
+                open.touch();
+                if let Some(reply) = answer(&shared, may_write, &frame) {
+                    if tokio::time::timeout(FRAME_TIMEOUT, stream.write_all(&reply))
+                        .await
+                        .is_err()
+                    {
+                        return;
+                    }
+                }
+                continue;
+            }
+            Length::Invalid => return,
+            Length::Frame(_) | Length::Need(_) => {}
+        }
+        // Waiting for a request may take up to the idle time; a started one
+        // no longer than a frame may.
+        let wait = if buffer.is_empty() { idle } else { FRAME_TIMEOUT };
+        tokio::select! {
+            read = tokio::time::timeout(wait, stream.read(&mut chunk)) => match read {
+                Ok(Ok(n)) if n > 0 => buffer.extend_from_slice(&chunk[..n]),
+                Ok(Ok(_) | Err(_)) | Err(_) => return,
+            },
+            () = open.close.notified() => return,
+        }
+    }
+}
+
+/// Serves MELSEC frames on `listener` (TCP) and `datagrams` (UDP, one
+/// frame a datagram) until the process ends.
+pub async fn serve(
+    listener: tokio::net::TcpListener,
+    datagrams: Option<tokio::net::UdpSocket>,
+    limits: ConnectionLimits,
+    permission: Permission,
+    shared: Arc<Shared>,
+) {
+    if let Some(socket) = datagrams {
+        let shared = Arc::clone(&shared);
+        let permission = permission.clone();
+        tokio::spawn(async move {
+            let mut datagram = vec![0u8; ladder_melsec::MAX_FRAME];
+            loop {
+                let Ok((n, peer)) = socket.recv_from(&mut datagram).await else {
+                    continue;
+                };
+                let frame = &datagram[..n];
+                if ladder_melsec::frame_length(frame) != Length::Frame(n) {
+                    continue;
+                }
+                if let Some(reply) = answer(&shared, permission.may_write(peer), frame) {
+                    let _ = socket.send_to(&reply, peer).await;
+                }
+            }
+        });
+    }
+    let idle = limits.idle;
+    accept(listener, limits, move |stream, peer, open| {
+        let shared = Arc::clone(&shared);
+        let may_write = permission.may_write(peer);
+        async move { serve_connection(stream, shared, may_write, &open, idle).await }
+    })
+    .await;
+}
