@@ -16,6 +16,8 @@ pub struct Server {
     pub address: SocketAddr,
     /// The HTTP address, when started with `--http`.
     pub web: Option<SocketAddr>,
+    /// The MELSEC address (TCP and UDP), when started with `--melsec`.
+    pub melsec: Option<SocketAddr>,
     /// The directory of the program file (plc.il).
     pub dir: tempfile::TempDir,
     /// What it printed before its addresses (`retain: ...` lines).
@@ -77,10 +79,14 @@ impl Server {
                 "http listening on "
             })
         });
+        // The MELSEC listener binds after HTTP (and OPC UA, which prints no
+        // line).
+        let melsec = extra.contains(&"--melsec").then(|| find("melsec listening on "));
         Server {
             child,
             address,
             web,
+            melsec,
             dir,
             said,
         }

@@ -20,6 +20,8 @@ fn wait_bound_tests_run_four_at_a_time() {
 
 mod serve;
 mod serve_bounds;
+mod serve_melsec;
+mod serve_melsec_clients;
 mod serve_opcua;
 mod serve_protocols;
 mod serve_soak;

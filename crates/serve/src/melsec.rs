@@ -3,7 +3,8 @@
 //! the `ladder-melsec` crate over the soft PLC's image. Reads see the
 //! image the latest scan published; writes go to the same queue of host
 //! writes as Modbus and HTTP (applied before the next scan); remote
-//! RUN/STOP/PAUSE move the same switch as the monitor's buttons. Writes
+//! RUN/STOP/PAUSE move the same switch as the monitor's buttons (and SD203
+//! reports it, as on an iQ-F: 0 RUN, 2 STOP, 3 PAUSE). Writes
 //! and remote operations follow the Modbus rules: refused with
 //! `--read-only`, and from peers beyond loopback unless they are in a
 //! `--modbus-write-from` network.
@@ -22,6 +23,10 @@ use ladder_runtime::{BitArea, Memory, Width, WordArea};
 use std::sync::Arc;
 use std::time::Duration;
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
+
+/// SD203, the operating status: 0 RUN, 2 STOP, 3 PAUSE in its low four
+/// bits.
+const OPERATING_STATUS: u32 = 203;
 
 /// A frame that has started must be complete within this time.
 const FRAME_TIMEOUT: Duration = Duration::from_secs(5);
@@ -122,9 +127,21 @@ impl Plc for Station {
     }
 
     fn word(&self, device: Device) -> u16 {
-        host_device(device, false)
+        let value = host_device(device, false)
             .and_then(|host| self.image.read_device(host.device, host.width))
-            .unwrap_or(0) as u16
+            .unwrap_or(0) as u16;
+        if device.family == Family::Sd && device.number == OPERATING_STATUS {
+            // Its low four bits are the switch, as an iQ-F reports it (SLMP
+            // clients read the CPU's state there).
+            let control = self.shared.control();
+            let status = match (control.stopped, control.paused) {
+                (true, _) => 2,
+                (false, true) => 3,
+                (false, false) => 0,
+            };
+            return value & !0xF | status;
+        }
+        value
     }
 
     fn dword(&self, device: Device) -> u32 {
