@@ -59,9 +59,16 @@ const LAYERS: &[(&str, &[&str], &[&str])] = &[
         ],
         &["tokio", "axum", "rustls", "async-opcua", "hyper"],
     ),
+    // A plant protocol knows frames, not the PLC: no ladder crate at all.
+    (
+        "ladder-melsec",
+        &[],
+        &["cranelift", "tokio", "axum", "rustls", "async-opcua", "hyper"],
+    ),
     (
         "ladder-serve",
         &[
+            "ladder-melsec",
             "ladder-runtime",
             "ladder-front",
             "ladder-interp",
@@ -83,6 +90,7 @@ const LAYERS: &[(&str, &[&str], &[&str])] = &[
             "ladder-cback",
             "ladder-diagram",
             "ladder-engine",
+            "ladder-melsec",
             "ladder-serve",
         ],
         &[],
