@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # Runs AFL++ on one ladderc fuzz target on the stable toolchain.
-#   fuzz/run-afl.sh TARGET SECONDS      (TARGET: front_end | scenario | pipeline | modbus | http)
+#   fuzz/run-afl.sh TARGET SECONDS      (TARGET: front_end | scenario | pipeline | modbus | melsec | http)
 # Seeds come from the repository's programs and scenarios; findings land in
 # target/afl/TARGET/default/crashes.
 set -euo pipefail
 cd "$(dirname "$0")"
-target=${1:?target: front_end, scenario, pipeline, modbus or http}
+target=${1:?target: front_end, scenario, pipeline, modbus, melsec or http}
 seconds=${2:-600}
 command -v cargo-afl >/dev/null || cargo install --locked cargo-afl
 cargo afl build --release --features afl --bin "afl_$target"
@@ -19,6 +19,14 @@ if [ "$target" = modbus ]; then
     printf '\x00\x00\x04\x00\x00\x00\x0b\x01\x10\x00\x00\x00\x02\x04\x00\x01\x00\x02' > "$seeds/registers"
     printf '\x01\x00\x05\x00\x00\x00\x08\x01\x0f\x4e\x20\x00\x09\x02\xff\x01' > "$seeds/multiple"
     printf '\x01\x00\x06\x00\x00\x00\x03\x01\x2b\x0e' > "$seeds/unknown"
+elif [ "$target" = melsec ]; then
+    # A flags byte (bit 0: writes allowed), then frames of each kind: 1E
+    # binary and ASCII, 3E binary and ASCII, 4E binary.
+    printf '\x01\x00\xff\x0a\x00\x64\x00\x00\x00\x20\x4d\x08\x00' > "$seeds/1e"
+    printf '\x0101FF000A4420000000640200' > "$seeds/1e_ascii"
+    printf '\x01\x50\x00\x00\xff\xff\x03\x00\x0c\x00\x10\x00\x01\x04\x00\x00\x64\x00\x00\xa8\x03\x00' > "$seeds/3e"
+    printf '\x01500000FF03FF000018001004010000D*0001000003' > "$seeds/3e_ascii"
+    printf '\x01\x54\x00\x34\x12\x00\x00\x00\xff\xff\x03\x00\x0c\x00\x10\x00\x01\x04\x01\x00\x00\x00\x00\x9c\x08\x00' > "$seeds/4e"
 elif [ "$target" = http ]; then
     # The first line is the method and the path; the rest is the body.
     printf 'GET /api/devices?watch=Y0..Y7,D10:32,D0:hex' > "$seeds/devices"

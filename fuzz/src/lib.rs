@@ -10,6 +10,9 @@
 //!   on whatever the fuzzer finds);
 //! - `modbus`: a client's bytes on a `serve` Modbus TCP connection → framed
 //!   and answered as the server does; every answer well formed;
+//! - `melsec`: a client's bytes on a `serve` MELSEC connection (1E, 3E,
+//!   4E; binary and ASCII) → framed and answered as the server does; every
+//!   answer of its frame's kind, route and length;
 //! - `http`: a request (method, path and query, body) to `serve`'s HTTP
 //!   router with its access layer → never a 5xx.
 
@@ -115,6 +118,10 @@ pub fn pipeline(data: &[u8]) {
 
 pub fn modbus(data: &[u8]) {
     ladder_serve::fuzzing::modbus_stream(data);
+}
+
+pub fn melsec(data: &[u8]) {
+    ladder_serve::fuzzing::melsec_stream(data);
 }
 
 pub fn http(data: &[u8]) {

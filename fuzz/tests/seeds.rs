@@ -69,6 +69,27 @@ fn modbus_takes_requests_and_garbage() {
 }
 
 #[test]
+fn melsec_takes_every_frame_kind_and_garbage() {
+    let seeds: [&[u8]; 8] = [
+        // 1E binary: read M100-M107; random write X0; remote STOP; model.
+        b"\x01\x00\xff\x0a\x00\x64\x00\x00\x00\x20\x4d\x08\x00",
+        b"\x01\x04\xff\x0a\x00\x01\x00\x00\x00\x00\x00\x20\x58\x01\x14\xff\x0a\x00\x15\xff\x0a\x00",
+        // 1E ASCII: read D100 as two words; unknown command.
+        b"\x0101FF000A4420000000640200",
+        b"\x0117FF000A",
+        // 3E binary: read D100 x3; write M5; 4E binary: read X0 as bits.
+        b"\x01\x50\x00\x00\xff\xff\x03\x00\x0c\x00\x10\x00\x01\x04\x00\x00\x64\x00\x00\xa8\x03\x00",
+        b"\x01\x54\x00\x34\x12\x00\x00\x00\xff\xff\x03\x00\x0c\x00\x10\x00\x01\x04\x01\x00\x00\x00\x00\x9c\x08\x00",
+        // 3E ASCII: read D100 x3; loopback.
+        b"\x00500000FF03FF000018001004010000D*0001000003500000FF03FF0000120010061900000003ABC",
+        b"\x01\x50\x00\x00\xff\xff\x03\x00\xff\xff",
+    ];
+    for seed in seeds {
+        ladderc_fuzz::melsec(seed);
+    }
+}
+
+#[test]
 fn http_takes_requests() {
     let seeds: [&[u8]; 6] = [
         b"GET /api/devices?watch=Y0..Y7,D10:32,D0:hex",

@@ -5,6 +5,11 @@
 //!   frames as the server splits them; each answer must echo the
 //!   transaction and unit, carry a length that matches, and answer the
 //!   request's function (or its exception).
+//! - `melsec_stream`: bytes as a client's side of a MELSEC connection,
+//!   split into frames as the server splits them and answered over the
+//!   server's image and write queue; each answer must be of the frame's
+//!   kind and code, echo its route (and 4E serial), and carry a length that
+//!   matches.
 //! - `http_request`: bytes as a method, a path with its query and a body,
 //!   sent to the real router (with the access layer) of a server that has
 //!   published an image; no answer may be a 5xx.
@@ -59,6 +64,69 @@ pub fn modbus_stream(data: &[u8]) {
             "the reply answers the request's function"
         );
         rest = &rest[HEADER_LEN + pdu_len..];
+    }
+}
+
+pub fn melsec_stream(data: &[u8]) {
+    use ladder_melsec::{frame_length, kind, Code, Kind, Length};
+    let (may_write, mut rest) = match data.split_first() {
+        Some((&flags, rest)) => (flags & 1 != 0, rest),
+        None => return,
+    };
+    let shared = started();
+    loop {
+        let length = match frame_length(rest) {
+            Length::Frame(length) if length <= rest.len() => length,
+            Length::Frame(_) | Length::Need(_) | Length::Invalid => return,
+        };
+        let frame = &rest[..length];
+        let reply = super::melsec::answer(&shared, may_write, frame);
+        match (kind(frame), reply) {
+            (Some(Kind::E1(code)), Some(reply)) => {
+                let command = match code {
+                    Code::Binary => frame[0],
+                    Code::Ascii => {
+                        u8::from_str_radix(std::str::from_utf8(&frame[..2]).unwrap_or("00"), 16).unwrap_or(0)
+                    }
+                };
+                let echoed = match code {
+                    Code::Binary => reply.first().copied(),
+                    Code::Ascii => reply
+                        .get(..2)
+                        .and_then(|text| u8::from_str_radix(std::str::from_utf8(text).ok()?, 16).ok()),
+                };
+                assert_eq!(echoed, Some(command | 0x80), "a 1E answer names its command");
+            }
+            (Some(Kind::E3(code) | Kind::E4(code)), Some(reply)) => {
+                let four = matches!(kind(frame), Some(Kind::E4(_)));
+                let unit = match code {
+                    Code::Binary => 1,
+                    Code::Ascii => 2,
+                };
+                let header = unit * if four { 13 } else { 9 };
+                assert!(
+                    reply.len() >= header + 2 * unit,
+                    "a 3E/4E answer has a header and an end code"
+                );
+                let route = if four { 6 * unit..11 * unit } else { 2 * unit..7 * unit };
+                assert_eq!(reply[route.clone()], frame[route], "the route is echoed");
+                if four {
+                    assert_eq!(
+                        reply[2 * unit..4 * unit],
+                        frame[2 * unit..4 * unit],
+                        "the serial is echoed"
+                    );
+                }
+                let field = &reply[header - 2 * unit..header];
+                let length = match code {
+                    Code::Binary => usize::from(u16::from_le_bytes([field[0], field[1]])),
+                    Code::Ascii => usize::from_str_radix(std::str::from_utf8(field).unwrap_or(""), 16).unwrap_or(0),
+                };
+                assert_eq!(length, reply.len() - header, "the length counts the end code and data");
+            }
+            (None, _) | (Some(_), None) => panic!("a frame `frame_length` measured got no answer"),
+        }
+        rest = &rest[length..];
     }
 }
 

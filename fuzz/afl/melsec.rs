@@ -1,0 +1,5 @@
+//! AFL++ target: see `ladderc_fuzz::melsec`.
+
+fn main() {
+    afl::fuzz!(|data: &[u8]| ladderc_fuzz::melsec(data));
+}
