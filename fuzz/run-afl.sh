@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # Runs AFL++ on one ladderc fuzz target on the stable toolchain.
-#   fuzz/run-afl.sh TARGET SECONDS      (TARGET: front_end | scenario | pipeline | modbus | melsec | http)
+#   fuzz/run-afl.sh TARGET SECONDS      (TARGET: front_end | scenario | pipeline | modbus | modbus_rtu | melsec | http)
 # Seeds come from the repository's programs and scenarios; findings land in
 # target/afl/TARGET/default/crashes.
 set -euo pipefail
 cd "$(dirname "$0")"
-target=${1:?target: front_end, scenario, pipeline, modbus, melsec or http}
+target=${1:?target: front_end, scenario, pipeline, modbus, modbus_rtu, melsec or http}
 seconds=${2:-600}
 command -v cargo-afl >/dev/null || cargo install --locked cargo-afl
 cargo afl build --release --features afl --bin "afl_$target"
@@ -19,6 +19,11 @@ if [ "$target" = modbus ]; then
     printf '\x00\x00\x04\x00\x00\x00\x0b\x01\x10\x00\x00\x00\x02\x04\x00\x01\x00\x02' > "$seeds/registers"
     printf '\x01\x00\x05\x00\x00\x00\x08\x01\x0f\x4e\x20\x00\x09\x02\xff\x01' > "$seeds/multiple"
     printf '\x01\x00\x06\x00\x00\x00\x03\x01\x2b\x0e' > "$seeds/unknown"
+elif [ "$target" = modbus_rtu ]; then
+    # A flags byte, then frames each after its length: a read, a bad CRC,
+    # a broadcast write.
+    printf '\x01\x08\x01\x03\x00\x00\x00\x01\x84\x0a\x08\x01\x03\x00\x00\x00\x01\x00\x00' > "$seeds/read"
+    printf '\x01\x08\x00\x06\x00\x00\x00\x07\xc9\xd9' > "$seeds/broadcast"
 elif [ "$target" = melsec ]; then
     # A flags byte (bit 0: writes allowed), then frames of each kind: 1E
     # binary and ASCII, 3E binary and ASCII, 4E binary.

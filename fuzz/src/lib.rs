@@ -13,6 +13,8 @@
 //! - `melsec`: a client's bytes on a `serve` MELSEC connection (1E, 3E,
 //!   4E; binary and ASCII) → framed and answered as the server does; every
 //!   answer of its frame's kind, route and length;
+//! - `modbus_rtu`: frames on a `serve` Modbus RTU line → answered as the
+//!   slave answers them: only its unit, from it, with a matching CRC;
 //! - `http`: a request (method, path and query, body) to `serve`'s HTTP
 //!   router with its access layer → never a 5xx.
 
@@ -122,6 +124,10 @@ pub fn modbus(data: &[u8]) {
 
 pub fn melsec(data: &[u8]) {
     ladder_serve::fuzzing::melsec_stream(data);
+}
+
+pub fn modbus_rtu(data: &[u8]) {
+    ladder_serve::fuzzing::modbus_rtu_frames(data);
 }
 
 pub fn http(data: &[u8]) {

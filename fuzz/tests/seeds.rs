@@ -90,6 +90,22 @@ fn melsec_takes_every_frame_kind_and_garbage() {
 }
 
 #[test]
+fn modbus_rtu_takes_frames_noise_and_broadcasts() {
+    let seeds: [&[u8]; 4] = [
+        // Read holding register 0 from unit 1; the same with a bad CRC.
+        b"\x01\x08\x01\x03\x00\x00\x00\x01\x84\x0a\x08\x01\x03\x00\x00\x00\x01\x00\x00",
+        // A broadcast write of D0 (unit 0), then another unit.
+        b"\x01\x08\x00\x06\x00\x00\x00\x07\xc9\xd9\x08\x02\x03\x00\x00\x00\x01\x84\x39",
+        // Write coils with a byte count that does not match; too short.
+        b"\x01\x0a\x01\x0f\x00\x00\x00\x09\x01\xff\x00\x00\x02\x01\x03",
+        b"\x00\xff\x01",
+    ];
+    for seed in seeds {
+        ladderc_fuzz::modbus_rtu(seed);
+    }
+}
+
+#[test]
 fn http_takes_requests() {
     let seeds: [&[u8]; 6] = [
         b"GET /api/devices?watch=Y0..Y7,D10:32,D0:hex",

@@ -43,6 +43,13 @@ pub struct ServeArgs {
     /// ASCII (loopback unless --allow-remote).
     #[arg(long, value_name = "ADDRESS:PORT")]
     melsec: Option<SocketAddr>,
+    /// Serve the Modbus map as an RTU slave on this serial line
+    /// (`/dev/ttyUSB0`, `/dev/ttyUSB0:9600,8N1`; 19200 8E1 unless given).
+    #[arg(long, value_name = "TTY[:BAUD,FORMAT]")]
+    modbus_rtu: Option<String>,
+    /// The unit (slave address, 1-247) --modbus-rtu answers.
+    #[arg(long, default_value_t = 1, value_name = "N")]
+    modbus_unit: u8,
     /// Serve the live monitor page and the JSON API on this address
     /// (loopback unless --allow-remote).
     #[arg(long, value_name = "ADDRESS:PORT")]
@@ -190,6 +197,27 @@ pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
         say_err!("error: --retain-ms is 10 to 3600000");
         return status::UNUSABLE;
     }
+    let modbus_rtu = match args
+        .modbus_rtu
+        .as_deref()
+        .map(ladder_modbus::rtu::parse_port)
+        .transpose()
+    {
+        Ok(line) => line,
+        Err(message) => {
+            say_err!("error: --modbus-rtu: {message}");
+            return status::UNUSABLE;
+        }
+    };
+    if !(1..=247).contains(&args.modbus_unit) {
+        say_err!("error: --modbus-unit is 1 to 247 (0 is the broadcast address)");
+        return status::UNUSABLE;
+    }
+    let modbus_rtu = modbus_rtu.map(|(path, format)| ladder_serve::modbus_rtu::Line {
+        path,
+        format,
+        unit: args.modbus_unit,
+    });
     let mut modbus_write_from = Vec::new();
     for text in &args.modbus_write_from {
         let parsed = text
@@ -249,6 +277,7 @@ pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
         period: Duration::from_millis(u64::from(args.scan_ms)),
         modbus: args.modbus,
         melsec: args.melsec,
+        modbus_rtu,
         http: args.http,
         read_only: args.read_only,
         watch_file: args.watch_file.then(|| args.program.clone()),

@@ -65,10 +65,18 @@ const LAYERS: &[(&str, &[&str], &[&str])] = &[
         &[],
         &["cranelift", "tokio", "axum", "rustls", "async-opcua", "hyper"],
     ),
+    // Modbus framing: no ladder crate; tokio only through tokio-modbus's
+    // request and response types.
+    (
+        "ladder-modbus",
+        &[],
+        &["cranelift", "axum", "rustls", "async-opcua", "hyper"],
+    ),
     (
         "ladder-serve",
         &[
             "ladder-melsec",
+            "ladder-modbus",
             "ladder-runtime",
             "ladder-front",
             "ladder-interp",
@@ -91,6 +99,7 @@ const LAYERS: &[(&str, &[&str], &[&str])] = &[
             "ladder-diagram",
             "ladder-engine",
             "ladder-melsec",
+            "ladder-modbus",
             "ladder-serve",
         ],
         &[],

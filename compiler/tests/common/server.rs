@@ -56,11 +56,11 @@ impl Server {
         // The first line that names an address of each kind (retain and
         // realtime lines may come before them).
         let mut said = Vec::new();
-        let mut find = |prefix: &str| -> SocketAddr {
+        let mut find_line = |prefix: &str| -> String {
             for line in lines.by_ref() {
                 let line = line.expect("text");
-                if let Some(address) = line.strip_prefix(prefix) {
-                    return address.parse().unwrap();
+                if let Some(rest) = line.strip_prefix(prefix) {
+                    return rest.to_string();
                 }
                 said.push(line.clone());
                 assert!(
@@ -71,6 +71,7 @@ impl Server {
             let output = child_output(&mut child);
             panic!("no `{prefix}` line; the server said: {output}")
         };
+        let mut find = |prefix: &str| -> SocketAddr { find_line(prefix).parse().unwrap() };
         let address = find("modbus listening on ");
         let web = extra.contains(&"--http").then(|| {
             find(if extra.contains(&"--tls-cert") {
@@ -82,6 +83,10 @@ impl Server {
         // The MELSEC listener binds after HTTP (and OPC UA, which prints no
         // line).
         let melsec = extra.contains(&"--melsec").then(|| find("melsec listening on "));
+        // A serial line is open (and served) once it is announced.
+        if extra.contains(&"--modbus-rtu") {
+            find_line("modbus-rtu on ");
+        }
         Server {
             child,
             address,

@@ -22,6 +22,7 @@ mod serve;
 mod serve_bounds;
 mod serve_melsec;
 mod serve_melsec_clients;
+mod serve_modbus_rtu;
 mod serve_opcua;
 mod serve_protocols;
 mod serve_soak;

@@ -10,6 +10,9 @@
 //!   server's image and write queue; each answer must be of the frame's
 //!   kind and code, echo its route (and 4E serial), and carry a length that
 //!   matches.
+//! - `modbus_rtu_frames`: bytes as frames on a serial line (each preceded
+//!   by its length byte), answered as the RTU slave answers them; an answer
+//!   comes only to the server's unit, from it, with a CRC that matches.
 //! - `http_request`: bytes as a method, a path with its query and a body,
 //!   sent to the real router (with the access layer) of a server that has
 //!   published an image; no answer may be a 5xx.
@@ -127,6 +130,42 @@ pub fn melsec_stream(data: &[u8]) {
             (None, _) | (Some(_), None) => panic!("a frame `frame_length` measured got no answer"),
         }
         rest = &rest[length..];
+    }
+}
+
+pub fn modbus_rtu_frames(data: &[u8]) {
+    let (may_write, mut rest) = match data.split_first() {
+        Some((&flags, rest)) => (flags & 1 != 0, rest),
+        None => return,
+    };
+    let service = Service {
+        shared: started(),
+        may_write,
+    };
+    const UNIT: u8 = 1;
+    while let Some((&length, tail)) = rest.split_first() {
+        let frame = &tail[..usize::from(length).min(tail.len())];
+        if let Some(reply) = super::modbus_rtu::answer(&service, UNIT, frame) {
+            assert_eq!(frame.first(), Some(&UNIT), "only the server's unit is answered");
+            assert_eq!(reply[0], UNIT, "the answer is from the server's unit");
+            assert!(
+                matches!(
+                    ladder_modbus::rtu::frame(&reply),
+                    ladder_modbus::rtu::Frame::Request { .. }
+                ),
+                "the answer's CRC matches"
+            );
+            assert!(
+                reply.len() <= ladder_modbus::rtu::MAX_FRAME,
+                "an RTU frame is at most 256 bytes"
+            );
+            assert_eq!(
+                reply[1] & 0x7F,
+                frame[1] & 0x7F,
+                "the reply answers the request's function"
+            );
+        }
+        rest = &tail[frame.len()..];
     }
 }
 

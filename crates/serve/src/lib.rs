@@ -15,6 +15,7 @@ pub mod guard;
 mod http;
 mod melsec;
 mod modbus;
+pub mod modbus_rtu;
 pub mod modbus_tcp;
 mod opcua;
 mod realtime;
@@ -74,6 +75,8 @@ pub struct ServeOptions {
     pub modbus: Option<SocketAddr>,
     /// MELSEC frames on this TCP address and its UDP port.
     pub melsec: Option<SocketAddr>,
+    /// A Modbus RTU slave on this serial line.
+    pub modbus_rtu: Option<modbus_rtu::Line>,
     pub http: Option<SocketAddr>,
     pub read_only: bool,
     pub engine: EngineKind,
@@ -200,6 +203,18 @@ pub fn serve(
             Ok::<_, String>((listener, udp))
         })
         .transpose()?;
+    // The serial line opens before a scan, so a wrong device stops here.
+    let serial = match &options.modbus_rtu {
+        Some(line) => {
+            let port = modbus_rtu::open(line)?;
+            announce(&format!(
+                "modbus-rtu on {} ({}, unit {})",
+                line.path, line.format, line.unit
+            ));
+            Some((port, line.clone()))
+        }
+        None => None,
+    };
     let (ready, started) = std::sync::mpsc::channel();
     let scanner = {
         let shared = Arc::clone(&shared);
@@ -244,6 +259,13 @@ pub fn serve(
         read_only: options.read_only,
         write_from: options.modbus_write_from.clone(),
     };
+    if let Some((port, line)) = serial {
+        let service = modbus::Service {
+            shared: Arc::clone(&shared),
+            may_write: !options.read_only,
+        };
+        std::thread::spawn(move || modbus_rtu::serve(port, &line, &service));
+    }
     let native = options.engine == EngineKind::Jit;
     let served = Arc::clone(&shared);
     runtime.block_on(async move {
