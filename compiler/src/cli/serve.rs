@@ -43,6 +43,12 @@ pub struct ServeArgs {
     /// ASCII (loopback unless --allow-remote).
     #[arg(long, value_name = "ADDRESS:PORT")]
     melsec: Option<SocketAddr>,
+    /// Answer MELSEC frames on the --melsec port's UDP twin too. UDP has no
+    /// connection: an answer goes to whatever source a datagram names and
+    /// writes are judged by it, so beyond loopback only on a trusted
+    /// network.
+    #[arg(long, requires = "melsec")]
+    melsec_udp: bool,
     /// Serve the Modbus map as an RTU slave on this serial line
     /// (`/dev/ttyUSB0`, `/dev/ttyUSB0:9600,8N1`; 19200 8E1 unless given).
     #[arg(long, value_name = "TTY[:BAUD,FORMAT]")]
@@ -277,6 +283,7 @@ pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
         period: Duration::from_millis(u64::from(args.scan_ms)),
         modbus: args.modbus,
         melsec: args.melsec,
+        melsec_udp: args.melsec_udp,
         modbus_rtu,
         http: args.http,
         read_only: args.read_only,

@@ -41,6 +41,44 @@ pub struct TestArgs {
     /// Show what `print` directives print.
     #[arg(short, long)]
     pub verbose: bool,
+    /// Run shard K of N (`--shard 2/4`): every Nth scenario file of the
+    /// sorted list, starting with the Kth, so N machines (a CI matrix, a
+    /// job array) given the same paths share a suite between them, each
+    /// file on exactly one.
+    #[arg(long, value_name = "K/N", value_parser = parse_shard)]
+    pub shard: Option<Shard>,
+}
+
+/// One share of a suite: shard `index` (1-based) of `count`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Shard {
+    pub index: usize,
+    pub count: usize,
+}
+
+/// `K/N` with 1 <= K <= N.
+pub fn parse_shard(text: &str) -> Result<Shard, String> {
+    let wrong = || format!("`{text}` is not a shard like 2/4 (shard K of N, 1 <= K <= N)");
+    let (index, count) = text.split_once('/').ok_or_else(wrong)?;
+    let index: usize = index.trim().parse().map_err(|_| wrong())?;
+    let count: usize = count.trim().parse().map_err(|_| wrong())?;
+    if index == 0 || index > count {
+        return Err(wrong());
+    }
+    Ok(Shard { index, count })
+}
+
+/// The files of `shard`: sorted by path, every `count`th from the
+/// `index`th, so the shares are equal in number and the same on every
+/// machine that names the same paths.
+pub fn shard_files(mut files: Vec<PathBuf>, shard: Shard) -> Vec<PathBuf> {
+    files.sort();
+    files
+        .into_iter()
+        .enumerate()
+        .filter(|(n, _)| n % shard.count == shard.index - 1)
+        .map(|(_, file)| file)
+        .collect()
 }
 
 /// One scenario file's result.
@@ -87,6 +125,17 @@ pub fn run_with(out: &mut dyn Write, args: &TestArgs, engines: &[EngineKind]) ->
         let shown: Vec<String> = args.paths.iter().map(|p| p.display().to_string()).collect();
         say_err!("error: no scenario files (*.scn) in {}", shown.join(", "));
         return status::UNUSABLE;
+    }
+    if let Some(shard) = args.shard {
+        let all = files.len();
+        files = shard_files(files, shard);
+        let _ = writeln!(
+            out,
+            "shard {}/{}: {} of {all} scenario files",
+            shard.index,
+            shard.count,
+            files.len()
+        );
     }
     for dir in [&args.vcd, &args.html].into_iter().flatten() {
         if let Err(error) = std::fs::create_dir_all(dir) {

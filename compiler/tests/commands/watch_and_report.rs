@@ -5,7 +5,7 @@
 //! `test --junit` (checked for the JUnit structure CI tools need), `test
 //! --vcd`, and the `print` directive.
 
-use crate::common::tools::{self, ladderc, scratch};
+use crate::common::tools::{self, ladderc, scratch, workspace};
 use std::path::Path;
 
 fn text(bytes: &[u8]) -> String {
@@ -356,4 +356,61 @@ fn check_junit(xml: &str) {
     assert_eq!((suites, cases), (2, 2), "{xml}");
     assert_eq!(failures, ["expected Y0 = 1, got 0"], "{xml}");
     assert!(xml.contains("bad.scn:4: expected Y0 = 1, got 0"), "the line: {xml}");
+}
+
+/// The scenario files a JUnit report holds (a testsuite per file).
+fn junit_files(xml: &str) -> Vec<String> {
+    xml.split("<testsuite ")
+        .skip(1)
+        .filter_map(|suite| {
+            let name = suite.split("name=\"").nth(1)?;
+            Some(name[..name.find('"')?].to_string())
+        })
+        .collect()
+}
+
+#[test]
+fn shards_split_a_suite_into_equal_disjoint_shares_with_a_report_each() {
+    let dir = scratch("shards");
+    let suite = workspace().join("testsuite/scenarios/fx_structure");
+    let mut shares = Vec::new();
+    for k in 1..=3 {
+        let junit = dir.path().join(format!("shard{k}.xml"));
+        let output = ladderc(&[
+            "test",
+            suite.to_str().unwrap(),
+            "--engine",
+            "interp",
+            "--shard",
+            &format!("{k}/3"),
+            "--junit",
+            junit.to_str().unwrap(),
+        ]);
+        let stdout = text(&output.stdout);
+        assert_eq!(output.status.code(), Some(0), "{stdout}{}", text(&output.stderr));
+        assert!(stdout.starts_with(&format!("shard {k}/3: ")), "{stdout}");
+        shares.push(junit_files(&std::fs::read_to_string(&junit).unwrap()));
+    }
+    let total = std::fs::read_dir(&suite)
+        .unwrap()
+        .filter(|e| e.as_ref().unwrap().path().extension().is_some_and(|x| x == "scn"))
+        .count();
+    let mut all: Vec<&String> = shares.iter().flatten().collect();
+    assert_eq!(all.len(), total, "every file in one shard: {shares:?}");
+    all.sort();
+    all.dedup();
+    assert_eq!(all.len(), total, "no file in two shards: {shares:?}");
+    let sizes: Vec<usize> = shares.iter().map(Vec::len).collect();
+    assert!(
+        sizes.iter().max().unwrap() - sizes.iter().min().unwrap() <= 1,
+        "{sizes:?}"
+    );
+    // The same shard twice is the same share.
+    let again = ladderc(&["test", suite.to_str().unwrap(), "--engine", "interp", "--shard", "2/3"]);
+    assert!(text(&again.stdout).starts_with(&format!("shard 2/3: {} of {total}", sizes[1])));
+    for wrong in ["0/3", "4/3", "3", "a/b"] {
+        let output = ladderc(&["test", suite.to_str().unwrap(), "--shard", wrong]);
+        assert_eq!(output.status.code(), Some(2), "{wrong}");
+        assert!(text(&output.stderr).contains("is not a shard like 2/4"), "{wrong}");
+    }
 }

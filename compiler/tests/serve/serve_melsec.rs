@@ -91,7 +91,7 @@ fn eventually(what: &str, mut check: impl FnMut() -> bool) {
 
 #[test]
 fn what_one_frame_kind_writes_the_program_sees_and_every_protocol_reads_back() {
-    let (_server, melsec) = start(&[]);
+    let (_server, melsec) = start(&["--melsec-udp"]);
     let mut stream = connect(melsec);
     // 3E binary: D100 = 1234.
     assert_eq!(ask_3e(&mut stream, "1000 0114 0000 640000 A8 0100 D204").0, 0);
@@ -126,13 +126,49 @@ fn what_one_frame_kind_writes_the_program_sees_and_every_protocol_reads_back() {
     // And a Modbus write is read over MELSEC.
     assert_eq!(modbus_request(&mut modbus, &[0x06, 0, 100, 0xFF, 0xFE])[0], 0x06);
     eventually("D101 = -2", || read_d(&mut stream, 101) == -2);
-    // UDP on the same port: one frame a datagram.
+    // UDP on the same port (--melsec-udp): one frame a datagram.
     let udp = std::net::UdpSocket::bind("127.0.0.1:0").unwrap();
     udp.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
     udp.send_to(&e3("1000 0104 0000 650000 A8 0100"), melsec).unwrap();
     let mut datagram = [0u8; 64];
     let n = udp.recv(&mut datagram).expect("a UDP answer");
     assert_eq!(&datagram[..n], &hex("D000 00 FF FF03 00 0400 0000 FEFF")[..]);
+}
+
+#[test]
+fn udp_is_answered_only_when_asked_for() {
+    let (_server, melsec) = start(&[]);
+    let udp = std::net::UdpSocket::bind("127.0.0.1:0").unwrap();
+    udp.set_read_timeout(Some(Duration::from_millis(500))).unwrap();
+    udp.send_to(&e3("1000 0104 0000 000000 A8 0100"), melsec).unwrap();
+    let mut datagram = [0u8; 64];
+    assert!(udp.recv(&mut datagram).is_err(), "no UDP without --melsec-udp");
+    // TCP answers all the same.
+    let mut stream = connect(melsec);
+    eventually("scanning", || read_d(&mut stream, 0) > 0);
+}
+
+#[test]
+fn a_frame_that_trickles_in_is_closed_after_the_frame_time() {
+    let (_server, melsec) = start(&[]);
+    let mut slow = connect(melsec);
+    let frame = e3("1000 0104 0000 000000 A8 0100");
+    // A byte every 2 s: each read comes well within 5 s, the frame never.
+    let started = Instant::now();
+    for byte in &frame[..5] {
+        if slow.write_all(std::slice::from_ref(byte)).is_err() {
+            break;
+        }
+        if closed_within(&mut slow, Duration::from_secs(2)) {
+            break;
+        }
+    }
+    assert!(closed_within(&mut slow, Duration::from_secs(3)), "closed");
+    assert!(
+        started.elapsed() < Duration::from_secs(9),
+        "within the frame time: {:?}",
+        started.elapsed()
+    );
 }
 
 #[test]

@@ -34,7 +34,7 @@ fn clients_installed(test: &str) -> bool {
 }
 
 fn start() -> Server {
-    Server::start_program(PROGRAM, &["--melsec", "127.0.0.1:0"])
+    Server::start_program(PROGRAM, &["--melsec", "127.0.0.1:0", "--melsec-udp"])
 }
 
 /// Runs `client` with `variant` against `server`: what it saw.

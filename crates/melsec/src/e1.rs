@@ -9,13 +9,15 @@
 //! name (4 digits) then its number (8 digits). Bit-unit data is one point
 //! a nibble (binary) or a character (ASCII), padded to an even count.
 //!
-//! End codes: 50H unknown command, 54H ASCII that is not hex, 55H writes
-//! refused (read-only server or peer), 56H unknown device or too many
-//! points, 57H a frame whose length does not match its points (or an odd
-//! word count for C200-C255), 58H a head device out of range, a word
-//! device in a bit command or a bit device's word access not starting at
-//! a multiple of 16; 5BH with abnormal code 10H for another PC number and
-//! 18H when host writes are waiting beyond the server's bound.
+//! End codes (the FX3U-ENET-ADP manual's table): 50H unknown command, 54H
+//! ASCII that is not hex, 55H writes refused (read-only server or peer),
+//! 56H an unknown device, 57H too many (or no) points, a run past the last
+//! device, a frame whose length does not match its points, an odd word
+//! count for C200-C255; 58H a head device out of range, a word device in a
+//! bit command, a bit device's word access not starting at a multiple of
+//! 16, a run that mixes C0-C199 with C200-C255; 5BH with abnormal code 10H
+//! for another PC number and 18H when host writes are waiting beyond the
+//! server's bound.
 
 use crate::exec::{execute, Error, Refusal, Reply, Request};
 use crate::wire::{Code, Fault, Reader, Writer};
@@ -135,8 +137,8 @@ fn end_code(error: Error) -> (u8, Option<u8>) {
         Error::UnknownCommand => (0x50, None),
         Error::NotDigit => (0x54, None),
         Error::Refused(Refusal::NotAllowed) => (0x55, None),
-        Error::UnknownDevice | Error::Points => (0x56, None),
-        Error::Length => (0x57, None),
+        Error::UnknownDevice => (0x56, None),
+        Error::Points | Error::RunPastEnd | Error::Length => (0x57, None),
         Error::OutOfRange | Error::WordDeviceInBitUnits | Error::BitHeadNotMultipleOf16 | Error::ReadOnlyDevice => {
             (0x58, None)
         }
@@ -180,6 +182,16 @@ fn decode(reader: &mut Reader<'_>, command: u8) -> Result<Request, Error> {
             reader.field(1).map_err(fault)?; // fixed 00H
             let first = known(first)?;
             let wide = is_wide(Some(first));
+            // C0-C199 and C200-C255 are not named in one run (the manual's
+            // rule): a word run from below C200 stays below it.
+            let word_command = matches!(command, BATCH_READ_WORDS | BATCH_WRITE_WORDS);
+            if word_command
+                && first.family == Family::CounterValue
+                && !wide
+                && first.number.saturating_add(points) > FIRST_WIDE_COUNTER
+            {
+                return Err(Error::OutOfRange);
+            }
             match command {
                 BATCH_READ_BITS => Request::ReadBits {
                     first,
@@ -287,11 +299,14 @@ pub fn answer(frame: &[u8], code: Code, plc: &mut dyn Plc) -> Vec<u8> {
     let head = match header(&mut reader) {
         Ok(head) => head,
         Err(_) => {
-            // Not even a header: answer the command byte's echo with 54H
-            // (ASCII) or 57H (cut short).
-            let command = frame.first().copied().unwrap_or(0);
+            // Not even a header: answer the command with 54H (ASCII that is
+            // not hex) or 57H (cut short).
+            let command = match code {
+                Code::Binary => frame.first().copied().unwrap_or(0),
+                Code::Ascii => Reader::new(frame, code).field(1).map_or(0, |c| c as u8),
+            };
             let end = if code == Code::Ascii { 0x54 } else { 0x57 };
-            out.field(u32::from(command | 0x80) & 0xFF, 1);
+            out.field(u32::from(command | 0x80), 1);
             out.field(end, 1);
             return out.bytes;
         }

@@ -114,7 +114,20 @@ fn counters(first: Device, count: u32, plc: &dyn Plc) -> Result<Device, Error> {
             family: Family::CounterValue,
             number: first.number,
         }),
-        _ => Ok(first),
+        Family::CounterValue
+        | Family::X
+        | Family::Y
+        | Family::M
+        | Family::S
+        | Family::Sm
+        | Family::Sd
+        | Family::D
+        | Family::R
+        | Family::TimerContact
+        | Family::TimerCoil
+        | Family::TimerValue
+        | Family::CounterContact
+        | Family::CounterCoil => Ok(first),
     }
 }
 
@@ -242,7 +255,7 @@ fn end_code(error: Error) -> u32 {
         Error::NotDigit => 0xC050,
         Error::Length => 0xC061,
         Error::Points => 0xC051,
-        Error::OutOfRange => 0xC056,
+        Error::OutOfRange | Error::RunPastEnd => 0xC056,
         Error::UnknownDevice | Error::ReadOnlyDevice => 0xC05B,
         Error::WordDeviceInBitUnits | Error::BitHeadNotMultipleOf16 => 0xC05C,
         Error::Refused(Refusal::NotAllowed) => 0xC05F,

@@ -79,8 +79,11 @@ pub enum Error {
     Length,
     /// A device code the PLC does not have.
     UnknownDevice,
-    /// A device (or a run of them) beyond the family's last.
+    /// A head device beyond the family's last (or a 16-bit access to a
+    /// 32-bit device).
     OutOfRange,
+    /// A run whose head exists but whose last point is beyond the family's.
+    RunPastEnd,
     /// No points, or more than the command takes.
     Points,
     /// Bit units asked of a word device.
@@ -109,10 +112,23 @@ pub fn check_run(plc: &dyn Plc, first: Device, count: u32) -> Result<(), Error> 
     if points == 0 {
         return Err(Error::UnknownDevice);
     }
+    if first.number >= points {
+        return Err(Error::OutOfRange);
+    }
     match first.number.checked_add(count) {
         Some(end) if end <= points => Ok(()),
-        Some(_) | None => Err(Error::OutOfRange),
+        Some(_) | None => Err(Error::RunPastEnd),
     }
+}
+
+/// Checks that `count` 16-bit devices from `first` exist: none of them a
+/// 32-bit device, which a 16-bit access would cut.
+fn check_narrow(plc: &dyn Plc, first: Device, count: u32) -> Result<(), Error> {
+    check_run(plc, first, count)?;
+    if (0..count).any(|n| plc.wide(device(first.family, first.number + n))) {
+        return Err(Error::OutOfRange);
+    }
+    Ok(())
 }
 
 fn device(family: Family, number: u32) -> Device {
@@ -236,8 +252,23 @@ pub fn execute(request: Request, plc: &mut dyn Plc) -> Result<Reply, Error> {
             Ok(Reply::Done)
         }
         Request::RandomRead { words, dwords } => {
-            for &at in words.iter().chain(&dwords) {
-                check_run(plc, at, if at.family.is_bit() { 16 } else { 1 })?;
+            // A word point is 16 bits (16 points of a bit device), a double
+            // word 32 (two words, or one 32-bit device).
+            for &at in &words {
+                if at.family.is_bit() {
+                    check_run(plc, at, 16)?;
+                } else {
+                    check_narrow(plc, at, 1)?;
+                }
+            }
+            for &at in &dwords {
+                if at.family.is_bit() {
+                    check_run(plc, at, 32)?;
+                } else if plc.wide(at) {
+                    check_run(plc, at, 1)?;
+                } else {
+                    check_narrow(plc, at, 2)?;
+                }
             }
             let word = |at: Device| -> (u32, usize) {
                 if at.family.is_bit() {
@@ -284,7 +315,7 @@ pub fn execute(request: Request, plc: &mut dyn Plc) -> Result<Reply, Error> {
                         (0..16).map(|bit| Write::Bit(device(at.family, at.number + bit), word >> bit & 1 != 0)),
                     );
                 } else {
-                    check_run(plc, at, 1)?;
+                    check_narrow(plc, at, 1)?;
                     writes.push(Write::Word(at, word));
                 }
             }
@@ -299,7 +330,7 @@ pub fn execute(request: Request, plc: &mut dyn Plc) -> Result<Reply, Error> {
                     check_run(plc, at, 1)?;
                     writes.push(Write::Dword(at, dword));
                 } else {
-                    check_run(plc, at, 2)?;
+                    check_narrow(plc, at, 2)?;
                     writes.push(Write::Word(at, dword as u16));
                     writes.push(Write::Word(device(at.family, at.number + 1), (dword >> 16) as u16));
                 }

@@ -9,9 +9,9 @@
 //! is fuzzed and tested on its own.
 //!
 //! - [`frame_length`] splits a byte stream into frames, telling the kinds
-//!   apart by their first bytes: a 1E command byte (00H-05H, 13H-16H) or
-//!   its two hex digits, the 3E subheader 5000H, the 4E subheader 5400H,
-//!   in binary or as ASCII text.
+//!   apart by their first bytes: a 1E command byte (up to 1FH, so that an
+//!   unknown command gets its end code) or its two hex digits, the 3E
+//!   subheader 5000H, the 4E subheader 5400H, in binary or as ASCII text.
 //! - [`answer`] answers one frame: the response, or the frame kind's end
 //!   code for what is refused (unknown command, device out of range, too
 //!   many points, a write refused by the server's access rules).

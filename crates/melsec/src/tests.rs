@@ -188,17 +188,21 @@ fn a_1e_random_word_write_sets_each_device() {
 #[test]
 fn a_1e_frame_gets_the_end_code_of_what_is_wrong() {
     let mut store = Store::default();
-    // Unknown device name, too many points, beyond the last device, a word
-    // device in a bit command, a bit head not at a multiple of 16, another
-    // PC number, ASCII that is not hex, an unknown command.
-    let cases: [(&[u8], &[u8]); 7] = [
+    // Unknown device name, too many points, a head beyond the last device,
+    // a word device in a bit command, a bit head not at a multiple of 16,
+    // another PC number, ASCII that is not hex, a run past the last device,
+    // a run from C190 into the 32-bit counters, a timer that is not hex.
+    let cases: [(&[u8], &[u8]); 10] = [
         (b"00FF000A5A2000000000080000", b"8056"),
-        (b"02FF000A4D200000000000A100", b"8256"),
+        (b"02FF000A4D200000000000A100", b"8257"),
         (b"00FF000A4D2000002140100000", b"8058"),
         (b"00FF000A442000000000010000", b"8058"),
         (b"01FF000A4D2000000001010000", b"8158"),
         (b"0001000A4D2000000000010000", b"805B1000"),
         (b"00FF000A4D20000000G0010000", b"8054"),
+        (b"00FF000A4D2000002140080000", b"8058"),
+        (b"00FF000A4D200000213C080000", b"8057"),
+        (b"01FF000A434E000000BE140000", b"8158"),
     ];
     for (frame, end) in cases {
         let frame = &frame[..frame.len().min(24)];
@@ -211,6 +215,8 @@ fn a_1e_frame_gets_the_end_code_of_what_is_wrong() {
         );
     }
     assert_eq!(answer(&hex("17 FF 0A00"), &mut store).unwrap(), hex("97 50"));
+    // A header whose timer is not hex still names its command.
+    assert_eq!(answer(b"00FF00ZZ", &mut store).unwrap(), b"8054");
 }
 
 #[test]
@@ -296,6 +302,26 @@ fn random_reads_and_writes_of_words_and_double_words() {
     // In ASCII a double word is 8 digits, high first.
     let read = e3a("0010 0403 0000 01 01 D* 000000 D* 000010");
     assert_eq!(ask(&mut store, &read), r3a(0, "0001 12345678"));
+}
+
+#[test]
+fn random_access_never_cuts_a_32_bit_counter() {
+    let mut store = Store::default();
+    let end = |store: &mut Store, frame: &[u8]| {
+        let got = ask(store, frame);
+        u16::from_le_bytes([got[9], got[10]])
+    };
+    // A double word from CN199 would take C200's low word; LCN200 as a word
+    // would cut it; D8511 as a double word runs past the last D.
+    assert_eq!(end(&mut store, &e3b("1000 0304 0000 00 01 C70000 C5")), 0xC056);
+    assert_eq!(end(&mut store, &e3b("1000 0304 0000 01 00 C80000 56")), 0xC056);
+    assert_eq!(end(&mut store, &e3b("1000 0304 0000 00 01 3F2100 A8")), 0xC056);
+    assert_eq!(end(&mut store, &e3b("1000 0214 0000 00 01 C70000 C5 01000100")), 0xC056);
+    assert_eq!(end(&mut store, &e3b("1000 0214 0000 01 00 C80000 56 0100")), 0xC056);
+    assert!(store.writes.is_empty());
+    // LCN200 as a double word is the counter whole.
+    assert_eq!(end(&mut store, &e3b("1000 0214 0000 00 01 C80000 56 78563412")), 0);
+    assert_eq!(store.dword(at(Family::CounterValue, 200)), 0x1234_5678);
 }
 
 #[test]

@@ -43,6 +43,19 @@ pub fn frame(bytes: &[u8]) -> Frame<'_> {
     }
 }
 
+/// How long a request frame that starts with `bytes` is, as its function
+/// says (address, PDU, CRC): `None` for a function whose length it cannot
+/// tell, or when too little has come to tell.
+pub fn request_len(bytes: &[u8]) -> Option<usize> {
+    match *bytes.get(1)? {
+        // Address and quantity (or value): 4 bytes of data.
+        0x01..=0x06 => Some(8),
+        // Address, quantity, byte count, then the bytes.
+        0x0F | 0x10 => Some(9 + usize::from(*bytes.get(6)?)),
+        _ => None,
+    }
+}
+
 /// A response frame from `unit` carrying `pdu`.
 pub fn encode(unit: u8, pdu: &[u8]) -> Vec<u8> {
     let mut frame = Vec::with_capacity(pdu.len() + 3);
@@ -142,8 +155,12 @@ impl std::fmt::Display for Format {
 }
 
 /// `TTY[:BAUD[,FORMAT]]`: the device and its format (19200 8E1 unless
-/// given).
+/// given). A device that exists under the whole text is that device (the
+/// names under /dev/serial/by-path hold colons).
 pub fn parse_port(text: &str) -> Result<(String, Format), String> {
+    if std::path::Path::new(text).exists() {
+        return Ok((text.to_string(), Format::default()));
+    }
     match text.rsplit_once(':') {
         Some((path, format)) if format.starts_with(|c: char| c.is_ascii_digit()) => {
             Ok((path.to_string(), Format::parse(format)?))
@@ -172,6 +189,10 @@ mod tests {
         noisy[3] ^= 0x10;
         assert_eq!(frame(&noisy), Frame::BadCrc);
         assert_eq!(frame(&request[..3]), Frame::Malformed);
+        assert_eq!(request_len(&request[..2]), Some(8));
+        assert_eq!(request_len(&[1, 0x10, 0, 0, 0, 2, 4]), Some(13));
+        assert_eq!(request_len(&[1, 0x10, 0, 0]), None);
+        assert_eq!(request_len(&[1, 0x2B]), None);
         assert_eq!(frame(&[0u8; MAX_FRAME + 1]), Frame::Malformed);
     }
 

@@ -22,6 +22,7 @@ mod realtime;
 pub mod retain;
 mod scan_lock;
 mod shared;
+mod tls;
 mod view;
 
 use shared::{HostWrite, Shared, Stats};
@@ -73,8 +74,10 @@ impl Default for Limits {
 pub struct ServeOptions {
     pub period: Duration,
     pub modbus: Option<SocketAddr>,
-    /// MELSEC frames on this TCP address and its UDP port.
+    /// MELSEC frames on this TCP address (and with `melsec_udp` its UDP
+    /// port).
     pub melsec: Option<SocketAddr>,
+    pub melsec_udp: bool,
     /// A Modbus RTU slave on this serial line.
     pub modbus_rtu: Option<modbus_rtu::Line>,
     pub http: Option<SocketAddr>,
@@ -169,7 +172,7 @@ pub fn serve(
     let tls = options
         .tls
         .as_ref()
-        .map(|(cert, key)| tls_config(cert, key))
+        .map(|(cert, key)| tls::config(cert, key))
         .transpose()?;
     let web = listen(
         &runtime,
@@ -192,29 +195,20 @@ pub fn serve(
         })?),
         None => None,
     };
-    let melsec = listen(&runtime, options.melsec, "MELSEC", "melsec")?
-        .map(|listener| {
-            // UDP on the port TCP has (the same number when it was 0).
-            let udp = listener.local_addr().map_err(|e| e.to_string()).and_then(|address| {
-                runtime
-                    .block_on(tokio::net::UdpSocket::bind(address))
-                    .map_err(|e| format!("cannot listen for MELSEC on UDP {address}: {e}"))
-            })?;
-            Ok::<_, String>((listener, udp))
-        })
-        .transpose()?;
-    // The serial line opens before a scan, so a wrong device stops here.
-    let serial = match &options.modbus_rtu {
-        Some(line) => {
-            let port = modbus_rtu::open(line)?;
-            announce(&format!(
-                "modbus-rtu on {} ({}, unit {})",
-                line.path, line.format, line.unit
-            ));
-            Some((port, line.clone()))
+    let melsec = match listen(&runtime, options.melsec, "MELSEC", "melsec")? {
+        // UDP on the port TCP has (the same number when it was 0).
+        Some(listener) if options.melsec_udp => {
+            let address = listener.local_addr().map_err(|e| e.to_string())?;
+            let udp = runtime
+                .block_on(tokio::net::UdpSocket::bind(address))
+                .map_err(|e| format!("cannot listen for MELSEC on UDP {address}: {e}"))?;
+            Some((listener, Some(udp)))
         }
+        Some(listener) => Some((listener, None)),
         None => None,
     };
+    // The serial line opens before a scan, so a wrong device stops here.
+    let serial = options.modbus_rtu.as_ref().map(modbus_rtu::open).transpose()?;
     let (ready, started) = std::sync::mpsc::channel();
     let scanner = {
         let shared = Arc::clone(&shared);
@@ -259,12 +253,12 @@ pub fn serve(
         read_only: options.read_only,
         write_from: options.modbus_write_from.clone(),
     };
-    if let Some((port, line)) = serial {
+    if let Some(serial) = serial {
         let service = modbus::Service {
             shared: Arc::clone(&shared),
             may_write: !options.read_only,
         };
-        std::thread::spawn(move || modbus_rtu::serve(port, &line, &service));
+        std::thread::spawn(move || serial.serve(&service));
     }
     let native = options.engine == EngineKind::Jit;
     let served = Arc::clone(&shared);
@@ -282,7 +276,7 @@ pub fn serve(
         if let Some((listener, udp)) = melsec {
             tokio::spawn(melsec::serve(
                 listener,
-                Some(udp),
+                udp,
                 limits.melsec,
                 permission,
                 Arc::clone(&served),
@@ -332,36 +326,6 @@ pub fn serve(
 /// The devices `--opcua-devices` names, or the default set.
 pub fn opcua_devices(list: Option<&str>) -> Result<Vec<ladder_engine::waveform::Signal>, String> {
     opcua::parse_devices(list.unwrap_or(opcua::DEFAULT_DEVICES))
-}
-
-/// The TLS setup of `--tls-cert`/`--tls-key` (rustls with ring).
-fn tls_config(cert: &std::path::Path, key: &std::path::Path) -> Result<axum_server::tls_rustls::RustlsConfig, String> {
-    use rustls::pki_types::pem::PemObject as _;
-    use rustls::pki_types::{CertificateDer, PrivateKeyDer};
-    let chain = CertificateDer::pem_file_iter(cert)
-        .and_then(|certs| certs.collect::<Result<Vec<_>, _>>())
-        .map_err(|e| format!("cannot read the certificate {}: {e}", cert.display()))?;
-    if chain.is_empty() {
-        return Err(format!("{} holds no certificate (PEM)", cert.display()));
-    }
-    let private =
-        PrivateKeyDer::from_pem_file(key).map_err(|e| format!("cannot read the private key {}: {e}", key.display()))?;
-    let provider = Arc::new(rustls::crypto::ring::default_provider());
-    let config = rustls::ServerConfig::builder_with_provider(provider)
-        .with_safe_default_protocol_versions()
-        .map_err(|e| format!("TLS: {e}"))?
-        .with_no_client_auth()
-        .with_single_cert(chain, private)
-        .map_err(|e| {
-            format!(
-                "the certificate {} and the key {} do not make a TLS setup: {e}",
-                cert.display(),
-                key.display()
-            )
-        })?;
-    let mut config = config;
-    config.alpn_protocols = vec![b"h2".to_vec(), b"http/1.1".to_vec()];
-    Ok(axum_server::tls_rustls::RustlsConfig::from_config(Arc::new(config)))
 }
 
 /// Binds `address` (when given) and says where it listens: `{what}
@@ -521,7 +485,7 @@ pub(crate) fn drives_nothing(diagnostics: &[ladder_front::diagnostics::Diagnosti
 
 /// A line on standard output for whoever started the server (tests read the
 /// port from it); a closed output is not an error.
-fn announce(line: &str) {
+pub(crate) fn announce(line: &str) {
     use std::io::Write as _;
     let mut out = std::io::stdout().lock();
     let _ = writeln!(out, "{line}");

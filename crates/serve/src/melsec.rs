@@ -1,5 +1,6 @@
 //! The MELSEC side of `ladderc serve` (`--melsec`): 1E, 3E and 4E frames,
-//! binary and ASCII, on one TCP port and the same UDP port, answered by
+//! binary and ASCII, on one TCP port (and with `--melsec-udp` the same UDP
+//! port), answered by
 //! the `ladder-melsec` crate over the soft PLC's image. Reads see the
 //! image the latest scan published; writes go to the same queue of host
 //! writes as Modbus and HTTP (applied before the next scan); remote
@@ -104,9 +105,19 @@ impl Plc for Station {
             // C0-C199 are 16-bit, C200-C255 32-bit: CN and LCN number them
             // all (the protocol crate refuses each where it does not fit).
             Family::CounterValue | Family::LongCounterValue => BitArea::CounterContact.count(),
-            other => bit_area(other)
+            Family::X
+            | Family::Y
+            | Family::M
+            | Family::S
+            | Family::Sm
+            | Family::TimerContact
+            | Family::CounterContact
+            | Family::Sd
+            | Family::D
+            | Family::R
+            | Family::TimerValue => bit_area(family)
                 .map(BitArea::count)
-                .or_else(|| word_area(other).map(WordArea::count))
+                .or_else(|| word_area(family).map(WordArea::count))
                 .unwrap_or(0),
         }
     }
@@ -120,7 +131,19 @@ impl Plc for Station {
         match device.family {
             Family::TimerCoil => self.image.timer_coil_was_on.get(index).is_some_and(|&on| on != 0),
             Family::CounterCoil => self.image.counter_coil_was_on.get(index).is_some_and(|&on| on != 0),
-            _ => host_device(device, false)
+            Family::X
+            | Family::Y
+            | Family::M
+            | Family::S
+            | Family::Sm
+            | Family::TimerContact
+            | Family::CounterContact
+            | Family::Sd
+            | Family::D
+            | Family::R
+            | Family::TimerValue
+            | Family::CounterValue
+            | Family::LongCounterValue => host_device(device, false)
                 .and_then(|host| self.image.read_device(host.device, host.width))
                 .is_some_and(|value| value != 0),
         }
@@ -212,10 +235,14 @@ async fn serve_connection(
     let _ = stream.set_nodelay(true);
     let mut buffer: Vec<u8> = Vec::new();
     let mut chunk = vec![0u8; 4096];
+    // When the frame now in `buffer` started arriving.
+    let mut started = tokio::time::Instant::now();
     loop {
         match ladder_melsec::frame_length(&buffer) {
             Length::Frame(length) if length <= buffer.len() => {
                 let frame: Vec<u8> = buffer.drain(..length).collect();
+                // What arrived after the frame starts the next one now.
+                started = tokio::time::Instant::now();
                 open.touch();
                 if let Some(reply) = answer(&shared, may_write, &frame) {
                     if tokio::time::timeout(FRAME_TIMEOUT, stream.write_all(&reply))
@@ -231,11 +258,20 @@ async fn serve_connection(
             Length::Frame(_) | Length::Need(_) => {}
         }
         // Waiting for a request may take up to the idle time; a started one
-        // no longer than a frame may.
-        let wait = if buffer.is_empty() { idle } else { FRAME_TIMEOUT };
+        // must be whole within the frame time, however it trickles in.
+        let deadline = if buffer.is_empty() {
+            tokio::time::Instant::now() + idle
+        } else {
+            started + FRAME_TIMEOUT
+        };
         tokio::select! {
-            read = tokio::time::timeout(wait, stream.read(&mut chunk)) => match read {
-                Ok(Ok(n)) if n > 0 => buffer.extend_from_slice(&chunk[..n]),
+            read = tokio::time::timeout_at(deadline, stream.read(&mut chunk)) => match read {
+                Ok(Ok(n)) if n > 0 => {
+                    if buffer.is_empty() {
+                        started = tokio::time::Instant::now();
+                    }
+                    buffer.extend_from_slice(&chunk[..n]);
+                }
                 Ok(Ok(_) | Err(_)) | Err(_) => return,
             },
             () = open.close.notified() => return,
