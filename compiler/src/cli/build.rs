@@ -54,6 +54,13 @@ pub struct BuildArgs {
     /// written to a file gets one anyway, beside it with `.h`.
     #[arg(long, value_name = "FILE")]
     header: Option<PathBuf>,
+    /// With --emit fmu: the FMI version.
+    #[arg(long, value_enum, default_value_t = super::fmu::FmiArg::Three)]
+    fmi: super::fmu::FmiArg,
+    /// With --emit fmu: the scan period the FMU starts with (its
+    /// `scan_period` parameter), 1 to 60000 ms.
+    #[arg(long, default_value_t = 10)]
+    scan_ms: u32,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -66,6 +73,10 @@ enum Emit {
     /// as the object file (build it with any C compiler; link it with the
     /// runtime library).
     C,
+    /// An FMI co-simulation FMU for this machine (`--fmi 3` or `2`,
+    /// `--scan-ms`): the program with a variable per device it uses, for
+    /// plant models in Modelica tools, Simulink, OMSimulator, FMPy.
+    Fmu,
 }
 
 /// The first line of every header ladderc writes: a file that does not
@@ -86,6 +97,17 @@ pub fn run(args: &BuildArgs, shown: Shown) -> u8 {
         say_err!("error: --prefix `{}`: {message}", args.prefix);
         return status::UNUSABLE;
     }
+    if args.emit == Emit::Fmu {
+        let output = args.output.clone();
+        return super::fmu::export(
+            &args.program,
+            output,
+            args.target.as_deref(),
+            args.fmi,
+            args.scan_ms,
+            shown,
+        );
+    }
     let c_target = args.target.as_deref().and_then(ladder_cback::targets::c_target);
     let image = match image_request(args, c_target.is_some()) {
         Ok(image) => image,
@@ -101,7 +123,7 @@ pub fn run(args: &BuildArgs, shown: Shown) -> u8 {
     let cross = match (cross, args.emit) {
         (Some((target, None)), Emit::Obj) => return write_c_instead(args, target, &image, shown),
         (Some((target, Some(compiler))), Emit::Obj) => Some((target, compiler)),
-        (Some(_), Emit::Ir | Emit::C) | (None, Emit::Obj | Emit::Ir | Emit::C) => None,
+        (Some(_), Emit::Ir | Emit::C | Emit::Fmu) | (None, Emit::Obj | Emit::Ir | Emit::C | Emit::Fmu) => None,
     };
     // `-o -`, and a program read from standard input without `-o`, write
     // to standard output.
@@ -110,7 +132,7 @@ pub fn run(args: &BuildArgs, shown: Shown) -> u8 {
         (Some(path), _) => Some(path.clone()),
         (None, Emit::Obj) if super::is_standard_stream(&args.program) => None,
         (None, Emit::Obj) => Some(args.program.with_extension("o")),
-        (None, Emit::Ir) => None,
+        (None, Emit::Ir | Emit::Fmu) => None,
         (None, Emit::C) if super::is_standard_stream(&args.program) => None,
         (None, Emit::C) => Some(args.program.with_extension("c")),
     };
@@ -118,13 +140,13 @@ pub fn run(args: &BuildArgs, shown: Shown) -> u8 {
     let header = match (&args.header, &output, image.kind, args.emit) {
         (Some(path), _, _, Emit::Obj | Emit::C) => Some(path.clone()),
         (None, Some(path), ImageKind::Compact, Emit::Obj | Emit::C) => Some(path.with_extension("h")),
-        (Some(_), _, _, Emit::Ir) => {
-            say_err!("error: --header goes with an object file or C (--emit obj or c), not the IR");
+        (Some(_), _, _, Emit::Ir | Emit::Fmu) => {
+            say_err!("error: --header goes with an object file or C (--emit obj or c), not the IR or an FMU");
             return status::UNUSABLE;
         }
         (None, _, ImageKind::Full, Emit::Obj | Emit::C)
         | (None, None, ImageKind::Compact, Emit::Obj | Emit::C)
-        | (None, _, ImageKind::Full | ImageKind::Compact, Emit::Ir) => None,
+        | (None, _, ImageKind::Full | ImageKind::Compact, Emit::Ir | Emit::Fmu) => None,
     };
     // Checked before compiling: a refused output is refused however the
     // program is.
@@ -322,6 +344,11 @@ fn produce(
         ..Default::default()
     };
     match (args.emit, cross) {
+        // `run` hands FMUs to `fmu::export` before it gets here.
+        (Emit::Fmu, _) => {
+            say_err!("error: an FMU is built by `ladderc build --emit fmu`");
+            Err(status::UNUSABLE)
+        }
         (Emit::Ir, _) => Ok((ladder_engine::pipeline::ir(&program).to_string().into_bytes(), None)),
         (Emit::C, _) => {
             let built = ladder_engine::pipeline::c_source(&program, &c_options, image);

@@ -31,6 +31,7 @@ fn write_raw(to_stderr: bool, text: &str) {
 mod build;
 mod check;
 mod explain;
+mod fmu;
 mod html_report;
 mod import;
 mod output;

@@ -59,6 +59,18 @@ const LAYERS: &[(&str, &[&str], &[&str])] = &[
         ],
         &["tokio", "axum", "rustls", "async-opcua", "hyper"],
     ),
+    // Co-simulation: builds on the engine's pipeline and toolchain.
+    (
+        "ladder-fmu",
+        &[
+            "ladder-runtime",
+            "ladder-front",
+            "ladder-ir",
+            "ladder-codegen",
+            "ladder-engine",
+        ],
+        &["tokio", "axum", "rustls", "async-opcua", "hyper"],
+    ),
     // A plant protocol knows frames, not the PLC: no ladder crate at all.
     (
         "ladder-melsec",
@@ -98,6 +110,7 @@ const LAYERS: &[(&str, &[&str], &[&str])] = &[
             "ladder-cback",
             "ladder-diagram",
             "ladder-engine",
+            "ladder-fmu",
             "ladder-melsec",
             "ladder-modbus",
             "ladder-serve",

@@ -1,0 +1,213 @@
+//! The FMU's variables: one per device the program uses, named as ladderc
+//! names devices (`X0`, `Y2`, `M5`, `D100`, `T0` a timer's contact, `TN0`
+//! its value, `CN200` a 32-bit counter). Which devices: those of the
+//! program's compact image (what the program and the machine around it
+//! touch). Which way: X are inputs and Y outputs, as wired; timers' and
+//! counters' contacts and values, special relays and registers (M8000,
+//! D8000 up) are outputs (the scan writes them); any
+//! other device is an output when the program writes it (the optimised
+//! IR's stores, fills and the runtime helpers' declared writes), else an
+//! input the co-simulation may set.
+
+use ladder_front::program::CheckedProgram;
+use ladder_ir::image::{compact_layout, device_name};
+use ladder_ir::{Effect, Function, Index, Program, Space};
+use ladder_runtime::helpers::Writes;
+use ladder_runtime::layout::Array;
+use ladder_runtime::special::{D_ERROR_CODE, M_OPERATION_ERROR};
+use std::collections::HashSet;
+
+/// The first special relay (M8000) and register (D8000).
+const SPECIAL_FIRST: u32 = 8000;
+
+/// An area the program addresses at run time is in the image whole; the FMU
+/// publishes at most this many of its devices.
+pub const MOST_PER_AREA: u32 = 1024;
+
+/// A variable's type, as FMI 3.0 names it (FMI 2.0: Boolean, Integer).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum VarType {
+    Boolean,
+    Int16,
+    Int32,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Causality {
+    Input,
+    Output,
+}
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Variable {
+    pub name: String,
+    /// The `LadderDevice` the C API reads and writes it as.
+    pub kind: &'static str,
+    /// Its number for the C API.
+    pub number: u32,
+    pub ty: VarType,
+    pub causality: Causality,
+}
+
+/// How a device array becomes variables: the C API's kind for element
+/// `n`, the type, and whether the scan writes every element of it.
+fn published(array: Array, n: u32) -> Option<(&'static str, u32, VarType, bool)> {
+    Some(match array {
+        Array::X => ("LADDER_DEVICE_X", n, VarType::Boolean, false),
+        Array::Y => ("LADDER_DEVICE_Y", n, VarType::Boolean, true),
+        Array::M => ("LADDER_DEVICE_M", n, VarType::Boolean, false),
+        Array::S => ("LADDER_DEVICE_S", n, VarType::Boolean, false),
+        Array::Sm => ("LADDER_DEVICE_SM", n, VarType::Boolean, false),
+        Array::TimerContact => ("LADDER_DEVICE_TS", n, VarType::Boolean, true),
+        Array::CounterContact => ("LADDER_DEVICE_CS", n, VarType::Boolean, true),
+        Array::D => ("LADDER_DEVICE_D", n, VarType::Int16, false),
+        Array::Sd => ("LADDER_DEVICE_SD", n, VarType::Int16, false),
+        Array::R => ("LADDER_DEVICE_R", n, VarType::Int16, false),
+        Array::TimerValue => ("LADDER_DEVICE_TN", n, VarType::Int16, true),
+        Array::CounterValue => ("LADDER_DEVICE_CN", n, VarType::Int16, true),
+        Array::WideCounterValue => (
+            "LADDER_DEVICE_CN",
+            n.max(ladder_runtime::device::FIRST_WIDE_COUNTER),
+            VarType::Int32,
+            true,
+        ),
+        // Word 2n is Zn, word 2n+1 is Vn.
+        Array::Index if n.is_multiple_of(2) => ("LADDER_DEVICE_Z", n / 2, VarType::Int16, false),
+        Array::Index => ("LADDER_DEVICE_V", n / 2, VarType::Int16, false),
+        // The modules' buffer memory is the host's (64K words a module),
+        // and the rest is the scan's own bookkeeping.
+        Array::Buffer
+        | Array::InputImage
+        | Array::OutputImage
+        | Array::TimerRemainder
+        | Array::TimerCoilWasOn
+        | Array::CounterCoilWasOn
+        | Array::StlPendingOff
+        | Array::StlBlockActive
+        | Array::EdgeSlot
+        | Array::SortState
+        | Array::SortScans
+        | Array::ForceX
+        | Array::ForceY
+        | Array::ForceM
+        | Array::ForceTimer
+        | Array::ForceCounter
+        | Array::PulsesPending
+        | Array::InputEdges
+        | Array::Instance
+        | Array::PulseOwner
+        | Array::PulseRemainder => return None,
+    })
+}
+
+/// What the program writes: elements, whole arrays, or everything.
+#[derive(Default)]
+struct Written {
+    elements: HashSet<(Array, u32)>,
+    arrays: HashSet<Array>,
+    everything: bool,
+}
+
+impl Written {
+    fn of(program: &Program) -> Written {
+        let mut written = Written::default();
+        for function in std::iter::once(&program.main).chain(&program.subroutines) {
+            written.function(function);
+        }
+        written
+    }
+
+    fn function(&mut self, function: &Function) {
+        for block in &function.blocks {
+            for (_, inst) in &block.insts {
+                match inst.effect() {
+                    Effect::Store(span, _) | Effect::Fill(span) => self.span(span.space, span.start, span.count),
+                    Effect::Helper(helper, _) => {
+                        for writes in helper.decl().writes {
+                            self.helper(*writes);
+                        }
+                    }
+                    Effect::OperationError => self.operation_error(),
+                    Effect::Pure | Effect::ReadsLocal | Effect::WritesLocal | Effect::Load(_) | Effect::Subroutine => {}
+                }
+            }
+        }
+    }
+
+    fn span(&mut self, space: Space, start: Index, count: u32) {
+        let array = space.array();
+        match start {
+            Index::Fixed(n) => self
+                .elements
+                .extend((n..n.saturating_add(count.max(1))).map(|n| (array, n))),
+            Index::Dynamic(_) => {
+                self.arrays.insert(array);
+            }
+        }
+    }
+
+    fn operation_error(&mut self) {
+        self.elements.insert((Array::M, M_OPERATION_ERROR));
+        self.elements.insert((Array::D, D_ERROR_CODE));
+        self.elements.insert((Array::D, ladder_runtime::special::D_ERROR_LINE));
+    }
+
+    fn helper(&mut self, writes: Writes) {
+        match writes {
+            // The scan's own: timers and counters are outputs anyway.
+            Writes::Timers | Writes::Counters | Writes::StlBookkeeping => {}
+            Writes::OperationError => self.operation_error(),
+            Writes::Bits(area) => {
+                self.arrays.insert(Array::of_bits(area));
+            }
+            Writes::Image => self.everything = true,
+        }
+    }
+
+    fn contains(&self, array: Array, n: u32) -> bool {
+        self.everything || self.arrays.contains(&array) || self.elements.contains(&(array, n))
+    }
+}
+
+/// The variables of `checked` (optimised as `ir`), in the order of the
+/// runtime's arrays and device numbers.
+pub fn variables(checked: &CheckedProgram, ir: &Program) -> Vec<Variable> {
+    let layout = compact_layout(checked, ir, &[]);
+    let written = Written::of(ir);
+    let mut variables = Vec::new();
+    let mut names = HashSet::new();
+    for array in Array::ALL {
+        let mut taken = 0;
+        for run in layout.runs_of(array) {
+            for n in run.first..run.first + run.count {
+                if taken == MOST_PER_AREA {
+                    break;
+                }
+                let Some((kind, number, ty, scan_writes)) = published(array, n) else {
+                    continue;
+                };
+                let name = device_name(array, n);
+                // A run's clamped start may repeat a device another run holds.
+                if !names.insert(name.clone()) {
+                    continue;
+                }
+                taken += 1;
+                // M8000 and D8000 up are the machine's: the scan writes them.
+                let special = matches!(array, Array::M | Array::D) && n >= SPECIAL_FIRST;
+                let causality = if array != Array::X && (scan_writes || special || written.contains(array, n)) {
+                    Causality::Output
+                } else {
+                    Causality::Input
+                };
+                variables.push(Variable {
+                    name,
+                    kind,
+                    number,
+                    ty,
+                    causality,
+                });
+            }
+        }
+    }
+    variables
+}
