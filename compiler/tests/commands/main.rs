@@ -13,6 +13,7 @@ mod code_map;
 mod compact_image;
 mod cross_targets;
 mod emulated_controllers;
+mod fmu_export;
 mod frontend_never_panics;
 mod helper_docs;
 mod independence;

@@ -1,0 +1,204 @@
+//! `ladderc build --emit fmu` checked by FMPy (from PyPI) as importers
+//! check FMUs: every example and the GX Works2 sample validate as FMI 3.0
+//! and 2.0; FMPy stepping the traffic light at 100 ms sees the lamps
+//! `ladderc run --scans 70 --scan-ms 100` prints, scan by scan; an input
+//! signal drives a seal-in as the program says; the FMU state saved,
+//! serialised and restored replays the same steps, and steps shorter than
+//! the scan period carry over. Without FMPy the tests say why they skip.
+
+use crate::common::tools::{ensure_python_module, ladderc, scratch, skip, workspace};
+use std::path::{Path, PathBuf};
+
+const CHECKS: &str = include_str!("fmpy_checks.py");
+
+fn fmpy_ready(test: &str) -> bool {
+    match ensure_python_module("fmpy", "fmpy") {
+        Ok(()) => true,
+        Err(why) => {
+            skip(test, &why);
+            false
+        }
+    }
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+/// Builds `program` as an FMU with `extra` arguments into `dir`.
+fn build(program: &Path, dir: &Path, name: &str, extra: &[&str]) -> PathBuf {
+    let fmu = dir.join(name);
+    let mut args = vec![
+        "build",
+        program.to_str().unwrap(),
+        "--emit",
+        "fmu",
+        "-o",
+        fmu.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    let output = ladderc(&args);
+    assert!(output.status.success(), "{name}: {}", text(&output.stderr));
+    fmu
+}
+
+/// Runs a check of `fmpy_checks.py`: its JSON answer.
+fn check(dir: &Path, args: &[&str]) -> serde_json::Value {
+    let script = dir.join("fmpy_checks.py");
+    std::fs::write(&script, CHECKS).unwrap();
+    let output = std::process::Command::new("python3")
+        .arg(&script)
+        .args(args)
+        .output()
+        .unwrap();
+    let stdout = text(&output.stdout);
+    assert!(output.status.success(), "{args:?}: {stdout}{}", text(&output.stderr));
+    serde_json::from_str(stdout.lines().last().unwrap_or("")).unwrap_or_else(|e| panic!("{e}: {stdout}"))
+}
+
+#[test]
+fn every_example_and_the_gx_works2_sample_validate_as_fmi_3_and_2() {
+    if !fmpy_ready("every_example_and_the_gx_works2_sample_validate_as_fmi_3_and_2") {
+        return;
+    }
+    let dir = scratch("fmu_validate");
+    let mut programs: Vec<PathBuf> = std::fs::read_dir(workspace().join("examples"))
+        .unwrap()
+        .map(|entry| entry.unwrap().path())
+        .filter(|path| path.extension().is_some_and(|x| x == "il"))
+        .collect();
+    programs.push(workspace().join("testsuite/programs/gxworks2/gxworks2_fx2n_main.csv"));
+    assert!(programs.len() >= 3, "{programs:?}");
+    let mut fmus = Vec::new();
+    for program in &programs {
+        let stem = program.file_stem().unwrap().to_string_lossy().into_owned();
+        for fmi in ["3", "2"] {
+            fmus.push(build(
+                program,
+                dir.path(),
+                &format!("{stem}.fmi{fmi}.fmu"),
+                &["--fmi", fmi],
+            ));
+        }
+    }
+    let mut args = vec!["validate"];
+    args.extend(fmus.iter().map(|fmu| fmu.to_str().unwrap()));
+    let problems = check(dir.path(), &args);
+    for fmu in &fmus {
+        assert_eq!(
+            problems[fmu.to_str().unwrap()],
+            serde_json::json!([]),
+            "{}",
+            fmu.display()
+        );
+    }
+}
+
+#[test]
+fn fmpy_steps_the_traffic_light_as_ladderc_run_scans_it() {
+    if !fmpy_ready("fmpy_steps_the_traffic_light_as_ladderc_run_scans_it") {
+        return;
+    }
+    let dir = scratch("fmu_traffic_light");
+    let program = workspace().join("examples/traffic_light.il");
+    let run = ladderc(&[
+        "run",
+        program.to_str().unwrap(),
+        "--scans",
+        "70",
+        "--scan-ms",
+        "100",
+        "--watch",
+        "Y0..Y2",
+        "--format",
+        "csv",
+    ]);
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    let expected: Vec<Vec<i64>> = text(&run.stdout)
+        .lines()
+        .skip(1)
+        .map(|line| line.split(',').skip(1).map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(expected.len(), 70);
+    for fmi in ["3", "2"] {
+        let fmu = build(
+            &program,
+            dir.path(),
+            &format!("light{fmi}.fmu"),
+            &["--fmi", fmi, "--scan-ms", "100"],
+        );
+        let seen = check(dir.path(), &["lamps", fmu.to_str().unwrap(), "70"]);
+        assert_eq!(seen, serde_json::json!(expected), "FMI {fmi}");
+    }
+}
+
+#[test]
+fn an_input_signal_drives_a_seal_in_and_the_state_replays() {
+    if !fmpy_ready("an_input_signal_drives_a_seal_in_and_the_state_replays") {
+        return;
+    }
+    let dir = scratch("fmu_seal_in");
+    let program = dir.path().join("seal_in.il");
+    std::fs::write(&program, "LD X0\nOR Y0\nANI X1\nOUT Y0\n").unwrap();
+    for fmi in ["3", "2"] {
+        let fmu = build(&program, dir.path(), &format!("seal{fmi}.fmu"), &["--fmi", fmi]);
+        let rows = check(dir.path(), &["seal_in", fmu.to_str().unwrap()]);
+        for row in rows.as_array().unwrap() {
+            let (time, y0) = (row[0].as_f64().unwrap(), row[1].as_i64().unwrap());
+            // X0 from 0.2 s to 0.3 s sets it; X1 from 0.6 s resets it; the
+            // scan of the step after each edge takes it.
+            let expected = i64::from((0.205..0.605).contains(&time));
+            assert_eq!(y0, expected, "FMI {fmi}, t = {time}: {rows}");
+        }
+    }
+    let light = workspace().join("examples/traffic_light.il");
+    for fmi in ["3", "2"] {
+        let fmu = build(&light, dir.path(), &format!("light{fmi}.fmu"), &["--fmi", fmi]);
+        let seen = check(dir.path(), &["state", fmu.to_str().unwrap()]);
+        assert_eq!(seen["again"], seen["first"], "FMI {fmi}: restored, the same steps");
+        assert_eq!(
+            seen["from_bytes"], seen["first"],
+            "FMI {fmi}: deserialised, the same steps"
+        );
+        // Green comes on with scan 31; half steps reach it at the sixth.
+        let mut half = vec![serde_json::json!([1, 0, 0]); 5];
+        half.push(serde_json::json!([1, 0, 1]));
+        assert_eq!(seen["half_steps"], serde_json::json!(half), "FMI {fmi}");
+        assert_eq!(seen["first"][2], serde_json::json!([1, 0, 1]), "FMI {fmi}: {seen}");
+    }
+}
+
+#[test]
+fn a_failed_fmu_build_writes_nothing_and_keeps_what_was_there() {
+    let dir = scratch("fmu_refused");
+    let bad = dir.path().join("bad.il");
+    std::fs::write(&bad, "LD X0\nOUT Q7\n").unwrap();
+    let fmu = dir.path().join("bad.fmu");
+    std::fs::write(&fmu, b"an older FMU").unwrap();
+    let output = ladderc(&[
+        "build",
+        bad.to_str().unwrap(),
+        "--emit",
+        "fmu",
+        "-o",
+        fmu.to_str().unwrap(),
+    ]);
+    assert_eq!(output.status.code(), Some(1), "{}", text(&output.stderr));
+    assert_eq!(std::fs::read(&fmu).unwrap(), b"an older FMU");
+    let good = workspace().join("examples/motor_start_stop.il");
+    for (args, message) in [
+        (&["--target", "aarch64-unknown-linux-gnu"][..], "built for this machine"),
+        (&["--scan-ms", "0"][..], "--scan-ms is 1 to 60000"),
+        (&["-o", "-"][..], "an FMU is a file"),
+    ] {
+        let mut all = vec!["build", good.to_str().unwrap(), "--emit", "fmu"];
+        all.extend_from_slice(args);
+        let output = ladderc(&all);
+        assert_eq!(output.status.code(), Some(2), "{args:?}");
+        assert!(
+            text(&output.stderr).contains(message),
+            "{args:?}: {}",
+            text(&output.stderr)
+        );
+    }
+}
