@@ -202,3 +202,68 @@ fn a_failed_fmu_build_writes_nothing_and_keeps_what_was_there() {
         );
     }
 }
+
+#[test]
+fn a_closed_loop_with_a_plant_fmu_fills_and_empties_the_tank() {
+    let test = "a_closed_loop_with_a_plant_fmu_fills_and_empties_the_tank";
+    let example = workspace().join("examples/cosim");
+    // The controller passes its own scenario on every engine first.
+    let scenario = ladderc(&["test", example.join("tank.scn").to_str().unwrap()]);
+    assert_eq!(scenario.status.code(), Some(0), "{}", text(&scenario.stdout));
+    if !fmpy_ready(test) {
+        return;
+    }
+    if let Err(why) = ensure_python_module("pythonfmu", "pythonfmu") {
+        skip(test, &why);
+        return;
+    }
+    let dir = scratch("fmu_closed_loop");
+    let controller = build(
+        &example.join("tank.il"),
+        dir.path(),
+        "tank.fmu",
+        &["--fmi", "2", "--scan-ms", "100"],
+    );
+    let plant = std::process::Command::new("python3")
+        .args(["-m", "pythonfmu", "build", "-f"])
+        .arg(example.join("tank_plant.py"))
+        .arg("-d")
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    assert!(plant.status.success(), "pythonfmu: {}", text(&plant.stderr));
+    let output = std::process::Command::new("python3")
+        .arg(example.join("tank_loop.py"))
+        .arg(&controller)
+        .arg(dir.path().join("TankPlant.fmu"))
+        .arg("20")
+        .output()
+        .unwrap();
+    let stdout = text(&output.stdout);
+    assert!(output.status.success(), "{stdout}{}", text(&output.stderr));
+    let run: serde_json::Value = serde_json::from_str(stdout.lines().last().unwrap_or("")).unwrap();
+    let level: Vec<f64> = run["level"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    let inlet = run["inlet"].as_array().unwrap();
+    let outlet = run["outlet"].as_array().unwrap();
+    assert!(level.len() >= 199, "{}", level.len());
+    // Never both valves at once.
+    assert!(inlet
+        .iter()
+        .zip(outlet)
+        .all(|(i, o)| i.as_i64().unwrap() + o.as_i64().unwrap() <= 1));
+    // Filled to the high switch (and the few steps past it the switch, the
+    // scan and the valve take, never to overflowing), then drained to the
+    // low switch, again and again.
+    let peak = level.iter().cloned().fold(0.0, f64::max);
+    assert!(peak > 0.9 && peak < 1.0, "peak {peak}");
+    let after_first_fill = level.iter().position(|&l| l > 0.9).expect("filled");
+    let trough = level[after_first_fill..].iter().cloned().fold(1.0, f64::min);
+    assert!(trough > 0.0 && trough <= 0.1, "trough {trough}");
+    let rises = level.windows(2).filter(|w| w[0] < 0.5 && w[1] >= 0.5).count();
+    assert!(rises >= 3, "the tank filled {rises} times in 20 s: {level:?}");
+}
