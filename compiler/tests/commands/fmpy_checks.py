@@ -4,6 +4,7 @@
 #   python3 fmpy_checks.py lamps FMU STEPS     Y0-Y2 after each 0.1 s step
 #   python3 fmpy_checks.py seal_in FMU         Y0 under an input signal
 #   python3 fmpy_checks.py state FMU           the FMU state saved and restored
+#   python3 fmpy_checks.py wide FMU            pairs and reals set and read
 # Each prints one JSON value.
 import json
 import sys
@@ -29,6 +30,12 @@ elif command == "seal_in":
     )
     result = simulate_fmu(fmu, stop_time=1.0, output_interval=0.01, input=signal, output=["Y0"])
     print(json.dumps([[round(float(row["time"]), 3), int(row["Y0"])] for row in result]))
+elif command == "wide":
+    fmu = args[0]
+    outputs = ["D10:32", "D22:float", "D10", "D11"]
+    result = simulate_fmu(fmu, stop_time=0.03, output_interval=0.01, output=outputs,
+                          start_values={"D0:32": 100000, "D20:float": 2.25})
+    print(json.dumps({name: float(result[-1][name]) for name in outputs}))
 elif command == "state":
     fmu = args[0]
     description = read_model_description(fmu)

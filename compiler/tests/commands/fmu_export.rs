@@ -169,6 +169,27 @@ fn an_input_signal_drives_a_seal_in_and_the_state_replays() {
 }
 
 #[test]
+fn pairs_and_reals_the_program_uses_as_such_are_variables() {
+    if !fmpy_ready("pairs_and_reals_the_program_uses_as_such_are_variables") {
+        return;
+    }
+    let dir = scratch("fmu_wide");
+    let program = dir.path().join("wide.il");
+    std::fs::write(&program, "LD M8000\nDMOV D0 D10\nDEADD D20 E1.5 D22\n").unwrap();
+    for fmi in ["3", "2"] {
+        let fmu = build(&program, dir.path(), &format!("wide{fmi}.fmu"), &["--fmi", fmi]);
+        // D0:32 = 100000 and D20:float = 2.25 as inputs; the program copies
+        // the pair and adds 1.5 to the real.
+        let seen = check(dir.path(), &["wide", fmu.to_str().unwrap()]);
+        assert_eq!(
+            seen,
+            serde_json::json!({"D10:32": 100000.0, "D22:float": 3.75, "D10": -31072.0, "D11": 1.0}),
+            "FMI {fmi}"
+        );
+    }
+}
+
+#[test]
 fn a_failed_fmu_build_writes_nothing_and_keeps_what_was_there() {
     let dir = scratch("fmu_refused");
     let bad = dir.path().join("bad.il");

@@ -1,8 +1,8 @@
 //! `modelDescription.xml` for FMI 3.0 and 2.0 co-simulation: the time
 //! (FMI 3.0's independent variable), the scan period as a parameter, and
 //! the devices (inputs with a start value; outputs calculated, so listed
-//! as outputs and initial unknowns). Device names are letters and digits,
-//! so nothing needs escaping but the program's name.
+//! as outputs and initial unknowns). Device names are letters, digits and
+//! `:`, so nothing needs escaping but the program's name.
 
 use crate::{Causality, FmiVersion, FmuOptions, VarType, Variable};
 use std::fmt::Write as _;
@@ -70,11 +70,12 @@ fn fmi3(options: &FmuOptions, identifier: &str, token: &str, variables: &[Variab
         let element = match variable.ty {
             VarType::Boolean => "Boolean",
             VarType::Int16 => "Int16",
-            VarType::Int32 => "Int32",
+            VarType::Int32 | VarType::Pair => "Int32",
+            VarType::Real => "Float32",
         };
         let start = match variable.ty {
             VarType::Boolean => "false",
-            VarType::Int16 | VarType::Int32 => "0",
+            VarType::Int16 | VarType::Int32 | VarType::Pair | VarType::Real => "0",
         };
         let vr = device_vr(index);
         let name = &variable.name;
@@ -134,7 +135,8 @@ fn fmi2(options: &FmuOptions, identifier: &str, token: &str, variables: &[Variab
         let name = &variable.name;
         let (element, start) = match variable.ty {
             VarType::Boolean => ("Boolean", "false"),
-            VarType::Int16 | VarType::Int32 => ("Integer", "0"),
+            VarType::Int16 | VarType::Int32 | VarType::Pair => ("Integer", "0"),
+            VarType::Real => ("Real", "0"),
         };
         let _ = match variable.causality {
             Causality::Input => writeln!(

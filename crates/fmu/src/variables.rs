@@ -9,12 +9,14 @@
 //! IR's stores, fills and the runtime helpers' declared writes), else an
 //! input the co-simulation may set.
 
-use ladder_front::program::CheckedProgram;
+use ladder_front::isa::OperandKind;
+use ladder_front::program::{Address, AppOperand, CheckedProgram, Op, Output, WordRef};
 use ladder_ir::image::{compact_layout, device_name};
 use ladder_ir::{Effect, Function, Index, Program, Space};
 use ladder_runtime::helpers::Writes;
 use ladder_runtime::layout::Array;
 use ladder_runtime::special::{D_ERROR_CODE, M_OPERATION_ERROR};
+use ladder_runtime::{Width, WordArea};
 use std::collections::HashSet;
 
 /// The first special relay (M8000) and register (D8000).
@@ -30,6 +32,10 @@ pub enum VarType {
     Boolean,
     Int16,
     Int32,
+    /// A 32-bit pair of words (n+1, n), as the D instructions use it.
+    Pair,
+    /// A real number in a pair of words, as the E instructions use it.
+    Real,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -169,8 +175,69 @@ impl Written {
     }
 }
 
+/// How an instruction operand of `kind` in an instruction of `width` uses a
+/// word: as a 32-bit pair, a real number, or neither.
+fn wide_use(kind: OperandKind, width: Width) -> Option<VarType> {
+    match kind {
+        OperandKind::RealSource | OperandKind::RealDestination | OperandKind::RealModified => Some(VarType::Real),
+        OperandKind::Source | OperandKind::Destination | OperandKind::Modified | OperandKind::DoubleDestination => {
+            match width {
+                Width::Double => Some(VarType::Pair),
+                Width::Single => None,
+            }
+        }
+        OperandKind::Count
+        | OperandKind::BlockSource
+        | OperandKind::BlockDestination
+        | OperandKind::BitDestination
+        | OperandKind::BitSource
+        | OperandKind::BitModified
+        | OperandKind::BitTriple
+        | OperandKind::ElementSource
+        | OperandKind::ElementDestination
+        | OperandKind::RangeEnd
+        | OperandKind::DigitSource
+        | OperandKind::DigitDestination
+        | OperandKind::TableEnd
+        | OperandKind::ByteSource
+        | OperandKind::Timer
+        | OperandKind::HighSpeedCounter
+        | OperandKind::CounterPair => None,
+    }
+}
+
+/// The word pairs of D and R the program's instructions use as 32-bit
+/// values or real numbers at fixed addresses: (area, first word, type).
+fn wide_words(checked: &CheckedProgram) -> Vec<(WordArea, u32, VarType)> {
+    let mut found = Vec::new();
+    for instruction in &checked.instructions {
+        let Op::Output(Output::App(app)) = &instruction.op else {
+            continue;
+        };
+        for (operand, decl) in app.args.operands().into_iter().zip(app.args.op().spec().operands) {
+            let AppOperand::Word(WordRef::Word(
+                area @ (WordArea::D | WordArea::R),
+                Address {
+                    index,
+                    index_register: None,
+                },
+            )) = operand
+            else {
+                continue;
+            };
+            if let Some(ty) = wide_use(decl.kind, app.width) {
+                if !found.contains(&(area, index, ty)) {
+                    found.push((area, index, ty));
+                }
+            }
+        }
+    }
+    found.sort_by_key(|&(area, index, ty)| (area, index, ty == VarType::Real));
+    found
+}
+
 /// The variables of `checked` (optimised as `ir`), in the order of the
-/// runtime's arrays and device numbers.
+/// runtime's arrays and device numbers; then the pairs and reals.
 pub fn variables(checked: &CheckedProgram, ir: &Program) -> Vec<Variable> {
     let layout = compact_layout(checked, ir, &[]);
     let written = Written::of(ir);
@@ -208,6 +275,36 @@ pub fn variables(checked: &CheckedProgram, ir: &Program) -> Vec<Variable> {
                 });
             }
         }
+    }
+    // A pair or real aliases its two words (published above as well).
+    for (area, first, ty) in wide_words(checked) {
+        let (array, kind, prefix) = match area {
+            WordArea::D => (Array::D, "LADDER_DEVICE_D", "D"),
+            WordArea::R => (Array::R, "LADDER_DEVICE_R", "R"),
+            WordArea::Sd | WordArea::TimerValue | WordArea::CounterValue | WordArea::Index | WordArea::Buffer => {
+                continue
+            }
+        };
+        if first + 1 >= area.count() {
+            continue;
+        }
+        let suffix = match ty {
+            VarType::Real => "float",
+            VarType::Boolean | VarType::Int16 | VarType::Int32 | VarType::Pair => "32",
+        };
+        let written = written.contains(array, first) || written.contains(array, first + 1);
+        let special = area == WordArea::D && first >= SPECIAL_FIRST;
+        variables.push(Variable {
+            name: format!("{prefix}{first}:{suffix}"),
+            kind,
+            number: first,
+            ty,
+            causality: if written || special {
+                Causality::Output
+            } else {
+                Causality::Input
+            },
+        });
     }
     variables
 }

@@ -93,16 +93,52 @@ static const FmuVariable *plc_variable(uint32_t vr, uint8_t type) {
     return variable->type == type ? variable : NULL;
 }
 
+/* A device's value: a bit as 0/1, a word sign-extended, a 32-bit counter
+ * whole, a pair (n+1, n) as one 32-bit value. */
 static bool plc_get(const Plc *plc, uint32_t vr, uint8_t type, int32_t *value) {
     const FmuVariable *variable = plc_variable(vr, type);
-    return variable != NULL && ladder_read(plc->mem, variable->kind, variable->number, value) == LADDER_STATUS_OK;
+    if (variable == NULL) return false;
+    if (type != TYPE_PAIR) return ladder_read(plc->mem, variable->kind, variable->number, value) == LADDER_STATUS_OK;
+    int32_t low, high;
+    if (ladder_read(plc->mem, variable->kind, variable->number, &low) != LADDER_STATUS_OK ||
+        ladder_read(plc->mem, variable->kind, variable->number + 1, &high) != LADDER_STATUS_OK)
+        return false;
+    *value = (int32_t)(((uint32_t)high << 16) | (uint16_t)low);
+    return true;
 }
 
-/* Only inputs may be set; an X is the input image the next scan takes. */
+/* Only inputs may be set; an X is the input image the next scan takes. A
+ * value that does not fit the device (a word beyond 16 bits, a bit other
+ * than 0/1) is refused by the runtime and writes nothing. */
 static bool plc_set(Plc *plc, uint32_t vr, uint8_t type, int32_t value) {
     const FmuVariable *variable = plc_variable(vr, type);
+    if (variable == NULL || !variable->input) return false;
+    if (type != TYPE_PAIR) return ladder_write(plc->mem, variable->kind, variable->number, value) == LADDER_STATUS_OK;
+    uint32_t bits = (uint32_t)value;
+    return ladder_write(plc->mem, variable->kind, variable->number, (int32_t)(bits & 0xFFFFu)) == LADDER_STATUS_OK &&
+           ladder_write(plc->mem, variable->kind, variable->number + 1, (int32_t)(int16_t)(bits >> 16)) ==
+               LADDER_STATUS_OK;
+}
+
+/* A real number in a pair of words. */
+static bool plc_get_real(const Plc *plc, uint32_t vr, float *value) {
+    const FmuVariable *variable = plc_variable(vr, TYPE_REAL);
+    return variable != NULL && ladder_read_real(plc->mem, variable->kind, variable->number, value) == LADDER_STATUS_OK;
+}
+
+static bool plc_set_real(Plc *plc, uint32_t vr, float value) {
+    const FmuVariable *variable = plc_variable(vr, TYPE_REAL);
     return variable != NULL && variable->input &&
-           ladder_write(plc->mem, variable->kind, variable->number, value) == LADDER_STATUS_OK;
+           ladder_write_real(plc->mem, variable->kind, variable->number, value) == LADDER_STATUS_OK;
+}
+
+/* A 32-bit integer variable: a 32-bit counter or a pair. */
+static bool plc_get_int32(const Plc *plc, uint32_t vr, int32_t *value) {
+    return plc_get(plc, vr, TYPE_INT32, value) || plc_get(plc, vr, TYPE_PAIR, value);
+}
+
+static bool plc_set_int32(Plc *plc, uint32_t vr, int32_t value) {
+    return plc_set(plc, vr, TYPE_INT32, value) || plc_set(plc, vr, TYPE_PAIR, value);
 }
 
 /* The state: the time, the carried time, the period and the image. */

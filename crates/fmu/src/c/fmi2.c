@@ -119,8 +119,10 @@ EXPORT fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], si
     Instance *self = c;
     if (self == NULL) return fmi2Error;
     for (size_t i = 0; i < nvr; i++) {
-        if (vr[i] != VR_SCAN_PERIOD) return refuse(c, "no Real variable with this value reference");
-        value[i] = self->plc->period_ms / 1000.0;
+        float real;
+        if (vr[i] == VR_SCAN_PERIOD) value[i] = self->plc->period_ms / 1000.0;
+        else if (plc_get_real(self->plc, vr[i], &real)) value[i] = real;
+        else return refuse(c, "no Real variable with this value reference");
     }
     return fmi2OK;
 }
@@ -129,19 +131,22 @@ EXPORT fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], si
     Instance *self = c;
     if (self == NULL) return fmi2Error;
     for (size_t i = 0; i < nvr; i++) {
-        if (vr[i] != VR_SCAN_PERIOD) return refuse(c, "only scan_period is a Real to set");
-        if (!plc_set_period(self->plc, value[i])) return refuse(c, "scan_period is 0.001 s to 60 s");
+        if (vr[i] == VR_SCAN_PERIOD) {
+            if (!plc_set_period(self->plc, value[i])) return refuse(c, "scan_period is 0.001 s to 60 s");
+        } else if (!plc_set_real(self->plc, vr[i], (float)value[i])) {
+            return refuse(c, "no Real input with this value reference");
+        }
     }
     return fmi2OK;
 }
 
-/* An Integer is a word or a 32-bit counter. */
+/* An Integer is a word, a 32-bit counter or a pair. */
 static bool get_integer(const Plc *plc, fmi2ValueReference vr, int32_t *value) {
-    return plc_get(plc, vr, TYPE_INT16, value) || plc_get(plc, vr, TYPE_INT32, value);
+    return plc_get(plc, vr, TYPE_INT16, value) || plc_get_int32(plc, vr, value);
 }
 
 static bool set_integer(Plc *plc, fmi2ValueReference vr, int32_t value) {
-    return plc_set(plc, vr, TYPE_INT16, value) || plc_set(plc, vr, TYPE_INT32, value);
+    return plc_set(plc, vr, TYPE_INT16, value) || plc_set_int32(plc, vr, value);
 }
 
 EXPORT fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Integer value[]) {

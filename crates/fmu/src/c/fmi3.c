@@ -176,7 +176,7 @@ EXPORT fmi3Status fmi3SetFloat64(fmi3Instance instance, const fmi3ValueReference
 }
 
 /* Get and set of the device types: bits as Boolean, words as Int16, 32-bit
- * counters as Int32. */
+ * counters and pairs as Int32, reals as Float32. */
 #define DEVICE_ACCESS(Name, CType, TYPE)                                                                  \
     EXPORT fmi3Status fmi3Get##Name(fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr,    \
                                     CType values[], size_t nValues) {                                     \
@@ -202,7 +202,45 @@ EXPORT fmi3Status fmi3SetFloat64(fmi3Instance instance, const fmi3ValueReference
 
 DEVICE_ACCESS(Boolean, fmi3Boolean, TYPE_BOOLEAN)
 DEVICE_ACCESS(Int16, fmi3Int16, TYPE_INT16)
-DEVICE_ACCESS(Int32, fmi3Int32, TYPE_INT32)
+
+EXPORT fmi3Status fmi3GetInt32(fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr,
+                               fmi3Int32 values[], size_t nValues) {
+    Instance *self = instance;
+    if (self == NULL || nValues != nvr) return fmi3Error;
+    for (size_t i = 0; i < nvr; i++)
+        if (!plc_get_int32(self->plc, vr[i], &values[i]))
+            return refuse(instance, "no Int32 variable with this value reference");
+    return fmi3OK;
+}
+
+EXPORT fmi3Status fmi3SetInt32(fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr,
+                               const fmi3Int32 values[], size_t nValues) {
+    Instance *self = instance;
+    if (self == NULL || nValues != nvr) return fmi3Error;
+    for (size_t i = 0; i < nvr; i++)
+        if (!plc_set_int32(self->plc, vr[i], values[i]))
+            return refuse(instance, "no Int32 input with this value reference");
+    return fmi3OK;
+}
+
+EXPORT fmi3Status fmi3GetFloat32(fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr,
+                                 fmi3Float32 values[], size_t nValues) {
+    Instance *self = instance;
+    if (self == NULL || nValues != nvr) return fmi3Error;
+    for (size_t i = 0; i < nvr; i++)
+        if (!plc_get_real(self->plc, vr[i], &values[i]))
+            return refuse(instance, "no Float32 variable with this value reference");
+    return fmi3OK;
+}
+
+EXPORT fmi3Status fmi3SetFloat32(fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr,
+                                 const fmi3Float32 values[], size_t nValues) {
+    Instance *self = instance;
+    if (self == NULL || nValues != nvr) return fmi3Error;
+    for (size_t i = 0; i < nvr; i++)
+        if (!plc_set_real(self->plc, vr[i], values[i])) return refuse(instance, "no Float32 input with this value reference");
+    return fmi3OK;
+}
 
 /* Types the FMU has no variables of: nothing to get or set. */
 #define NO_VARIABLES(Name, CType)                                                                         \
@@ -221,7 +259,6 @@ DEVICE_ACCESS(Int32, fmi3Int32, TYPE_INT32)
         return nvr == 0 ? fmi3OK : refuse(instance, "no " #Name " variables");                           \
     }
 
-NO_VARIABLES(Float32, fmi3Float32)
 NO_VARIABLES(Int8, fmi3Int8)
 NO_VARIABLES(UInt8, fmi3UInt8)
 NO_VARIABLES(UInt16, fmi3UInt16)
