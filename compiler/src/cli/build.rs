@@ -54,13 +54,13 @@ pub struct BuildArgs {
     /// written to a file gets one anyway, beside it with `.h`.
     #[arg(long, value_name = "FILE")]
     header: Option<PathBuf>,
-    /// With --emit fmu: the FMI version.
-    #[arg(long, value_enum, default_value_t = super::fmu::FmiArg::Three)]
-    fmi: super::fmu::FmiArg,
+    /// With --emit fmu: the FMI version (default 3).
+    #[arg(long, value_enum)]
+    fmi: Option<super::fmu::FmiArg>,
     /// With --emit fmu: the scan period the FMU starts with (its
-    /// `scan_period` parameter), 1 to 60000 ms.
-    #[arg(long, default_value_t = 10)]
-    scan_ms: u32,
+    /// `scan_period` parameter), 1 to 60000 ms (default 10).
+    #[arg(long)]
+    scan_ms: Option<u32>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -98,15 +98,23 @@ pub fn run(args: &BuildArgs, shown: Shown) -> u8 {
         return status::UNUSABLE;
     }
     if args.emit == Emit::Fmu {
+        // An FMU holds the full image under its own names.
+        if args.image.is_some()
+            || !args.host_devices.is_empty()
+            || args.header.is_some()
+            || args.prefix != ladder_codegen::DEFAULT_PREFIX
+        {
+            say_err!("error: --image, --host-devices, --header and --prefix do not go with --emit fmu");
+            return status::UNUSABLE;
+        }
         let output = args.output.clone();
-        return super::fmu::export(
-            &args.program,
-            output,
-            args.target.as_deref(),
-            args.fmi,
-            args.scan_ms,
-            shown,
-        );
+        let fmi = args.fmi.unwrap_or(super::fmu::FmiArg::Three);
+        let scan_ms = args.scan_ms.unwrap_or(super::fmu::DEFAULT_SCAN_MS);
+        return super::fmu::export(&args.program, output, args.target.as_deref(), fmi, scan_ms, shown);
+    }
+    if args.fmi.is_some() || args.scan_ms.is_some() {
+        say_err!("error: --fmi and --scan-ms go with --emit fmu");
+        return status::UNUSABLE;
     }
     let c_target = args.target.as_deref().and_then(ladder_cback::targets::c_target);
     let image = match image_request(args, c_target.is_some()) {

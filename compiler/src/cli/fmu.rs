@@ -9,6 +9,9 @@ use ladder_fmu::{build, FmiVersion, FmuOptions};
 use ladder_front::diagnostics::Shown;
 use std::path::{Path, PathBuf};
 
+/// The scan period an FMU starts with unless `--scan-ms` says.
+pub const DEFAULT_SCAN_MS: u32 = 10;
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum FmiArg {
     /// FMI 3.0.

@@ -5,6 +5,7 @@
 #   python3 fmpy_checks.py seal_in FMU         Y0 under an input signal
 #   python3 fmpy_checks.py state FMU           the FMU state saved and restored
 #   python3 fmpy_checks.py wide FMU            pairs and reals set and read
+#   python3 fmpy_checks.py causality FMU       each variable's causality
 # Each prints one JSON value.
 import json
 import sys
@@ -30,6 +31,9 @@ elif command == "seal_in":
     )
     result = simulate_fmu(fmu, stop_time=1.0, output_interval=0.01, input=signal, output=["Y0"])
     print(json.dumps([[round(float(row["time"]), 3), int(row["Y0"])] for row in result]))
+elif command == "causality":
+    description = read_model_description(args[0])
+    print(json.dumps({v.name: v.causality for v in description.modelVariables}))
 elif command == "wide":
     fmu = args[0]
     outputs = ["D10:32", "D22:float", "D10", "D11"]
@@ -91,8 +95,17 @@ elif command == "state":
     for n in range(6):
         slave.doStep(2.8 + n * 0.05, 0.05)
         half.append([int(v) for v in slave.getBoolean(lamps)])
+    # Bytes that are not this FMU's state are refused.
+    foreign = bytearray(serialize(saved))
+    foreign[1] ^= 0x20
+    try:
+        deserialize(bytes(foreign))
+        foreign_state = "taken"
+    except Exception:
+        foreign_state = "refused"
     slave.terminate()
     slave.freeInstance()
-    print(json.dumps({"first": first, "again": again, "from_bytes": from_bytes, "half_steps": half}))
+    print(json.dumps({"first": first, "again": again, "from_bytes": from_bytes, "half_steps": half,
+                      "foreign_state": foreign_state}))
 else:
     raise SystemExit("unknown command " + command)

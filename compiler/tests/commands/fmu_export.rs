@@ -165,6 +165,57 @@ fn an_input_signal_drives_a_seal_in_and_the_state_replays() {
         half.push(serde_json::json!([1, 0, 1]));
         assert_eq!(seen["half_steps"], serde_json::json!(half), "FMI {fmi}");
         assert_eq!(seen["first"][2], serde_json::json!([1, 0, 1]), "FMI {fmi}: {seen}");
+        assert_eq!(seen["foreign_state"], "refused", "FMI {fmi}: a state not of this FMU");
+    }
+}
+
+#[test]
+fn inputs_are_what_the_program_only_reads_and_outputs_what_it_or_the_scan_writes() {
+    if !fmpy_ready("inputs_are_what_the_program_only_reads_and_outputs_what_it_or_the_scan_writes") {
+        return;
+    }
+    let dir = scratch("fmu_causality");
+    let light = build(
+        &workspace().join("examples/traffic_light.il"),
+        dir.path(),
+        "light.fmu",
+        &[],
+    );
+    let seen = check(dir.path(), &["causality", light.to_str().unwrap()]);
+    for (name, causality) in [
+        ("time", "independent"),
+        ("scan_period", "parameter"),
+        ("X0", "input"),
+        ("Y0", "output"),
+        // The scan writes the special relays and the timers.
+        ("SM0", "output"),
+        ("M8002", "output"),
+        ("T0", "output"),
+        ("TN0", "output"),
+        ("S0", "output"),
+    ] {
+        assert_eq!(seen[name], causality, "{name}: {seen}");
+    }
+    // BMOV and FMOV write through a runtime helper's destination: outputs;
+    // what they only read stays an input.
+    let program = dir.path().join("moves.il");
+    std::fs::write(
+        &program,
+        "LD X0\nBMOV D0 D100 K4\nLD X1\nFMOV K7 D200 K3\nLD= D50 K1\nOUT Y0\n",
+    )
+    .unwrap();
+    let moves = build(&program, dir.path(), "moves.fmu", &[]);
+    let seen = check(dir.path(), &["causality", moves.to_str().unwrap()]);
+    for (name, causality) in [
+        ("D0", "input"),
+        ("D3", "input"),
+        ("D100", "output"),
+        ("D103", "output"),
+        ("D200", "output"),
+        ("D202", "output"),
+        ("D50", "input"),
+    ] {
+        assert_eq!(seen[name], causality, "{name}: {seen}");
     }
 }
 
@@ -211,6 +262,7 @@ fn a_failed_fmu_build_writes_nothing_and_keeps_what_was_there() {
         (&["--target", "aarch64-unknown-linux-gnu"][..], "built for this machine"),
         (&["--scan-ms", "0"][..], "--scan-ms is 1 to 60000"),
         (&["-o", "-"][..], "an FMU is a file"),
+        (&["--image", "compact"][..], "do not go with --emit fmu"),
     ] {
         let mut all = vec!["build", good.to_str().unwrap(), "--emit", "fmu"];
         all.extend_from_slice(args);
@@ -222,6 +274,9 @@ fn a_failed_fmu_build_writes_nothing_and_keeps_what_was_there() {
             text(&output.stderr)
         );
     }
+    let output = ladderc(&["build", good.to_str().unwrap(), "--fmi", "2", "-o", "-"]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(text(&output.stderr).contains("go with --emit fmu"));
 }
 
 #[test]

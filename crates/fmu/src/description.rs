@@ -1,7 +1,9 @@
 //! `modelDescription.xml` for FMI 3.0 and 2.0 co-simulation: the time
 //! (FMI 3.0's independent variable), the scan period as a parameter, and
 //! the devices (inputs with a start value; outputs calculated, so listed
-//! as outputs and initial unknowns). Device names are letters, digits and
+//! as outputs and initial unknowns). Outputs depend on no input directly
+//! (`dependencies=""`): a step's scans see the inputs set before it, so a
+//! master coupling the FMU in a loop has no algebraic loop to solve. Device names are letters, digits and
 //! `:`, so nothing needs escaping but the program's name.
 
 use crate::{Causality, FmiVersion, FmuOptions, VarType, Variable};
@@ -13,6 +15,8 @@ const VR_SCAN_PERIOD: u32 = 1;
 const VR_FIRST_DEVICE: u32 = 2;
 
 fn escape(text: &str) -> String {
+    // Control characters have no place in XML 1.0.
+    let text: String = text.chars().filter(|c| !c.is_control()).collect();
     text.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")
@@ -53,7 +57,7 @@ fn fmi3(options: &FmuOptions, identifier: &str, token: &str, variables: &[Variab
     let _ = writeln!(
         out,
         "  <CoSimulation modelIdentifier=\"{identifier}\" canHandleVariableCommunicationStepSize=\"true\"\n    \
-         canGetAndSetFMUState=\"true\" canSerializeFMUState=\"true\" fixedInternalStepSize=\"{period}\"/>"
+         canGetAndSetFMUState=\"true\" canSerializeFMUState=\"true\"/>"
     );
     let _ = writeln!(out, "  <DefaultExperiment startTime=\"0\" stepSize=\"{period}\"/>");
     let _ = writeln!(out, "  <ModelVariables>");
@@ -94,10 +98,10 @@ fn fmi3(options: &FmuOptions, identifier: &str, token: &str, variables: &[Variab
     let _ = writeln!(out, "  <ModelStructure>");
     let outputs: Vec<u32> = outputs(variables).map(device_vr).collect();
     for vr in &outputs {
-        let _ = writeln!(out, "    <Output valueReference=\"{vr}\"/>");
+        let _ = writeln!(out, "    <Output valueReference=\"{vr}\" dependencies=\"\"/>");
     }
     for vr in &outputs {
-        let _ = writeln!(out, "    <InitialUnknown valueReference=\"{vr}\"/>");
+        let _ = writeln!(out, "    <InitialUnknown valueReference=\"{vr}\" dependencies=\"\"/>");
     }
     let _ = writeln!(out, "  </ModelStructure>");
     let _ = writeln!(out, "</fmiModelDescription>");
@@ -119,7 +123,7 @@ fn fmi2(options: &FmuOptions, identifier: &str, token: &str, variables: &[Variab
     let _ = writeln!(
         out,
         "  <CoSimulation modelIdentifier=\"{identifier}\" canHandleVariableCommunicationStepSize=\"true\"\n    \
-         canGetAndSetFMUstate=\"true\" canSerializeFMUstate=\"true\"/>"
+         canGetAndSetFMUstate=\"true\" canSerializeFMUstate=\"true\" canNotUseMemoryManagementFunctions=\"true\"/>"
     );
     let _ = writeln!(out, "  <DefaultExperiment startTime=\"0\" stepSize=\"{period}\"/>");
     let _ = writeln!(out, "  <ModelVariables>");
@@ -133,21 +137,27 @@ fn fmi2(options: &FmuOptions, identifier: &str, token: &str, variables: &[Variab
     for (index, variable) in variables.iter().enumerate() {
         let vr = device_vr(index);
         let name = &variable.name;
+        // FMI 2.0 Integers are 32-bit: a word says its range.
         let (element, start) = match variable.ty {
-            VarType::Boolean => ("Boolean", "false"),
-            VarType::Int16 | VarType::Int32 | VarType::Pair => ("Integer", "0"),
-            VarType::Real => ("Real", "0"),
+            VarType::Boolean => ("Boolean", "start=\"false\""),
+            VarType::Int16 => ("Integer", "start=\"0\" min=\"-32768\" max=\"32767\""),
+            VarType::Int32 | VarType::Pair => ("Integer", "start=\"0\""),
+            VarType::Real => ("Real", "start=\"0\""),
+        };
+        let range = match variable.ty {
+            VarType::Int16 => " min=\"-32768\" max=\"32767\"",
+            VarType::Boolean | VarType::Int32 | VarType::Pair | VarType::Real => "",
         };
         let _ = match variable.causality {
             Causality::Input => writeln!(
                 out,
                 "    <ScalarVariable name=\"{name}\" valueReference=\"{vr}\" causality=\"input\" variability=\"discrete\">\n      \
-                 <{element} start=\"{start}\"/>\n    </ScalarVariable>"
+                 <{element} {start}/>\n    </ScalarVariable>"
             ),
             Causality::Output => writeln!(
                 out,
                 "    <ScalarVariable name=\"{name}\" valueReference=\"{vr}\" causality=\"output\" variability=\"discrete\" initial=\"calculated\">\n      \
-                 <{element}/>\n    </ScalarVariable>"
+                 <{element}{range}/>\n    </ScalarVariable>"
             ),
         };
     }
@@ -158,12 +168,12 @@ fn fmi2(options: &FmuOptions, identifier: &str, token: &str, variables: &[Variab
     if !places.is_empty() {
         let _ = writeln!(out, "    <Outputs>");
         for place in &places {
-            let _ = writeln!(out, "      <Unknown index=\"{place}\"/>");
+            let _ = writeln!(out, "      <Unknown index=\"{place}\" dependencies=\"\"/>");
         }
         let _ = writeln!(out, "    </Outputs>");
         let _ = writeln!(out, "    <InitialUnknowns>");
         for place in &places {
-            let _ = writeln!(out, "      <Unknown index=\"{place}\"/>");
+            let _ = writeln!(out, "      <Unknown index=\"{place}\" dependencies=\"\"/>");
         }
         let _ = writeln!(out, "    </InitialUnknowns>");
     }

@@ -118,6 +118,10 @@ fn model_header(variables: &[Variable], token: &str, period_ms: u32) -> String {
 /// Builds the FMU of `program`: the bytes of the `.fmu` file, or why not
 /// (no C compiler, no runtime library, a link that failed).
 pub fn build(program: &CheckedProgram, options: &FmuOptions) -> Result<Vec<u8>, String> {
+    // The binary's folder names the platform: only this one is built.
+    if !cfg!(all(target_arch = "x86_64", target_os = "linux")) {
+        return Err("FMUs are built on and for x86_64 Linux only".to_string());
+    }
     let compiler = toolchain::c_compiler()?;
     let runtime = toolchain::runtime_library()?;
     let ir = pipeline::ir(program);

@@ -3,21 +3,23 @@
 //! its value, `CN200` a 32-bit counter). Which devices: those of the
 //! program's compact image (what the program and the machine around it
 //! touch). Which way: X are inputs and Y outputs, as wired; timers' and
-//! counters' contacts and values, special relays and registers (M8000,
-//! D8000 up) are outputs (the scan writes them); any
+//! counters' contacts and values, special relays and registers (SM, SD,
+//! M8000 and D8000 up) are outputs (the scan writes them); any
 //! other device is an output when the program writes it (the optimised
-//! IR's stores, fills and the runtime helpers' declared writes), else an
-//! input the co-simulation may set.
+//! IR's stores, fills, the runtime helpers' declared writes and their
+//! destination places, a run from a place taken to the end of its area),
+//! else an input the co-simulation may set.
 
 use ladder_front::isa::OperandKind;
 use ladder_front::program::{Address, AppOperand, CheckedProgram, Op, Output, WordRef};
 use ladder_ir::image::{compact_layout, device_name};
-use ladder_ir::{Effect, Function, Index, Program, Space};
-use ladder_runtime::helpers::Writes;
+use ladder_ir::{Effect, Function, Index, Inst, Program, Space, Value};
+use ladder_runtime::helpers::{Param, Writes};
 use ladder_runtime::layout::Array;
 use ladder_runtime::special::{D_ERROR_CODE, M_OPERATION_ERROR};
+use ladder_runtime::Place;
 use ladder_runtime::{Width, WordArea};
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 
 /// The first special relay (M8000) and register (D8000).
 const SPECIAL_FIRST: u32 = 8000;
@@ -63,11 +65,11 @@ fn published(array: Array, n: u32) -> Option<(&'static str, u32, VarType, bool)>
         Array::Y => ("LADDER_DEVICE_Y", n, VarType::Boolean, true),
         Array::M => ("LADDER_DEVICE_M", n, VarType::Boolean, false),
         Array::S => ("LADDER_DEVICE_S", n, VarType::Boolean, false),
-        Array::Sm => ("LADDER_DEVICE_SM", n, VarType::Boolean, false),
+        Array::Sm => ("LADDER_DEVICE_SM", n, VarType::Boolean, true),
         Array::TimerContact => ("LADDER_DEVICE_TS", n, VarType::Boolean, true),
         Array::CounterContact => ("LADDER_DEVICE_CS", n, VarType::Boolean, true),
         Array::D => ("LADDER_DEVICE_D", n, VarType::Int16, false),
-        Array::Sd => ("LADDER_DEVICE_SD", n, VarType::Int16, false),
+        Array::Sd => ("LADDER_DEVICE_SD", n, VarType::Int16, true),
         Array::R => ("LADDER_DEVICE_R", n, VarType::Int16, false),
         Array::TimerValue => ("LADDER_DEVICE_TN", n, VarType::Int16, true),
         Array::CounterValue => ("LADDER_DEVICE_CN", n, VarType::Int16, true),
@@ -111,6 +113,8 @@ fn published(array: Array, n: u32) -> Option<(&'static str, u32, VarType, bool)>
 struct Written {
     elements: HashSet<(Array, u32)>,
     arrays: HashSet<Array>,
+    /// Runs to the end of their array: (array, first).
+    starts: Vec<(Array, u32)>,
     everything: bool,
 }
 
@@ -124,13 +128,33 @@ impl Written {
     }
 
     fn function(&mut self, function: &Function) {
+        // Helpers take their places as constants the lowering packed.
+        let constants: HashMap<Value, i64> = function
+            .blocks
+            .iter()
+            .flat_map(|block| &block.insts)
+            .filter_map(|(value, inst)| {
+                if let (Some(value), Inst::Const { value: constant, .. }) = (value, inst) {
+                    Some((*value, *constant))
+                } else {
+                    None
+                }
+            })
+            .collect();
         for block in &function.blocks {
             for (_, inst) in &block.insts {
                 match inst.effect() {
                     Effect::Store(span, _) | Effect::Fill(span) => self.span(span.space, span.start, span.count),
-                    Effect::Helper(helper, _) => {
-                        for writes in helper.decl().writes {
+                    Effect::Helper(helper, args) => {
+                        let decl = helper.decl();
+                        for writes in decl.writes {
                             self.helper(*writes);
+                        }
+                        for ((_, param), arg) in decl.params.iter().zip(args) {
+                            if *param == Param::DestinationPlace {
+                                let place = constants.get(arg).and_then(|&packed| Place::unpack(packed as u32));
+                                self.destination(place);
+                            }
                         }
                     }
                     Effect::OperationError => self.operation_error(),
@@ -152,6 +176,30 @@ impl Written {
         }
     }
 
+    /// A helper's destination place: a run from it whose length the
+    /// helper's other arguments give, so taken to the end of its area; a
+    /// place not known here may be anything.
+    fn destination(&mut self, place: Option<Place>) {
+        match place {
+            Some(Place::Word(area, n)) => self.from(Array::of_words(area), n),
+            Some(Place::WordBit(area, bit)) => self.from(Array::of_words(area), bit / 16),
+            Some(Place::Bit(area, n)) => self.from(Array::of_bits(area), n),
+            Some(Place::Digits(area, n, digits)) => {
+                let array = Array::of_bits(area);
+                self.elements
+                    .extend((n..n.saturating_add(4 * u32::from(digits))).map(|n| (array, n)));
+            }
+            // The 32-bit counters are outputs anyway; a constant is nowhere.
+            Some(Place::WideCounter(_) | Place::Constant(_)) => {}
+            None => self.everything = true,
+        }
+    }
+
+    /// Elements `n` to the end of `array`.
+    fn from(&mut self, array: Array, n: u32) {
+        self.starts.push((array, n));
+    }
+
     fn operation_error(&mut self) {
         self.elements.insert((Array::M, M_OPERATION_ERROR));
         self.elements.insert((Array::D, D_ERROR_CODE));
@@ -171,7 +219,10 @@ impl Written {
     }
 
     fn contains(&self, array: Array, n: u32) -> bool {
-        self.everything || self.arrays.contains(&array) || self.elements.contains(&(array, n))
+        self.everything
+            || self.arrays.contains(&array)
+            || self.elements.contains(&(array, n))
+            || self.starts.iter().any(|&(a, first)| a == array && n >= first)
     }
 }
 

@@ -73,8 +73,15 @@ static bool plc_set_period(Plc *plc, double seconds) {
     return true;
 }
 
-/* Advances by `seconds`: the scans that fall into the step, each reporting
- * one period; a step shorter than the period carries over to the next. */
+/* The longest communication step: a day (86,400,000 scans at 1 ms). */
+#define LONGEST_STEP_S 86400.0
+
+/* Whether a step can be taken: finite, not negative, at most a day. */
+static bool plc_step_ok(double seconds) { return seconds >= 0.0 && seconds <= LONGEST_STEP_S; }
+
+/* Advances by `seconds` (plc_step_ok): the scans that fall into the step,
+ * each reporting one period; a step shorter than the period carries over
+ * to the next. */
 static void plc_step(Plc *plc, double seconds) {
     plc->carried_ms += seconds * 1000.0;
     /* Steps are sums of decimal fractions: a microsecond short of a whole
@@ -141,7 +148,8 @@ static bool plc_set_int32(Plc *plc, uint32_t vr, int32_t value) {
     return plc_set(plc, vr, TYPE_INT32, value) || plc_set(plc, vr, TYPE_PAIR, value);
 }
 
-/* The state: the time, the carried time, the period and the image. */
+/* The state: the time, the carried time, the period and the image; as
+ * bytes, after this FMU's token (a state of another program is refused). */
 typedef struct {
     double time;
     double carried_ms;
@@ -149,7 +157,8 @@ typedef struct {
     unsigned char image[LADDER_MEMORY_SIZE];
 } PlcState;
 
-#define STATE_BYTES (sizeof(double) * 2 + sizeof(uint32_t) + LADDER_MEMORY_SIZE)
+#define TOKEN_BYTES (sizeof INSTANTIATION_TOKEN)
+#define STATE_BYTES (TOKEN_BYTES + sizeof(double) * 2 + sizeof(uint32_t) + LADDER_MEMORY_SIZE)
 
 static PlcState *plc_save(const Plc *plc, PlcState *into) {
     PlcState *state = into != NULL ? into : malloc(sizeof *state);
@@ -175,6 +184,8 @@ static void plc_restore(Plc *plc, const PlcState *state) {
 }
 
 static void plc_serialize(const PlcState *state, unsigned char *out) {
+    memcpy(out, INSTANTIATION_TOKEN, TOKEN_BYTES);
+    out += TOKEN_BYTES;
     memcpy(out, &state->time, sizeof(double));
     memcpy(out + sizeof(double), &state->carried_ms, sizeof(double));
     memcpy(out + 2 * sizeof(double), &state->period_ms, sizeof(uint32_t));
@@ -182,14 +193,17 @@ static void plc_serialize(const PlcState *state, unsigned char *out) {
 }
 
 static PlcState *plc_deserialize(const unsigned char *in, size_t size) {
-    if (size != STATE_BYTES) return NULL;
+    if (in == NULL || size != STATE_BYTES || memcmp(in, INSTANTIATION_TOKEN, TOKEN_BYTES) != 0) return NULL;
+    in += TOKEN_BYTES;
     PlcState *state = malloc(sizeof *state);
     if (state == NULL) return NULL;
     memcpy(&state->time, in, sizeof(double));
     memcpy(&state->carried_ms, in + sizeof(double), sizeof(double));
     memcpy(&state->period_ms, in + 2 * sizeof(double), sizeof(uint32_t));
     memcpy(state->image, in + 2 * sizeof(double) + sizeof(uint32_t), LADDER_MEMORY_SIZE);
-    if (state->period_ms < SHORTEST_PERIOD_MS || state->period_ms > LONGEST_PERIOD_MS) {
+    bool sane = state->period_ms >= SHORTEST_PERIOD_MS && state->period_ms <= LONGEST_PERIOD_MS &&
+                isfinite(state->time) && state->carried_ms >= 0.0 && state->carried_ms < state->period_ms;
+    if (!sane) {
         free(state);
         return NULL;
     }

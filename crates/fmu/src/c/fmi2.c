@@ -165,7 +165,7 @@ EXPORT fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[],
     Instance *self = c;
     if (self == NULL) return fmi2Error;
     for (size_t i = 0; i < nvr; i++)
-        if (!set_integer(self->plc, vr[i], value[i])) return refuse(c, "no Integer input with this value reference");
+        if (!set_integer(self->plc, vr[i], value[i])) return refuse(c, "not an Integer input, or a value the device does not hold");
     return fmi2OK;
 }
 
@@ -283,7 +283,7 @@ EXPORT fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint
     (void)noSetFMUStatePriorToCurrentPoint;
     Instance *self = c;
     if (self == NULL) return fmi2Error;
-    if (!(communicationStepSize >= 0.0)) return refuse(c, "a step is not negative");
+    if (!plc_step_ok(communicationStepSize)) return refuse(c, "a step is 0 s to a day long");
     self->plc->time = currentCommunicationPoint;
     plc_step(self->plc, communicationStepSize);
     return fmi2OK;

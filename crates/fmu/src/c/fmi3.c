@@ -79,11 +79,15 @@ EXPORT fmi3Instance fmi3InstantiateCoSimulation(
     (void)resourcePath;
     (void)visible;
     (void)loggingOn;
-    (void)eventModeUsed;
     (void)earlyReturnAllowed;
     (void)requiredIntermediateVariables;
     (void)nRequiredIntermediateVariables;
     (void)intermediateUpdate;
+    if (eventModeUsed) {
+        if (logMessage != NULL)
+            logMessage(instanceEnvironment, fmi3Error, "logStatusError", "this FMU has no event mode");
+        return NULL;
+    }
     if (instantiationToken == NULL || strcmp(instantiationToken, INSTANTIATION_TOKEN) != 0) {
         if (logMessage != NULL)
             logMessage(instanceEnvironment, fmi3Error, "logStatusError",
@@ -196,7 +200,7 @@ EXPORT fmi3Status fmi3SetFloat64(fmi3Instance instance, const fmi3ValueReference
         if (self == NULL || nValues != nvr) return fmi3Error;                                             \
         for (size_t i = 0; i < nvr; i++)                                                                  \
             if (!plc_set(self->plc, vr[i], TYPE, (int32_t)values[i]))                                    \
-                return refuse(instance, "no " #Name " input with this value reference");                 \
+                return refuse(instance, "not a " #Name " input, or a value the device does not hold");   \
         return fmi3OK;                                                                                    \
     }
 
@@ -549,7 +553,7 @@ EXPORT fmi3Status fmi3DoStep(fmi3Instance instance, fmi3Float64 currentCommunica
     (void)noSetFMUStatePriorToCurrentPoint;
     Instance *self = instance;
     if (self == NULL) return fmi3Error;
-    if (!(communicationStepSize >= 0.0)) return refuse(instance, "a step is not negative");
+    if (!plc_step_ok(communicationStepSize)) return refuse(instance, "a step is 0 s to a day long");
     self->plc->time = currentCommunicationPoint;
     plc_step(self->plc, communicationStepSize);
     if (eventHandlingNeeded != NULL) *eventHandlingNeeded = false;
