@@ -16,8 +16,8 @@ fn programs_compiled_in_parts_match_the_interpreter() {
     let test = "programs_compiled_in_parts_match_the_interpreter";
     let aot = differential::native_hosts(test);
     let seed = differential::seed(test);
-    let totals = differential::check(test, differential::case(common::program()), seed, 60, 100, &aot);
-    assert_eq!(totals.programs, 60);
+    let totals = differential::check(test, differential::case(common::program()), seed, 45, 100, &aot);
+    assert_eq!(totals.programs, 45);
 }
 
 /// FX-structured programs in parts: loop counts travel in the stack slot
@@ -29,8 +29,8 @@ fn fx_programs_compiled_in_parts_match_the_interpreter() {
     let test = "fx_programs_compiled_in_parts_match_the_interpreter";
     let aot = differential::native_hosts(test);
     let seed = differential::seed(test);
-    let totals = differential::check(test, differential::case(common::fx::fx_program()), seed, 40, 100, &aot);
-    assert_eq!(totals.programs, 40);
+    let totals = differential::check(test, differential::case(common::fx::fx_program()), seed, 30, 100, &aot);
+    assert_eq!(totals.programs, 30);
 }
 
 /// Master-control rungs ending in a data instruction (a branch, so a block

@@ -5,6 +5,18 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+/// Many of these tests wait on other processes (the C compiler, Python
+/// clients, QEMU): four at a time on a two-core machine take 36 s where two
+/// take 47 s. Set before the test harness reads it, and only when the
+/// caller chose nothing (`--test-threads` and `RUST_TEST_THREADS` still
+/// decide).
+#[ctor::ctor(unsafe)]
+fn process_bound_tests_run_four_at_a_time() {
+    if std::env::var_os("RUST_TEST_THREADS").is_none() {
+        std::env::set_var("RUST_TEST_THREADS", "4");
+    }
+}
+
 mod c_header;
 mod c_route;
 mod cli;

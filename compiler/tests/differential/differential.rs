@@ -10,8 +10,8 @@
 //! devices the program and its host use; every other batch of programs). A
 //! divergence is shrunk and written out as a scenario file.
 //!
-//! CI runs 300 programs (four tests of 50 random programs, so both cores
-//! work, and 50 each of memory-forwarding and FX-structured programs: the
+//! CI runs 240 programs (four tests of 40 random programs, so both cores
+//! work, and 40 each of memory-forwarding and FX-structured programs: the
 //! share that keeps CI within its time; the seed changes with every commit,
 //! so the programs do too, and the suite covers more with every commit).
 //! The long run is an ignored test:
@@ -29,8 +29,11 @@ use crate::common::differential::{self, Totals};
 use crate::common::tools;
 use proptest::strategy::{BoxedStrategy, Strategy};
 
+/// Programs each CI test runs (see the module comment).
+const PROGRAMS_PER_TEST: usize = 40;
+
 fn run_share(test: &str, share: u64) -> Totals {
-    run_programs(test, share, common::program().boxed(), 50)
+    run_programs(test, share, common::program().boxed(), PROGRAMS_PER_TEST)
 }
 
 fn run_programs(test: &str, share: u64, programs: BoxedStrategy<String>, count: usize) -> Totals {
@@ -54,7 +57,7 @@ fn memory_forwarding_matches_the_interpreter() {
         "memory_forwarding_matches_the_interpreter",
         5,
         common::memory_program().boxed(),
-        50,
+        PROGRAMS_PER_TEST,
     );
 }
 
@@ -67,7 +70,7 @@ fn fx_structure_matches_the_interpreter() {
         "fx_structure_matches_the_interpreter",
         6,
         common::fx::fx_program().boxed(),
-        50,
+        PROGRAMS_PER_TEST,
     );
 }
 
