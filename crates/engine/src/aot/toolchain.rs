@@ -57,7 +57,9 @@ pub fn runtime_library() -> Result<PathBuf, String> {
 }
 
 /// Compiles and links `sources` (C files and objects) with the runtime into
-/// `output`, with the runtime header available as `ladder_runtime.h`.
+/// `output`, with the runtime header available as `ladder_runtime.h`. The
+/// runtime comes from its shared twin where one can be made
+/// (`shared_runtime`), else from the archive.
 pub fn link_host(
     compiler: &str,
     work: &Path,
@@ -66,13 +68,14 @@ pub fn link_host(
     output: &Path,
 ) -> Result<(), String> {
     std::fs::write(work.join("ladder_runtime.h"), RUNTIME_HEADER).map_err(|e| e.to_string())?;
+    let library = shared_runtime(compiler, runtime).unwrap_or_else(|| runtime.to_path_buf());
     let result = Command::new(compiler)
         .args(["-std=c99", "-O2"])
         .args(fast_linker(compiler))
         .arg("-I")
         .arg(work)
         .args(sources)
-        .arg(runtime)
+        .arg(library)
         .args(NATIVE_LIBS)
         .arg("-o")
         .arg(output)
@@ -86,6 +89,76 @@ pub fn link_host(
             String::from_utf8_lossy(&result.stderr)
         ))
     }
+}
+
+/// The runtime archive as a shared library, made once beside it and kept
+/// (named by the archive's size and time, so a rebuilt runtime gets its
+/// own): a host per scenario and engine then links in a fraction of the
+/// time it takes to pull the whole archive, std and all, into each. The
+/// host records the library's path and loads it from there. `None` where
+/// one cannot be made (a folder ladderc may not write, a compiler that
+/// cannot link a shared library): hosts link the archive.
+pub fn shared_runtime(compiler: &str, runtime: &Path) -> Option<PathBuf> {
+    type Made = std::collections::HashMap<PathBuf, Option<PathBuf>>;
+    static MADE: std::sync::Mutex<Option<Made>> = std::sync::Mutex::new(None);
+    let mut made = MADE.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+    made.get_or_insert_with(Default::default)
+        .entry(runtime.to_path_buf())
+        .or_insert_with(|| make_shared_runtime(compiler, runtime))
+        .clone()
+}
+
+fn make_shared_runtime(compiler: &str, runtime: &Path) -> Option<PathBuf> {
+    if std::env::var("LADDERC_LINKER").is_ok_and(|v| v == "default") {
+        return None;
+    }
+    let metadata = std::fs::metadata(runtime).ok()?;
+    let modified = metadata.modified().ok()?.duration_since(std::time::UNIX_EPOCH).ok()?;
+    let stamp = format!("{:x}-{:x}", metadata.len(), modified.as_nanos());
+    let dir = runtime.canonicalize().ok()?.parent()?.to_path_buf();
+    let shared = dir.join(format!("libladder_runtime_shared-{stamp}.so"));
+    if shared.is_file() {
+        return Some(shared);
+    }
+    // Made under a name of this process's own, then renamed into place: a
+    // process that finds the name finds the whole library.
+    let partial = dir.join(format!(
+        ".libladder_runtime_shared-{stamp}.{}.partial",
+        std::process::id()
+    ));
+    let status = Command::new(compiler)
+        .args(fast_linker(compiler))
+        .args(["-shared", "-o"])
+        .arg(&partial)
+        .arg("-Wl,--whole-archive")
+        .arg(runtime)
+        .arg("-Wl,--no-whole-archive")
+        .args(NATIVE_LIBS)
+        .output()
+        .ok()?;
+    if !status.status.success() || std::fs::rename(&partial, &shared).is_err() {
+        let _ = std::fs::remove_file(&partial);
+        return None;
+    }
+    // Twins of runtimes rebuilt since are of no further use once no host
+    // can still be starting with them (an hour on).
+    let stale = |entry: &std::fs::DirEntry| {
+        entry
+            .metadata()
+            .and_then(|m| m.modified())
+            .ok()
+            .and_then(|at| at.elapsed().ok())
+            .is_some_and(|age| age > std::time::Duration::from_secs(3600))
+    };
+    if let Ok(entries) = std::fs::read_dir(&dir) {
+        for entry in entries.flatten() {
+            let name = entry.file_name().to_string_lossy().into_owned();
+            if name.starts_with("libladder_runtime_shared-") && entry.path() != shared && stale(&entry) {
+                let _ = std::fs::remove_file(entry.path());
+            }
+        }
+    }
+    Some(shared)
 }
 
 /// The C compiler's flags for lld when this machine has it (on the PATH,
