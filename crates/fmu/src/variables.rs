@@ -25,7 +25,8 @@ use std::collections::{HashMap, HashSet};
 const SPECIAL_FIRST: u32 = 8000;
 
 /// An area the program addresses at run time is in the image whole; the FMU
-/// publishes at most this many of its devices.
+/// publishes at most this many of its devices (and as many of its special
+/// devices, M8000 and D8000 up).
 pub const MOST_PER_AREA: u32 = 1024;
 
 /// A variable's type, as FMI 3.0 names it (FMI 2.0: Boolean, Integer).
@@ -295,11 +296,17 @@ pub fn variables(checked: &CheckedProgram, ir: &Program) -> Vec<Variable> {
     let mut variables = Vec::new();
     let mut names = HashSet::new();
     for array in Array::ALL {
-        let mut taken = 0;
+        // Devices published so far: the program's own, and the specials
+        // (M8000 and D8000 up), each up to the bound, so that an area
+        // indexed at run time keeps its special devices.
+        let mut taken = [0u32; 2];
         for run in layout.runs_of(array) {
             for n in run.first..run.first + run.count {
-                if taken == MOST_PER_AREA {
-                    break;
+                // M8000 and D8000 up are the machine's: the scan writes them.
+                let special = matches!(array, Array::M | Array::D) && n >= SPECIAL_FIRST;
+                let counted = &mut taken[usize::from(special)];
+                if *counted == MOST_PER_AREA {
+                    continue;
                 }
                 let Some((kind, number, ty, scan_writes)) = published(array, n) else {
                     continue;
@@ -309,9 +316,7 @@ pub fn variables(checked: &CheckedProgram, ir: &Program) -> Vec<Variable> {
                 if !names.insert(name.clone()) {
                     continue;
                 }
-                taken += 1;
-                // M8000 and D8000 up are the machine's: the scan writes them.
-                let special = matches!(array, Array::M | Array::D) && n >= SPECIAL_FIRST;
+                *counted += 1;
                 let causality = if array != Array::X && (scan_writes || special || written.contains(array, n)) {
                     Causality::Output
                 } else {
