@@ -177,25 +177,41 @@ pub fn instantiate<'p>(
     program: &'p CheckedProgram,
     host_devices: &[HostDevice],
 ) -> Result<Box<dyn Engine + 'p>, EngineError> {
+    match kind {
+        // The interpreter runs the checked program: nothing to lower.
+        EngineKind::Interp => Ok(Box::new(InProcess::new(Interpreter::new(program)))),
+        EngineKind::Jit | EngineKind::Aot | EngineKind::C | EngineKind::CCompact => {
+            instantiate_lowered(kind, &crate::pipeline::Lowered::new(program), host_devices)
+        }
+    }
+}
+
+/// `instantiate` from a program lowered once, so that several engines
+/// share one lowering (a scenario on every engine).
+pub fn instantiate_lowered<'p>(
+    kind: EngineKind,
+    lowered: &crate::pipeline::Lowered<'p>,
+    host_devices: &[HostDevice],
+) -> Result<Box<dyn Engine + 'p>, EngineError> {
     use crate::pipeline::ImageRequest;
     match kind {
-        EngineKind::Interp => Ok(Box::new(InProcess::new(Interpreter::new(program)))),
+        EngineKind::Interp => Ok(Box::new(InProcess::new(Interpreter::new(lowered.checked)))),
         EngineKind::Jit => {
-            let compiled = crate::pipeline::jit(program).map_err(|e| EngineError::Failed(e.to_string()))?;
+            let compiled = lowered.jit().map_err(|e| EngineError::Failed(e.to_string()))?;
             Ok(Box::new(InProcess::new(compiled)))
         }
         EngineKind::Aot => Ok(Box::new(crate::aot::AotEngine::start(
-            program,
+            lowered,
             crate::aot::Route::Object,
             &ImageRequest::full_with(host_devices.to_vec()),
         )?)),
         EngineKind::C => Ok(Box::new(crate::aot::AotEngine::start(
-            program,
+            lowered,
             crate::aot::Route::C,
             &ImageRequest::full_with(host_devices.to_vec()),
         )?)),
         EngineKind::CCompact => Ok(Box::new(crate::aot::AotEngine::start(
-            program,
+            lowered,
             crate::aot::Route::C,
             &ImageRequest::compact(host_devices.to_vec()),
         )?)),

@@ -13,10 +13,62 @@ pub fn ir(program: &CheckedProgram) -> Program {
     ladder_ir::lower_and_optimize(program)
 }
 
+/// A checked program lowered and optimised once, for every back end that
+/// builds it (the JIT, the object file, the C back end, full or compact):
+/// a scenario runs on four native engines from one lowering.
+pub struct Lowered<'p> {
+    pub checked: &'p CheckedProgram,
+    pub ir: Program,
+}
+
+impl<'p> Lowered<'p> {
+    pub fn new(checked: &'p CheckedProgram) -> Lowered<'p> {
+        Lowered {
+            checked,
+            ir: ir(checked),
+        }
+    }
+
+    /// The program compiled into this process (which runs it on `Memory`:
+    /// the full layout).
+    pub fn jit(&self) -> Result<JitProgram, CodegenError> {
+        JitProgram::compile(&self.ir)
+    }
+
+    /// The program as an object file (`options.layout` is set from `image`).
+    pub fn object(&self, options: &ObjectOptions, image: &ImageRequest) -> Result<Built<Vec<u8>>, CodegenError> {
+        let layout = image.layout(self.checked, &self.ir);
+        let options = ObjectOptions {
+            layout,
+            machine: machine_use(self.checked, &self.ir, &image.host_devices),
+            ..options.clone()
+        };
+        Ok(Built {
+            output: emit_object(&self.ir, &options)?,
+            layout,
+        })
+    }
+
+    /// The program as portable C (the C back end; `options.layout` is set
+    /// from `image`).
+    pub fn c_source(&self, options: &ladder_cback::COptions, image: &ImageRequest) -> Built<String> {
+        let layout = image.layout(self.checked, &self.ir);
+        let options = ladder_cback::COptions {
+            layout,
+            machine: machine_use(self.checked, &self.ir, &image.host_devices),
+            ..options.clone()
+        };
+        Built {
+            output: ladder_cback::emit_c(&self.ir, &options),
+            layout,
+        }
+    }
+}
+
 /// The program compiled into this process (which runs it on `Memory`: the
 /// full layout).
 pub fn jit(program: &CheckedProgram) -> Result<JitProgram, CodegenError> {
-    JitProgram::compile(&ir(program))
+    Lowered::new(program).jit()
 }
 
 /// The image a built program gets: the full layout, or a compact one that
@@ -80,31 +132,11 @@ pub fn object(
     options: &ObjectOptions,
     image: &ImageRequest,
 ) -> Result<Built<Vec<u8>>, CodegenError> {
-    let ir = ir(program);
-    let layout = image.layout(program, &ir);
-    let options = ObjectOptions {
-        layout,
-        machine: machine_use(program, &ir, &image.host_devices),
-        ..options.clone()
-    };
-    Ok(Built {
-        output: emit_object(&ir, &options)?,
-        layout,
-    })
+    Lowered::new(program).object(options, image)
 }
 
 /// The program as portable C (the C back end, from the same optimised IR;
 /// `options.layout` is set from `image`).
 pub fn c_source(program: &CheckedProgram, options: &ladder_cback::COptions, image: &ImageRequest) -> Built<String> {
-    let ir = ir(program);
-    let layout = image.layout(program, &ir);
-    let options = ladder_cback::COptions {
-        layout,
-        machine: machine_use(program, &ir, &image.host_devices),
-        ..options.clone()
-    };
-    Built {
-        output: ladder_cback::emit_c(&ir, &options),
-        layout,
-    }
+    Lowered::new(program).c_source(options, image)
 }

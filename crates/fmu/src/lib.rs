@@ -124,13 +124,15 @@ pub fn build(program: &CheckedProgram, options: &FmuOptions) -> Result<Vec<u8>, 
     }
     let compiler = toolchain::c_compiler()?;
     let runtime = toolchain::runtime_library()?;
-    let ir = pipeline::ir(program);
-    let variables = variables(program, &ir);
+    // Lowered once: the variables come from the IR the object is made of.
+    let lowered = pipeline::Lowered::new(program);
+    let variables = variables(program, &lowered.ir);
     let object_options = ladder_codegen::ObjectOptions {
         prefix: ladder_codegen::DEFAULT_PREFIX.to_string(),
         ..Default::default()
     };
-    let object = pipeline::object(program, &object_options, &ImageRequest::full())
+    let object = lowered
+        .object(&object_options, &ImageRequest::full())
         .map_err(|e| e.to_string())?
         .output;
     let identifier = model_identifier(&options.model_name);

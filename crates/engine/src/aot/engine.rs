@@ -1,11 +1,10 @@
 //! A compiled program running in a host process, as a scenario engine.
 
 use super::toolchain;
-use crate::pipeline::ImageRequest;
+use crate::pipeline::{ImageRequest, Lowered};
 use crate::{Engine, EngineError};
 use ladder_codegen::ObjectOptions;
 use ladder_front::host_device::HostDevice;
-use ladder_front::program::CheckedProgram;
 use ladder_runtime::calendar::CalendarTime;
 use ladder_runtime::host::{read_composite, write_composite, AccessError, Basic, BasicAccess};
 use ladder_runtime::BitArea;
@@ -36,7 +35,7 @@ impl AotEngine {
     /// Compiles `program` (to an object, or to C compiled by the C
     /// compiler) for an image as `image` asks, links the scenario host and
     /// starts it.
-    pub fn start(program: &CheckedProgram, route: Route, image: &ImageRequest) -> Result<AotEngine, EngineError> {
+    pub fn start(lowered: &Lowered<'_>, route: Route, image: &ImageRequest) -> Result<AotEngine, EngineError> {
         let compiler = toolchain::c_compiler().map_err(EngineError::Unavailable)?;
         let runtime = toolchain::runtime_library().map_err(EngineError::Unavailable)?;
         let failed = |e: String| EngineError::Failed(e);
@@ -49,7 +48,8 @@ impl AotEngine {
         };
         let program_path = match route {
             Route::Object => {
-                let object = crate::pipeline::object(program, &options, image)
+                let object = lowered
+                    .object(&options, image)
                     .map_err(|e| failed(e.to_string()))?
                     .output;
                 let path = work.path().join("program.o");
@@ -64,8 +64,7 @@ impl AotEngine {
                     ..Default::default()
                 };
                 let path = work.path().join("program.c");
-                std::fs::write(&path, crate::pipeline::c_source(program, &c_options, image).output)
-                    .map_err(|e| failed(e.to_string()))?;
+                std::fs::write(&path, lowered.c_source(&c_options, image).output).map_err(|e| failed(e.to_string()))?;
                 path
             }
         };

@@ -4,7 +4,7 @@
 use super::drive::{drive, Observer};
 use super::parse::{Directive, ProgramSource, Scenario};
 use crate::waveform::{Recorder, Signal};
-use crate::{instantiate, Engine, EngineError, EngineKind};
+use crate::{instantiate, instantiate_lowered, Engine, EngineError, EngineKind};
 use ladder_front::check::compile_source;
 use ladder_front::diagnostics::render_all;
 use ladder_front::host_device::{format_value, HostDevice};
@@ -232,8 +232,16 @@ pub fn run_scenario(
         snapshots: options.snapshots.then(Vec::new),
     };
     let host_devices = scenario.host_devices();
+    // Lowered once for every native engine (and not at all for the
+    // interpreter alone).
+    let native = engines.iter().any(|&kind| kind != EngineKind::Interp);
+    let lowered = native.then(|| crate::pipeline::Lowered::new(&program));
     for &kind in engines {
-        match instantiate(kind, &program, &host_devices) {
+        let instance = match &lowered {
+            Some(lowered) => instantiate_lowered(kind, lowered, &host_devices),
+            None => instantiate(kind, &program, &host_devices),
+        };
+        match instance {
             Ok(mut engine) => {
                 outcome.ran.push(kind);
                 let mut observer = observe(kind);
