@@ -211,6 +211,16 @@ impl Server {
     }
 }
 
+/// Waits until `check` holds, up to 5 s: what a scan or two makes true
+/// comes true however busy the machine is.
+fn eventually(what: &str, mut check: impl FnMut() -> bool) {
+    let deadline = std::time::Instant::now() + Duration::from_secs(5);
+    while !check() {
+        assert!(std::time::Instant::now() < deadline, "{what}");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
 fn scan_of(web: SocketAddr) -> u64 {
     json(&http(web, "GET", "/api/devices?watch=D0", "").1)["scan"]
         .as_u64()
@@ -224,13 +234,10 @@ fn stop_pause_step_and_breakpoints_through_the_api() {
     let control = |action: &str| json(&http(web, "POST", "/api/control", &format!(r#"{{"action": "{action}"}}"#)).1);
     // STOP: Y OFF, no scans, writes still apply.
     http(web, "POST", "/api/set", r#"{"device": "X0", "value": 1}"#);
-    std::thread::sleep(Duration::from_millis(100));
-    assert_eq!(
-        json(&http(web, "GET", "/api/devices?watch=Y0", "").1)["devices"]["Y0"],
-        1
-    );
+    let y0 = || json(&http(web, "GET", "/api/devices?watch=Y0", "").1)["devices"]["Y0"].clone();
+    eventually("Y0 follows X0", || y0() == 1);
     assert_eq!(control("stop")["mode"], "stop");
-    std::thread::sleep(Duration::from_millis(100));
+    eventually("STOP turns the outputs off", || y0() == 0);
     let stopped = json(&http(web, "GET", "/api/devices?watch=Y0,D0", "").1);
     assert_eq!(stopped["devices"]["Y0"], 0, "STOP turns the outputs off: {stopped}");
     http(web, "POST", "/api/set", r#"{"device": "D5", "value": 77}"#);
@@ -239,8 +246,7 @@ fn stop_pause_step_and_breakpoints_through_the_api() {
     assert_eq!(later["scan"], stopped["scan"], "no scan in STOP");
     assert_eq!(later["devices"]["D5"], 77, "a write applies in STOP");
     control("run");
-    std::thread::sleep(Duration::from_millis(150));
-    assert!(scan_of(web) > stopped["scan"].as_u64().unwrap());
+    eventually("scans after RUN", || scan_of(web) > stopped["scan"].as_u64().unwrap());
     // Pause, then steps of exactly the scans asked for.
     control("pause");
     std::thread::sleep(Duration::from_millis(100));
@@ -254,7 +260,9 @@ fn stop_pause_step_and_breakpoints_through_the_api() {
             "/api/control",
             &format!(r#"{{"action": "step", "scans": {scans}}}"#),
         );
-        std::thread::sleep(Duration::from_millis(300));
+        eventually("the steps ran", || scan_of(web) >= expected);
+        // ...and no more than asked for.
+        std::thread::sleep(Duration::from_millis(100));
         assert_eq!(scan_of(web), expected);
     }
     // A breakpoint pauses at the end of the scan where it turns true.
@@ -270,8 +278,9 @@ fn stop_pause_step_and_breakpoints_through_the_api() {
     );
     assert_eq!(status, 200, "{body}");
     control("resume");
-    std::thread::sleep(Duration::from_millis(700));
-    let state = json(&http(web, "GET", "/api/devices?watch=D0", "").1);
+    let state = || json(&http(web, "GET", "/api/devices?watch=D0", "").1);
+    eventually("the breakpoint pauses", || state()["control"]["paused"] == true);
+    let state = state();
     assert_eq!(state["control"]["paused"], true, "{state}");
     assert_eq!(
         state["devices"]["D0"],
