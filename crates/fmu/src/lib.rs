@@ -107,8 +107,8 @@ fn model_header(variables: &[Variable], token: &str, period_ms: u32) -> String {
             Causality::Output => "false",
         };
         out.push_str(&format!(
-            "    {{{}, {}u, {ty}, {input}}}, /* {} */\n",
-            variable.kind, variable.number, variable.name
+            "    {{{}u, {}u, {ty}, {input}}}, /* {} ({:?}) */\n",
+            variable.kind as u32, variable.number, variable.name, variable.kind
         ));
     }
     out.push_str("    {0, 0, 0, false}\n};\n");

@@ -14,11 +14,13 @@ use ladder_front::isa::OperandKind;
 use ladder_front::program::{Address, AppOperand, CheckedProgram, Op, Output, WordRef};
 use ladder_ir::image::{compact_layout, device_name};
 use ladder_ir::{Effect, Function, Index, Inst, Program, Space, Value};
+use ladder_runtime::capi::{c_device, LadderDevice};
+use ladder_runtime::device::FIRST_WIDE_COUNTER;
 use ladder_runtime::helpers::{Param, Writes};
 use ladder_runtime::layout::Array;
 use ladder_runtime::special::{D_ERROR_CODE, M_OPERATION_ERROR};
 use ladder_runtime::Place;
-use ladder_runtime::{Width, WordArea};
+use ladder_runtime::{Basic, BitArea, Width, WordArea};
 use std::collections::{HashMap, HashSet};
 
 /// The first special relay (M8000) and register (D8000).
@@ -50,63 +52,34 @@ pub enum Causality {
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Variable {
     pub name: String,
-    /// The `LadderDevice` the C API reads and writes it as.
-    pub kind: &'static str,
+    /// The kind the C API reads and writes it as.
+    pub kind: LadderDevice,
     /// Its number for the C API.
     pub number: u32,
     pub ty: VarType,
     pub causality: Causality,
 }
 
-/// How a device array becomes variables: the C API's kind for element
-/// `n`, the type, and whether the scan writes every element of it.
-fn published(array: Array, n: u32) -> Option<(&'static str, u32, VarType, bool)> {
-    Some(match array {
-        Array::X => ("LADDER_DEVICE_X", n, VarType::Boolean, false),
-        Array::Y => ("LADDER_DEVICE_Y", n, VarType::Boolean, true),
-        Array::M => ("LADDER_DEVICE_M", n, VarType::Boolean, false),
-        Array::S => ("LADDER_DEVICE_S", n, VarType::Boolean, false),
-        Array::Sm => ("LADDER_DEVICE_SM", n, VarType::Boolean, true),
-        Array::TimerContact => ("LADDER_DEVICE_TS", n, VarType::Boolean, true),
-        Array::CounterContact => ("LADDER_DEVICE_CS", n, VarType::Boolean, true),
-        Array::D => ("LADDER_DEVICE_D", n, VarType::Int16, false),
-        Array::Sd => ("LADDER_DEVICE_SD", n, VarType::Int16, true),
-        Array::R => ("LADDER_DEVICE_R", n, VarType::Int16, false),
-        Array::TimerValue => ("LADDER_DEVICE_TN", n, VarType::Int16, true),
-        Array::CounterValue => ("LADDER_DEVICE_CN", n, VarType::Int16, true),
-        Array::WideCounterValue => (
-            "LADDER_DEVICE_CN",
-            n.max(ladder_runtime::device::FIRST_WIDE_COUNTER),
-            VarType::Int32,
-            true,
-        ),
-        // Word 2n is Zn, word 2n+1 is Vn.
-        Array::Index if n.is_multiple_of(2) => ("LADDER_DEVICE_Z", n / 2, VarType::Int16, false),
-        Array::Index => ("LADDER_DEVICE_V", n / 2, VarType::Int16, false),
-        // The modules' buffer memory is the host's (64K words a module),
-        // and the rest is the scan's own bookkeeping.
-        Array::Buffer
-        | Array::InputImage
-        | Array::OutputImage
-        | Array::TimerRemainder
-        | Array::TimerCoilWasOn
-        | Array::CounterCoilWasOn
-        | Array::StlPendingOff
-        | Array::StlBlockActive
-        | Array::EdgeSlot
-        | Array::SortState
-        | Array::SortScans
-        | Array::ForceX
-        | Array::ForceY
-        | Array::ForceM
-        | Array::ForceTimer
-        | Array::ForceCounter
-        | Array::PulsesPending
-        | Array::InputEdges
-        | Array::Instance
-        | Array::PulseOwner
-        | Array::PulseRemainder => return None,
-    })
+/// How element `n` of a device array becomes a variable: the device it
+/// is, its type, and whether the scan writes every element of the array.
+/// `None` for the modules' buffer memory (the host's, 64K words a module)
+/// and the scan's own bookkeeping.
+fn published(array: Array, n: u32) -> Option<(Basic, VarType, bool)> {
+    if let Some(area) = BitArea::ALL.into_iter().find(|&area| Array::of_bits(area) == array) {
+        let scan_writes = matches!(
+            area,
+            BitArea::Y | BitArea::Sm | BitArea::TimerContact | BitArea::CounterContact
+        );
+        return Some((Basic::Bit(area, n), VarType::Boolean, scan_writes));
+    }
+    if array == Array::WideCounterValue {
+        return Some((Basic::WideCounter(n.max(FIRST_WIDE_COUNTER)), VarType::Int32, true));
+    }
+    let area = WordArea::ALL
+        .into_iter()
+        .find(|&area| area != WordArea::Buffer && Array::of_words(area) == array)?;
+    let scan_writes = matches!(area, WordArea::Sd | WordArea::TimerValue | WordArea::CounterValue);
+    Some((Basic::Word(area, n), VarType::Int16, scan_writes))
 }
 
 /// What the program writes: elements, whole arrays, or everything.
@@ -308,9 +281,10 @@ pub fn variables(checked: &CheckedProgram, ir: &Program) -> Vec<Variable> {
                 if *counted == MOST_PER_AREA {
                     continue;
                 }
-                let Some((kind, number, ty, scan_writes)) = published(array, n) else {
+                let Some((device, ty, scan_writes)) = published(array, n) else {
                     continue;
                 };
+                let (kind, number) = c_device(device);
                 let name = device_name(array, n);
                 // A run's clamped start may repeat a device another run holds.
                 if !names.insert(name.clone()) {
@@ -334,13 +308,7 @@ pub fn variables(checked: &CheckedProgram, ir: &Program) -> Vec<Variable> {
     }
     // A pair or real aliases its two words (published above as well).
     for (area, first, ty) in wide_words(checked) {
-        let (array, kind, prefix) = match area {
-            WordArea::D => (Array::D, "LADDER_DEVICE_D", "D"),
-            WordArea::R => (Array::R, "LADDER_DEVICE_R", "R"),
-            WordArea::Sd | WordArea::TimerValue | WordArea::CounterValue | WordArea::Index | WordArea::Buffer => {
-                continue
-            }
-        };
+        let array = Array::of_words(area);
         if first + 1 >= area.count() {
             continue;
         }
@@ -350,10 +318,11 @@ pub fn variables(checked: &CheckedProgram, ir: &Program) -> Vec<Variable> {
         };
         let written = written.contains(array, first) || written.contains(array, first + 1);
         let special = area == WordArea::D && first >= SPECIAL_FIRST;
+        let (kind, number) = c_device(Basic::Word(area, first));
         variables.push(Variable {
-            name: format!("{prefix}{first}:{suffix}"),
+            name: format!("{}:{suffix}", device_name(array, first)),
             kind,
-            number: first,
+            number,
             ty,
             causality: if written || special {
                 Causality::Output

@@ -1,8 +1,8 @@
 //! The device families a MELSEC frame names, and how each frame kind names
 //! them: the 1E frame's two-character names (`D `, `TN`), the 3E/4E
-//! frame's one-byte binary codes and two-character ASCII names (`D*`,
-//! `SM`), and the iQ-R forms of subcommands 0002/0003 (two-byte codes,
-//! four-character names).
+//! frame's one-byte binary codes and ASCII names (the family's name padded
+//! with `*`: `D*`, `SM`), and the iQ-R forms of subcommands 0002/0003
+//! (two-byte codes, names padded to four characters).
 
 /// A family of devices, as the PLC numbers them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -149,28 +149,6 @@ impl Family {
         }
     }
 
-    /// The 3E/4E frame's ASCII device name: two characters (`D*`), padded
-    /// with `*` to four for the iQ-R subcommands.
-    pub fn name_3e(self) -> &'static str {
-        match self {
-            Family::X => "X*",
-            Family::Y => "Y*",
-            Family::M => "M*",
-            Family::S => "S*",
-            Family::Sm => "SM",
-            Family::Sd => "SD",
-            Family::D => "D*",
-            Family::R => "R*",
-            Family::TimerContact => "TS",
-            Family::TimerCoil => "TC",
-            Family::TimerValue => "TN",
-            Family::CounterContact => "CS",
-            Family::CounterCoil => "CC",
-            Family::CounterValue => "CN",
-            Family::LongCounterValue => "LCN",
-        }
-    }
-
     pub fn from_code_1e(code: u16) -> Option<Family> {
         FAMILIES.into_iter().find(|family| family.code_1e() == Some(code))
     }
@@ -179,17 +157,14 @@ impl Family {
         FAMILIES.into_iter().find(|family| u16::from(family.code_3e()) == code)
     }
 
-    /// An ASCII name, with or without its `*` padding.
+    /// A 3E/4E frame's ASCII device name: the family's name padded with `*`
+    /// to two characters (`D*`, `SM`) or, in the iQ-R form, four (`D***`,
+    /// `LCN*`).
     pub fn from_name_3e(name: &[u8]) -> Option<Family> {
-        let name = name
-            .strip_suffix(b"**")
-            .or_else(|| name.strip_suffix(b"*"))
-            .unwrap_or(name);
-        let name = name.strip_suffix(b"*").unwrap_or(name);
-        FAMILIES.into_iter().find(|family| {
-            let own = family.name_3e().as_bytes();
-            own.strip_suffix(b"*").unwrap_or(own) == name
-        })
+        let end = name.iter().rposition(|&c| c != b'*').map_or(0, |last| last + 1);
+        FAMILIES
+            .into_iter()
+            .find(|family| family.name().as_bytes() == &name[..end])
     }
 }
 
@@ -219,8 +194,9 @@ mod tests {
     fn every_code_and_name_names_one_family() {
         for family in FAMILIES {
             assert_eq!(Family::from_code_3e(u16::from(family.code_3e())), Some(family));
-            assert_eq!(Family::from_name_3e(family.name_3e().as_bytes()), Some(family));
-            let padded = format!("{:*<4}", family.name_3e());
+            let short = format!("{:*<2}", family.name());
+            assert_eq!(Family::from_name_3e(short.as_bytes()), Some(family), "{short}");
+            let padded = format!("{:*<4}", family.name());
             assert_eq!(Family::from_name_3e(padded.as_bytes()), Some(family), "{padded}");
             if let Some(code) = family.code_1e() {
                 assert_eq!(Family::from_code_1e(code), Some(family));

@@ -19,7 +19,7 @@
 //! for another PC number and 18H when host writes are waiting beyond the
 //! server's bound.
 
-use crate::exec::{execute, Error, Refusal, Reply, Request};
+use crate::exec::{execute, fault, limit, Error, Refusal, Reply, Request};
 use crate::wire::{Code, Fault, Reader, Writer};
 use crate::{Device, Family, Length, Plc, Remote};
 
@@ -143,22 +143,6 @@ fn end_code(error: Error) -> (u8, Option<u8>) {
             (0x58, None)
         }
         Error::Refused(Refusal::Busy) => (0x5B, Some(0x18)),
-    }
-}
-
-fn fault(fault: Fault) -> Error {
-    match fault {
-        Fault::Short => Error::Length,
-        Fault::NotDigit => Error::NotDigit,
-    }
-}
-
-/// `points` within `1..=most`.
-fn limit(points: u32, most: u32) -> Result<u32, Error> {
-    if (1..=most).contains(&points) {
-        Ok(points)
-    } else {
-        Err(Error::Points)
     }
 }
 

@@ -21,7 +21,7 @@
 //! bit units of a word device, C05FH writes refused (read-only server or
 //! peer), CEE0H host writes waiting beyond the server's bound.
 
-use crate::exec::{execute, Error, Refusal, Reply, Request};
+use crate::exec::{execute, fault, limit, Error, Refusal, Reply, Request};
 use crate::wire::{Code, Fault, Reader, Writer};
 use crate::{Device, Family, Length, Plc, Remote, MAX_FRAME};
 
@@ -64,13 +64,6 @@ struct Form {
     long: bool,
 }
 
-fn fault(fault: Fault) -> Error {
-    match fault {
-        Fault::Short => Error::Length,
-        Fault::NotDigit => Error::NotDigit,
-    }
-}
-
 fn device(reader: &mut Reader<'_>, form: Form) -> Result<Device, Error> {
     let (number_width, code_width) = if form.long { (4, 2) } else { (3, 1) };
     let (family, number) = match reader.code {
@@ -90,14 +83,6 @@ fn device(reader: &mut Reader<'_>, form: Form) -> Result<Device, Error> {
     Ok(Device { family, number })
 }
 
-fn limit(points: u32, most: u32) -> Result<u32, Error> {
-    if (1..=most).contains(&points) {
-        Ok(points)
-    } else {
-        Err(Error::Points)
-    }
-}
-
 /// The FX3's 32-bit counters are LCN here; CN names the 16-bit ones only.
 /// Checks a run of counter values and gives LCN as the counters it names.
 fn counters(first: Device, count: u32, plc: &dyn Plc) -> Result<Device, Error> {
@@ -107,28 +92,19 @@ fn counters(first: Device, count: u32, plc: &dyn Plc) -> Result<Device, Error> {
             number: first.number.saturating_add(n),
         })
     };
-    match first.family {
-        Family::CounterValue if (0..count).any(wide) => Err(Error::OutOfRange),
-        Family::LongCounterValue if !(0..count).all(wide) => Err(Error::OutOfRange),
-        Family::LongCounterValue => Ok(Device {
-            family: Family::CounterValue,
-            number: first.number,
-        }),
-        Family::CounterValue
-        | Family::X
-        | Family::Y
-        | Family::M
-        | Family::S
-        | Family::Sm
-        | Family::Sd
-        | Family::D
-        | Family::R
-        | Family::TimerContact
-        | Family::TimerCoil
-        | Family::TimerValue
-        | Family::CounterContact
-        | Family::CounterCoil => Ok(first),
+    if first.family == Family::CounterValue && (0..count).any(wide) {
+        return Err(Error::OutOfRange);
     }
+    if first.family != Family::LongCounterValue {
+        return Ok(first);
+    }
+    if !(0..count).all(wide) {
+        return Err(Error::OutOfRange);
+    }
+    Ok(Device {
+        family: Family::CounterValue,
+        number: first.number,
+    })
 }
 
 fn words(reader: &mut Reader<'_>, count: u32) -> Result<Vec<u16>, Error> {

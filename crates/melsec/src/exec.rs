@@ -4,6 +4,7 @@
 //! frame modules decode their bytes into a [`Request`] and encode the
 //! [`Reply`] or the [`Error`] as their own end codes.
 
+use crate::wire::Fault;
 use crate::{Device, Family, Plc};
 
 /// A write a request asks for.
@@ -158,22 +159,29 @@ fn value(plc: &dyn Plc, device: Device) -> (u32, usize) {
     }
 }
 
+/// Coils are read, never written.
 fn writable(family: Family) -> Result<(), Error> {
-    match family {
-        Family::TimerCoil | Family::CounterCoil => Err(Error::ReadOnlyDevice),
-        Family::X
-        | Family::Y
-        | Family::M
-        | Family::S
-        | Family::Sm
-        | Family::Sd
-        | Family::D
-        | Family::R
-        | Family::TimerContact
-        | Family::TimerValue
-        | Family::CounterContact
-        | Family::CounterValue
-        | Family::LongCounterValue => Ok(()),
+    if matches!(family, Family::TimerCoil | Family::CounterCoil) {
+        Err(Error::ReadOnlyDevice)
+    } else {
+        Ok(())
+    }
+}
+
+/// A frame that could not be read, as the error it answers.
+pub fn fault(fault: Fault) -> Error {
+    match fault {
+        Fault::Short => Error::Length,
+        Fault::NotDigit => Error::NotDigit,
+    }
+}
+
+/// `points` within `1..=most`.
+pub fn limit(points: u32, most: u32) -> Result<u32, Error> {
+    if (1..=most).contains(&points) {
+        Ok(points)
+    } else {
+        Err(Error::Points)
     }
 }
 

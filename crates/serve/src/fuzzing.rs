@@ -36,10 +36,14 @@ fn started() -> Arc<Shared> {
     shared
 }
 
+/// The first byte's bit 0 (writes allowed), and the bytes after it.
+fn flags(data: &[u8]) -> Option<(bool, &[u8])> {
+    data.split_first().map(|(&flags, rest)| (flags & 1 != 0, rest))
+}
+
 pub fn modbus_stream(data: &[u8]) {
-    let (may_write, mut rest) = match data.split_first() {
-        Some((&flags, rest)) => (flags & 1 != 0, rest),
-        None => return,
+    let Some((may_write, mut rest)) = flags(data) else {
+        return;
     };
     let service = Service {
         shared: started(),
@@ -72,9 +76,8 @@ pub fn modbus_stream(data: &[u8]) {
 
 pub fn melsec_stream(data: &[u8]) {
     use ladder_melsec::{frame_length, kind, Code, Kind, Length};
-    let (may_write, mut rest) = match data.split_first() {
-        Some((&flags, rest)) => (flags & 1 != 0, rest),
-        None => return,
+    let Some((may_write, mut rest)) = flags(data) else {
+        return;
     };
     let shared = started();
     loop {
@@ -83,9 +86,11 @@ pub fn melsec_stream(data: &[u8]) {
             Length::Frame(_) | Length::Need(_) | Length::Invalid => return,
         };
         let frame = &rest[..length];
-        let reply = super::melsec::answer(&shared, may_write, frame);
-        match (kind(frame), reply) {
-            (Some(Kind::E1(code)), Some(reply)) => {
+        let (Some(kind), Some(reply)) = (kind(frame), super::melsec::answer(&shared, may_write, frame)) else {
+            panic!("a frame `frame_length` measured got no answer");
+        };
+        match kind {
+            Kind::E1(code) => {
                 let command = match code {
                     Code::Binary => frame[0],
                     Code::Ascii => {
@@ -100,8 +105,8 @@ pub fn melsec_stream(data: &[u8]) {
                 };
                 assert_eq!(echoed, Some(command | 0x80), "a 1E answer names its command");
             }
-            (Some(Kind::E3(code) | Kind::E4(code)), Some(reply)) => {
-                let four = matches!(kind(frame), Some(Kind::E4(_)));
+            Kind::E3(code) | Kind::E4(code) => {
+                let four = matches!(kind, Kind::E4(_));
                 let unit = match code {
                     Code::Binary => 1,
                     Code::Ascii => 2,
@@ -127,16 +132,14 @@ pub fn melsec_stream(data: &[u8]) {
                 };
                 assert_eq!(length, reply.len() - header, "the length counts the end code and data");
             }
-            (None, _) | (Some(_), None) => panic!("a frame `frame_length` measured got no answer"),
         }
         rest = &rest[length..];
     }
 }
 
 pub fn modbus_rtu_frames(data: &[u8]) {
-    let (may_write, mut rest) = match data.split_first() {
-        Some((&flags, rest)) => (flags & 1 != 0, rest),
-        None => return,
+    let Some((may_write, mut rest)) = flags(data) else {
+        return;
     };
     let service = Service {
         shared: started(),

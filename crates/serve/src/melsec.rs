@@ -39,86 +39,57 @@ pub struct Station {
     pub may_write: bool,
 }
 
-fn bit_area(family: Family) -> Option<BitArea> {
+/// Where a family's devices are in the image.
+#[derive(Clone, Copy)]
+enum Storage {
+    Bits(BitArea),
+    /// Words; the counters' (CN, LCN) are 16-bit for C0-C199, 32-bit from
+    /// C200 (`Station::wide`).
+    Words(WordArea),
+    /// Whether each timer's coil was ON at its last execution.
+    TimerCoils,
+    CounterCoils,
+}
+
+fn storage(family: Family) -> Storage {
     match family {
-        Family::X => Some(BitArea::X),
-        Family::Y => Some(BitArea::Y),
-        Family::M => Some(BitArea::M),
-        Family::S => Some(BitArea::S),
-        Family::Sm => Some(BitArea::Sm),
-        Family::TimerContact => Some(BitArea::TimerContact),
-        Family::CounterContact => Some(BitArea::CounterContact),
-        Family::TimerCoil
-        | Family::CounterCoil
-        | Family::Sd
-        | Family::D
-        | Family::R
-        | Family::TimerValue
-        | Family::CounterValue
-        | Family::LongCounterValue => None,
+        Family::X => Storage::Bits(BitArea::X),
+        Family::Y => Storage::Bits(BitArea::Y),
+        Family::M => Storage::Bits(BitArea::M),
+        Family::S => Storage::Bits(BitArea::S),
+        Family::Sm => Storage::Bits(BitArea::Sm),
+        Family::TimerContact => Storage::Bits(BitArea::TimerContact),
+        Family::CounterContact => Storage::Bits(BitArea::CounterContact),
+        Family::Sd => Storage::Words(WordArea::Sd),
+        Family::D => Storage::Words(WordArea::D),
+        Family::R => Storage::Words(WordArea::R),
+        Family::TimerValue => Storage::Words(WordArea::TimerValue),
+        Family::CounterValue | Family::LongCounterValue => Storage::Words(WordArea::CounterValue),
+        Family::TimerCoil => Storage::TimerCoils,
+        Family::CounterCoil => Storage::CounterCoils,
     }
 }
 
-fn word_area(family: Family) -> Option<WordArea> {
-    match family {
-        Family::Sd => Some(WordArea::Sd),
-        Family::D => Some(WordArea::D),
-        Family::R => Some(WordArea::R),
-        Family::TimerValue => Some(WordArea::TimerValue),
-        Family::CounterValue => Some(WordArea::CounterValue),
-        Family::X
-        | Family::Y
-        | Family::M
-        | Family::S
-        | Family::Sm
-        | Family::TimerContact
-        | Family::TimerCoil
-        | Family::CounterContact
-        | Family::CounterCoil
-        | Family::LongCounterValue => None,
-    }
-}
-
-/// The host device a MELSEC device is.
+/// The host device a MELSEC device is (none for a coil).
 fn host_device(device: Device, wide: bool) -> Option<HostDevice> {
-    let single = |device| HostDevice {
-        device,
-        width: Width::Single,
+    let (device, width) = match (storage(device.family), wide) {
+        (Storage::Words(_), true) => (ladder_runtime::Device::WideCounter(device.number), Width::Double),
+        (Storage::Bits(area), false | true) => (ladder_runtime::Device::Bit(area, device.number), Width::Single),
+        (Storage::Words(area), false) => (ladder_runtime::Device::Word(area, device.number), Width::Single),
+        (Storage::TimerCoils | Storage::CounterCoils, false | true) => return None,
     };
-    if wide {
-        return Some(HostDevice {
-            device: ladder_runtime::Device::WideCounter(device.number),
-            width: Width::Double,
-        });
-    }
-    if let Some(area) = bit_area(device.family) {
-        return Some(single(ladder_runtime::Device::Bit(area, device.number)));
-    }
-    word_area(device.family).map(|area| single(ladder_runtime::Device::Word(area, device.number)))
+    Some(HostDevice { device, width })
 }
 
 impl Plc for Station {
     fn points(&self, family: Family) -> u32 {
-        match family {
-            Family::TimerCoil => BitArea::TimerContact.count(),
-            Family::CounterCoil => BitArea::CounterContact.count(),
+        match storage(family) {
             // C0-C199 are 16-bit, C200-C255 32-bit: CN and LCN number them
             // all (the protocol crate refuses each where it does not fit).
-            Family::CounterValue | Family::LongCounterValue => BitArea::CounterContact.count(),
-            Family::X
-            | Family::Y
-            | Family::M
-            | Family::S
-            | Family::Sm
-            | Family::TimerContact
-            | Family::CounterContact
-            | Family::Sd
-            | Family::D
-            | Family::R
-            | Family::TimerValue => bit_area(family)
-                .map(BitArea::count)
-                .or_else(|| word_area(family).map(WordArea::count))
-                .unwrap_or(0),
+            Storage::Words(WordArea::CounterValue) | Storage::CounterCoils => BitArea::CounterContact.count(),
+            Storage::Words(area) => area.count(),
+            Storage::Bits(area) => area.count(),
+            Storage::TimerCoils => BitArea::TimerContact.count(),
         }
     }
 
@@ -128,22 +99,10 @@ impl Plc for Station {
 
     fn bit(&self, device: Device) -> bool {
         let index = device.number as usize;
-        match device.family {
-            Family::TimerCoil => self.image.timer_coil_was_on.get(index).is_some_and(|&on| on != 0),
-            Family::CounterCoil => self.image.counter_coil_was_on.get(index).is_some_and(|&on| on != 0),
-            Family::X
-            | Family::Y
-            | Family::M
-            | Family::S
-            | Family::Sm
-            | Family::TimerContact
-            | Family::CounterContact
-            | Family::Sd
-            | Family::D
-            | Family::R
-            | Family::TimerValue
-            | Family::CounterValue
-            | Family::LongCounterValue => host_device(device, false)
+        match storage(device.family) {
+            Storage::TimerCoils => self.image.timer_coil_was_on.get(index).is_some_and(|&on| on != 0),
+            Storage::CounterCoils => self.image.counter_coil_was_on.get(index).is_some_and(|&on| on != 0),
+            Storage::Bits(_) | Storage::Words(_) => host_device(device, false)
                 .and_then(|host| self.image.read_device(host.device, host.width))
                 .is_some_and(|value| value != 0),
         }
