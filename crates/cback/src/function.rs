@@ -239,6 +239,28 @@ impl Emitter<'_> {
                     v(value)
                 ))
             }
+            Inst::LoadBookkeeping { field, index } => {
+                let at = self.bookkeeping(field.array(), *index);
+                match field {
+                    ir::Bookkeeping::TimerRemainder => format!("ld_load16({at})"),
+                    ir::Bookkeeping::TimerCoil | ir::Bookkeeping::CounterCoil => format!("*({at})"),
+                    // A force byte is FORCE_NONE (0), FORCE_OFF or FORCE_ON.
+                    ir::Bookkeeping::TimerForced | ir::Bookkeeping::CounterForced => {
+                        format!("(uint8_t)(*({at}) != 0)")
+                    }
+                }
+            }
+            Inst::StoreBookkeeping { field, index, value } => {
+                let at = self.bookkeeping(field.array(), *index);
+                return Err(match field {
+                    ir::Bookkeeping::TimerRemainder => format!("ld_store16({at}, {});", v(value)),
+                    ir::Bookkeeping::TimerCoil
+                    | ir::Bookkeeping::CounterCoil
+                    | ir::Bookkeeping::TimerForced
+                    | ir::Bookkeeping::CounterForced => format!("*({at}) = {};", v(value)),
+                });
+            }
+            Inst::LoadElapsed => format!("ld_load32(m + {})", Scalar::ElapsedMs.offset()),
             Inst::GetLocal { local } => format!("l{}", local.0),
             Inst::SetLocal { local, value } => return Err(format!("l{} = {};", local.0, v(value))),
             Inst::LoadLoopCount { level } => format!("c{level}"),

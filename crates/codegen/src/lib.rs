@@ -2,6 +2,7 @@
 //! memory (`jit`) or as an object file (`object`). Both go through
 //! `define_program`, so they run the same code.
 
+mod divide;
 mod jit;
 mod object;
 mod translate;

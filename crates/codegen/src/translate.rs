@@ -11,6 +11,7 @@
 //! bit leaves bit logic (stored, tested, widened to a number, compared,
 //! passed on) it is taken from byte 0.
 
+use crate::divide;
 use cranelift_codegen::ir::condcodes::{FloatCC, IntCC};
 use cranelift_codegen::ir::{types, FuncRef, InstBuilder, MemFlagsData, Value};
 use cranelift_frontend::{FunctionBuilder, Variable};
@@ -355,19 +356,19 @@ impl Translator<'_, '_> {
         if self.builder.func.dfg.value_type(bit) == types::I8 {
             return bit;
         }
-        let constant =
-            self.builder
-                .func
-                .dfg
-                .value_def(bit)
-                .inst()
-                .and_then(|inst| match self.builder.func.dfg.insts[inst] {
-                    cranelift_codegen::ir::InstructionData::UnaryImm { imm, .. } => Some(imm.bits()),
-                    _ => None,
-                });
-        match constant {
+        match self.constant(bit) {
             Some(value) => self.iconst(types::I8, value & 1),
             None => self.builder.ins().ireduce(types::I8, bit),
+        }
+    }
+
+    /// The bits of `value` when it is an `iconst` (a narrow type's are
+    /// zero-extended).
+    fn constant(&self, value: Value) -> Option<i64> {
+        let inst = self.builder.func.dfg.value_def(value).inst()?;
+        match self.builder.func.dfg.insts[inst] {
+            cranelift_codegen::ir::InstructionData::UnaryImm { imm, .. } => Some(imm.bits()),
+            _ => None,
         }
     }
 
@@ -490,6 +491,12 @@ impl Translator<'_, '_> {
         self.element(Array::of_words(area), area.count(), index, values)
     }
 
+    /// A timer's or counter's state by device number.
+    fn bookkeeping(&mut self, field: ir::Bookkeeping, index: u32, values: &[Option<Value>]) -> (Value, i32) {
+        let array = field.array();
+        self.element(array, array.end() - array.first(), Index::Fixed(index), values)
+    }
+
     /// A 32-bit counter by device number (C200..C255).
     fn wide_counter_address(&mut self, index: Index, values: &[Option<Value>]) -> (Value, i32) {
         let array = Array::WideCounterValue;
@@ -575,7 +582,14 @@ impl Translator<'_, '_> {
 
     /// Calls a runtime helper with the image and `args`; its result, if any.
     fn call(&mut self, helper: Helper, args: &[Value]) -> Option<Value> {
-        let mut all = vec![self.mem];
+        // A copy of the image pointer for each call: the pointer itself then
+        // never has to be in the first argument register, so the register
+        // allocator keeps it in one callee-saved register for the whole
+        // function instead of moving it back at every block (measured on
+        // the mixed plant: a `mov` per block and jumps that could not be
+        // threaded).
+        let image = self.builder.ins().iadd_imm_s(self.mem, 0);
+        let mut all = vec![image];
         all.extend_from_slice(args);
         let call = self.builder.ins().call(self.helpers[helper as usize], &all);
         self.builder.inst_results(call).first().copied()
@@ -660,6 +674,31 @@ impl Translator<'_, '_> {
                 self.store_at(value, at);
                 return None;
             }
+            Inst::LoadBookkeeping { field, index } => {
+                let at = self.bookkeeping(*field, *index, values);
+                match field {
+                    ir::Bookkeeping::TimerRemainder => self.load_at(types::I16, at),
+                    ir::Bookkeeping::TimerCoil | ir::Bookkeeping::CounterCoil => self.load_bit_byte(at),
+                    // A force byte is FORCE_NONE (0), FORCE_OFF or FORCE_ON.
+                    ir::Bookkeeping::TimerForced | ir::Bookkeeping::CounterForced => {
+                        let byte = self.load_at(types::I8, at);
+                        self.builder.ins().icmp_imm_s(IntCC::NotEqual, byte, 0)
+                    }
+                }
+            }
+            Inst::StoreBookkeeping { field, index, value } => {
+                let at = self.bookkeeping(*field, *index, values);
+                let value = match field {
+                    ir::Bookkeeping::TimerRemainder => get(value),
+                    ir::Bookkeeping::TimerCoil
+                    | ir::Bookkeeping::CounterCoil
+                    | ir::Bookkeeping::TimerForced
+                    | ir::Bookkeeping::CounterForced => self.bit_byte(get(value)),
+                };
+                self.store_at(value, at);
+                return None;
+            }
+            Inst::LoadElapsed => self.load_at(types::I32, (self.mem, Scalar::ElapsedMs.offset() as i32)),
             Inst::GetLocal { local } => self.builder.use_var(self.locals[local.0 as usize]),
             Inst::SetLocal { local, value } => {
                 let value = self.wide(get(value));
@@ -706,6 +745,22 @@ impl Translator<'_, '_> {
                 // Arithmetic on bits (not made by the lowering today) on
                 // their clean bytes; a bit result stays an `i8` (`wide`).
                 let (a, b) = (self.clean(*a, get(a)), self.clean(*b, get(b)));
+                let by_constant = match op {
+                    BinOp::Div => self.constant(b).and_then(|d| divide::quotient(self.builder, a, d)),
+                    BinOp::Rem => self.constant(b).and_then(|d| divide::remainder(self.builder, a, d)),
+                    BinOp::Add
+                    | BinOp::Sub
+                    | BinOp::Mul
+                    | BinOp::And
+                    | BinOp::Or
+                    | BinOp::Xor
+                    | BinOp::Shl
+                    | BinOp::Shr
+                    | BinOp::UShr => None,
+                };
+                if let Some(result) = by_constant {
+                    return Some(result);
+                }
                 let ins = self.builder.ins();
                 match op {
                     BinOp::Add => ins.iadd(a, b),

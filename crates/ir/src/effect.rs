@@ -6,7 +6,7 @@
 //! A new instruction is described here, and the compiler points at this
 //! match and at the back ends' translations, nowhere else.
 
-use super::{Index, Inst, Value};
+use super::{Bookkeeping, Index, Inst, Value};
 use ladder_runtime::helpers::Helper;
 use ladder_runtime::layout::Array;
 use ladder_runtime::{BitArea, WordArea};
@@ -22,6 +22,8 @@ pub enum Space {
     EdgeSlots,
     /// Whether each STL block last ran with its state ON, by state.
     BlockActive,
+    /// The runtime's state of each timer or counter, by device number.
+    Bookkeeping(Bookkeeping),
 }
 
 impl Space {
@@ -33,6 +35,7 @@ impl Space {
             Space::WideCounters => Array::WideCounterValue,
             Space::EdgeSlots => Array::EdgeSlot,
             Space::BlockActive => Array::StlBlockActive,
+            Space::Bookkeeping(field) => field.array(),
         }
     }
 }
@@ -49,7 +52,8 @@ pub struct Span {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Effect<'a> {
     /// Nothing: its value comes from its operands alone (constants, logic,
-    /// arithmetic, comparisons, conversions).
+    /// arithmetic, comparisons, conversions), or from the scan's elapsed
+    /// time, which nothing changes while the program runs.
     Pure,
     /// Reads a variable of its function (a local or a loop count), never
     /// the image.
@@ -135,12 +139,19 @@ impl Inst {
             Inst::StoreBlockActive { state, value } => {
                 Effect::Store(Span::one(Space::BlockActive, Index::Fixed(*state)), *value)
             }
+            Inst::LoadBookkeeping { field, index } => {
+                Effect::Load(Span::one(Space::Bookkeeping(*field), Index::Fixed(*index)))
+            }
+            Inst::StoreBookkeeping { field, index, value } => {
+                Effect::Store(Span::one(Space::Bookkeeping(*field), Index::Fixed(*index)), *value)
+            }
             Inst::GetLocal { .. } | Inst::LoadLoopCount { .. } => Effect::ReadsLocal,
             Inst::SetLocal { .. } | Inst::StoreLoopCount { .. } => Effect::WritesLocal,
             Inst::Call { helper, args } => Effect::Helper(*helper, args),
             Inst::RecordError { .. } => Effect::OperationError,
             Inst::CallSubroutine { .. } => Effect::Subroutine,
             Inst::Const { .. }
+            | Inst::LoadElapsed
             | Inst::Not { .. }
             | Inst::And { .. }
             | Inst::Or { .. }

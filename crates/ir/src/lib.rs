@@ -75,6 +75,69 @@ pub enum Index {
     Dynamic(Value),
 }
 
+/// State the runtime keeps for a timer or counter besides its value and
+/// contact, which the inline `OUT T` and `OUT C` of the lowering read and
+/// write as the runtime's coils do (`runtime/src/timer.rs`, `counter.rs`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Bookkeeping {
+    /// Whether the timer's coil was ON at its last `OUT` (Bit).
+    TimerCoil,
+    /// The milliseconds below the timer's resolution carried to its next
+    /// scan (I16, unsigned, below the resolution).
+    TimerRemainder,
+    /// Whether the timer is forced (Bit: its force byte is not
+    /// `FORCE_NONE`). The lowering only reads it.
+    TimerForced,
+    /// Whether the counter's coil was ON at its last `OUT` (Bit).
+    CounterCoil,
+    /// Whether the counter is forced (Bit), read only.
+    CounterForced,
+}
+
+impl Bookkeeping {
+    pub const ALL: [Bookkeeping; 5] = [
+        Bookkeeping::TimerCoil,
+        Bookkeeping::TimerRemainder,
+        Bookkeeping::TimerForced,
+        Bookkeeping::CounterCoil,
+        Bookkeeping::CounterForced,
+    ];
+
+    /// The layout's array that holds it.
+    pub fn array(self) -> ladder_runtime::layout::Array {
+        use ladder_runtime::layout::Array;
+        match self {
+            Bookkeeping::TimerCoil => Array::TimerCoilWasOn,
+            Bookkeeping::TimerRemainder => Array::TimerRemainder,
+            Bookkeeping::TimerForced => Array::ForceTimer,
+            Bookkeeping::CounterCoil => Array::CounterCoilWasOn,
+            Bookkeeping::CounterForced => Array::ForceCounter,
+        }
+    }
+
+    /// The IR type of an element.
+    pub fn value_type(self) -> Type {
+        match self {
+            Bookkeeping::TimerRemainder => Type::I16,
+            Bookkeeping::TimerCoil
+            | Bookkeeping::TimerForced
+            | Bookkeeping::CounterCoil
+            | Bookkeeping::CounterForced => Type::Bit,
+        }
+    }
+
+    /// The name `print` shows.
+    pub fn name(self) -> &'static str {
+        match self {
+            Bookkeeping::TimerCoil => "timer_coil",
+            Bookkeeping::TimerRemainder => "timer_remainder",
+            Bookkeeping::TimerForced => "timer_forced",
+            Bookkeeping::CounterCoil => "counter_coil",
+            Bookkeeping::CounterForced => "counter_forced",
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum BinOp {
     Add,
@@ -199,6 +262,20 @@ pub enum Inst {
         state: u32,
         value: Value,
     },
+    /// The runtime's own state of timer or counter `index` (`Bookkeeping`).
+    LoadBookkeeping {
+        field: Bookkeeping,
+        index: u32,
+    },
+    StoreBookkeeping {
+        field: Bookkeeping,
+        index: u32,
+        value: Value,
+    },
+    /// The milliseconds since the previous scan (I32 holding the image's
+    /// unsigned count). Nothing changes it while the program runs, so it
+    /// is pure.
+    LoadElapsed,
     GetLocal {
         local: Local,
     },
@@ -316,7 +393,8 @@ impl Inst {
             | Inst::Compare { .. }
             | Inst::FloatCompare { .. } => Type::Bit,
             Inst::LoadWord { .. } => Type::I16,
-            Inst::LoadWideCounter { .. } | Inst::LoadLoopCount { .. } => Type::I32,
+            Inst::LoadBookkeeping { field, .. } => field.value_type(),
+            Inst::LoadWideCounter { .. } | Inst::LoadLoopCount { .. } | Inst::LoadElapsed => Type::I32,
             Inst::Binary { a, .. } => value_type(*a),
             Inst::Unary { value, .. } => value_type(*value),
             Inst::Extend { to, .. } | Inst::Truncate { to, .. } => *to,
@@ -332,6 +410,7 @@ impl Inst {
             | Inst::StoreWideCounter { .. }
             | Inst::StoreSlot { .. }
             | Inst::StoreBlockActive { .. }
+            | Inst::StoreBookkeeping { .. }
             | Inst::SetLocal { .. }
             | Inst::StoreLoopCount { .. }
             | Inst::CallSubroutine { .. }
@@ -363,6 +442,8 @@ impl Inst {
             Inst::Const { .. }
             | Inst::LoadSlot { .. }
             | Inst::LoadBlockActive { .. }
+            | Inst::LoadBookkeeping { .. }
+            | Inst::LoadElapsed
             | Inst::GetLocal { .. }
             | Inst::LoadLoopCount { .. }
             | Inst::CallSubroutine { .. }
@@ -379,6 +460,7 @@ impl Inst {
             }
             Inst::StoreSlot { value, .. }
             | Inst::StoreBlockActive { value, .. }
+            | Inst::StoreBookkeeping { value, .. }
             | Inst::SetLocal { value, .. }
             | Inst::StoreLoopCount { value, .. }
             | Inst::Not { value }

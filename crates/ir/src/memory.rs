@@ -23,6 +23,7 @@
 //! differential test holds this against.
 
 use super::{Block, BlockId, Effect, Function, Index, Inst, Space, Terminator, Value};
+use crate::Bookkeeping;
 use ladder_runtime::device::{FIRST_WIDE_COUNTER, WIDE_COUNTER_COUNT};
 use ladder_runtime::helpers::{Helper, Param, Writes};
 use ladder_runtime::special::{D_ERROR_CODE, D_ERROR_LINE, M_OPERATION_ERROR};
@@ -38,6 +39,7 @@ enum Place {
     WideCounter(u32),
     Slot(u32),
     BlockActive(u32),
+    Bookkeeping(Bookkeeping, u32),
 }
 
 /// A group of places a dynamic access or a call may touch.
@@ -46,6 +48,7 @@ enum Region {
     Bits(BitArea),
     Words(WordArea),
     WideCounters,
+    Bookkeeping(Bookkeeping),
 }
 
 impl Place {
@@ -54,6 +57,7 @@ impl Place {
             Place::Bit(area, _) => Some(Region::Bits(area)),
             Place::Word(area, _) => Some(Region::Words(area)),
             Place::WideCounter(_) => Some(Region::WideCounters),
+            Place::Bookkeeping(field, _) => Some(Region::Bookkeeping(field)),
             Place::Slot(_) | Place::BlockActive(_) => None,
         }
     }
@@ -95,13 +99,18 @@ fn call_footprint(helper: Helper) -> Footprint {
     let mut regions = Vec::new();
     for writes in decl.writes {
         match writes {
-            Writes::Timers => {
-                regions.extend([Region::Bits(BitArea::TimerContact), Region::Words(WordArea::TimerValue)]);
-            }
+            // Forces change only between scans, so no helper writes them.
+            Writes::Timers => regions.extend([
+                Region::Bits(BitArea::TimerContact),
+                Region::Words(WordArea::TimerValue),
+                Region::Bookkeeping(Bookkeeping::TimerCoil),
+                Region::Bookkeeping(Bookkeeping::TimerRemainder),
+            ]),
             Writes::Counters => regions.extend([
                 Region::Bits(BitArea::CounterContact),
                 Region::Words(WordArea::CounterValue),
                 Region::WideCounters,
+                Region::Bookkeeping(Bookkeeping::CounterCoil),
                 // 32-bit counters read their direction relays M8200-M8255.
                 Region::Bits(BitArea::M),
             ]),
@@ -281,6 +290,7 @@ fn access(inst: &Inst) -> Access {
         Space::WideCounters => wide_counter_place(n),
         Space::EdgeSlots => Place::Slot(n),
         Space::BlockActive => Place::BlockActive(n),
+        Space::Bookkeeping(field) => Place::Bookkeeping(field, n),
     };
     // Where a run-time index may land; a space without one (never indexed
     // at run time) is a barrier.
@@ -288,6 +298,7 @@ fn access(inst: &Inst) -> Access {
         Space::Bits(area) => Some(Region::Bits(area)),
         Space::Words(area) => Some(Region::Words(area)),
         Space::WideCounters => Some(Region::WideCounters),
+        Space::Bookkeeping(field) => Some(Region::Bookkeeping(field)),
         Space::EdgeSlots | Space::BlockActive => None,
     };
     let anywhere = |space: Space, access: fn(Region) -> Access| match region(space) {
@@ -308,7 +319,7 @@ fn access(inst: &Inst) -> Access {
             let area_count = match span.space {
                 Space::Bits(area) => Some(area.count()),
                 Space::Words(area) => Some(area.count()),
-                Space::WideCounters | Space::EdgeSlots | Space::BlockActive => None,
+                Space::WideCounters | Space::EdgeSlots | Space::BlockActive | Space::Bookkeeping(_) => None,
             };
             match area_count
                 .and_then(|count| span.fixed_run(count))

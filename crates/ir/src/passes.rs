@@ -154,7 +154,9 @@ fn written_bits(inst: &Inst, constants: &HashMap<Value, i64>) -> Vec<(BitArea, O
     match inst.effect() {
         Effect::Store(span, _) | Effect::Fill(span) => match span.space {
             Space::Bits(area) => vec![(area, fixed(span.start), span.count)],
-            Space::Words(_) | Space::WideCounters | Space::EdgeSlots | Space::BlockActive => Vec::new(),
+            Space::Words(_) | Space::WideCounters | Space::EdgeSlots | Space::BlockActive | Space::Bookkeeping(_) => {
+                Vec::new()
+            }
         },
         Effect::Helper(helper, args) => {
             let decl = helper.decl();
@@ -356,6 +358,9 @@ fn fold(
         | Inst::StoreSlot { .. }
         | Inst::LoadBlockActive { .. }
         | Inst::StoreBlockActive { .. }
+        | Inst::LoadBookkeeping { .. }
+        | Inst::StoreBookkeeping { .. }
+        | Inst::LoadElapsed
         | Inst::GetLocal { .. }
         | Inst::SetLocal { .. }
         | Inst::RecordError { .. }
@@ -392,6 +397,9 @@ fn fix_index(inst: &mut Inst, constants: &HashMap<Value, i64>) {
         | Inst::StoreSlot { .. }
         | Inst::LoadBlockActive { .. }
         | Inst::StoreBlockActive { .. }
+        | Inst::LoadBookkeeping { .. }
+        | Inst::StoreBookkeeping { .. }
+        | Inst::LoadElapsed
         | Inst::GetLocal { .. }
         | Inst::SetLocal { .. }
         | Inst::LoadLoopCount { .. }

@@ -706,11 +706,27 @@ impl Footprint {
                 // A block's "last ran active" flag lives with its state.
                 (Space::BlockActive, Index::Fixed(state)) => self.bits(BitArea::S, state, 1),
                 (Space::BlockActive, Index::Dynamic(_)) => self.whole_bits(BitArea::S),
+                (Space::Bookkeeping(field), index) => self.bookkeeping(field, index),
             },
             Effect::Helper(helper, _) => self.helper(helper),
             Effect::OperationError => self.operation_error(),
             // A subroutine's accesses are its own function's.
             Effect::Subroutine | Effect::Pure | Effect::ReadsLocal | Effect::WritesLocal => {}
+        }
+    }
+
+    /// A timer's or counter's state, which the layout holds with its
+    /// contact.
+    fn bookkeeping(&mut self, field: ir::Bookkeeping, index: ir::Index) {
+        let timer = match field {
+            ir::Bookkeeping::TimerCoil | ir::Bookkeeping::TimerRemainder | ir::Bookkeeping::TimerForced => true,
+            ir::Bookkeeping::CounterCoil | ir::Bookkeeping::CounterForced => false,
+        };
+        match index {
+            ir::Index::Fixed(n) if timer => self.timers(n, 1),
+            ir::Index::Fixed(n) => self.counter(n),
+            ir::Index::Dynamic(_) if timer => self.whole_bits(BitArea::TimerContact),
+            ir::Index::Dynamic(_) => self.all_counters(),
         }
     }
 

@@ -8,6 +8,7 @@
 
 mod access;
 mod app;
+mod coil;
 mod operand;
 
 use crate::{Builder, Function, Inst, Local, Program, Terminator, Type, Value};
@@ -376,8 +377,12 @@ impl<'p> Lowering<'p> {
             Output::Coil(bit) => self.write_bit(*bit, power, line),
             Output::Timer { timer, preset } => {
                 let preset = self.preset(*preset, Width::Single);
-                let (timer, coil) = (self.b.number(*timer), self.b.extend(power, Type::I32, false));
-                self.b.call(Helper::TimerCoil, vec![timer, coil, preset]);
+                if coil::inline_timer(*timer) {
+                    coil::timer(&mut self.b, *timer, power, preset);
+                } else {
+                    let (timer, coil) = (self.b.number(*timer), self.b.extend(power, Type::I32, false));
+                    self.b.call(Helper::TimerCoil, vec![timer, coil, preset]);
+                }
             }
             Output::Counter { counter, preset } => {
                 let width = if ladder_runtime::device::is_wide_counter(*counter) {
@@ -386,8 +391,12 @@ impl<'p> Lowering<'p> {
                     Width::Single
                 };
                 let preset = self.preset(*preset, width);
-                let (counter, coil) = (self.b.number(*counter), self.b.extend(power, Type::I32, false));
-                self.b.call(Helper::CounterCoil, vec![counter, coil, preset]);
+                if coil::inline_counter(*counter) {
+                    coil::counter(&mut self.b, *counter, power, preset);
+                } else {
+                    let (counter, coil) = (self.b.number(*counter), self.b.extend(power, Type::I32, false));
+                    self.b.call(Helper::CounterCoil, vec![counter, coil, preset]);
+                }
             }
             Output::Set {
                 target,
