@@ -107,7 +107,8 @@ pub fn translate(
     wide_bits: bool,
 ) {
     let wide_loads = wide_bits.then(|| super::wide::wide_bit_loads(layout, func, range.clone()));
-    let folded_nots = folded_nots(func, range.clone());
+    let uses = use_counts(func);
+    let folded_nots = folded_nots(func, range.clone(), &uses);
     let bit_type = if wide_bits { types::I32 } else { types::I8 };
     let entry = builder.create_block();
     let blocks: Vec<_> = range.clone().map(|_| builder.create_block()).collect();
@@ -159,19 +160,36 @@ pub fn translate(
         wide_bits,
         folded_nots,
         negations: HashMap::new(),
+        extending_load: None,
     };
     let mut defined = Vec::new();
     for number in range.clone() {
         let block = &func.blocks[number];
         t.builder.switch_to_block(blocks[number - range.start]);
+        // The value a load made already extended, for the next instruction.
+        let mut extended: Option<Value> = None;
         for (position, (result, inst)) in block.insts.iter().enumerate() {
             if result.is_some_and(|result| t.folded_nots.contains_key(&result)) {
                 continue;
             }
+            if let (Some(result), Some(value)) = (result, extended.take()) {
+                values[result.0 as usize] = Some(value);
+                defined.push(*result);
+                continue;
+            }
+            let fuse =
+                result.and_then(|result| extending_load(func, inst, result, block.insts.get(position + 1), &uses));
+            t.extending_load = fuse;
             let wide_load = wide_loads
                 .as_ref()
                 .is_some_and(|wide| wide[number - range.start][position]);
             let value = t.inst(inst, values, wide_load);
+            // `load_at` took the extension: the next instruction (the
+            // extension, the load's one use) is this value.
+            if fuse.is_some() && t.extending_load.take().is_none() {
+                extended = value;
+                continue;
+            }
             if let (Some(result), Some(value)) = (result, value) {
                 values[result.0 as usize] = Some(value);
                 defined.push(*result);
@@ -218,11 +236,9 @@ pub fn translate(
     }
 }
 
-/// The NOTs among blocks `range` of `func` whose one use is an operand of
-/// an AND or an OR there (one per AND or OR), with the value each inverts:
-/// the AND or OR takes its operand inverted (`Translator::and_not`), and
-/// the NOT is not made on its own.
-fn folded_nots(func: &ir::Function, range: std::ops::Range<usize>) -> HashMap<ir::Value, ir::Value> {
+/// How many times each value of `func` is used (as an operand or a branch
+/// condition).
+fn use_counts(func: &ir::Function) -> Vec<u32> {
     let mut uses = vec![0u32; func.value_types.len()];
     for block in &func.blocks {
         for (_, inst) in &block.insts {
@@ -234,6 +250,33 @@ fn folded_nots(func: &ir::Function, range: std::ops::Range<usize>) -> HashMap<ir
             uses[condition.0 as usize] += 1;
         }
     }
+    uses
+}
+
+/// The extension a load of a number makes itself (`sload16` and the
+/// like, one instruction instead of two: Cranelift does not fold a load
+/// into an extension to 64 bits): when the load's one use is the
+/// extension right after it. The type and signedness to extend to.
+fn extending_load(
+    func: &ir::Function,
+    inst: &Inst,
+    result: ir::Value,
+    next: Option<&(Option<ir::Value>, Inst)>,
+    uses: &[u32],
+) -> Option<(types::Type, bool)> {
+    let number = matches!(func.value_type(result), Type::I16 | Type::I32);
+    let load = matches!(inst.effect(), ir::Effect::Load(_)) || matches!(inst, Inst::LoadElapsed);
+    let Some((_, Inst::Extend { value, to, signed })) = next else {
+        return None;
+    };
+    (number && load && *value == result && uses[result.0 as usize] == 1).then_some((cl_type(*to), *signed))
+}
+
+/// The NOTs among blocks `range` of `func` whose one use is an operand of
+/// an AND or an OR there (one per AND or OR), with the value each inverts:
+/// the AND or OR takes its operand inverted (`Translator::and_not`), and
+/// the NOT is not made on its own.
+fn folded_nots(func: &ir::Function, range: std::ops::Range<usize>, uses: &[u32]) -> HashMap<ir::Value, ir::Value> {
     let mut nots = HashMap::new();
     for block in &func.blocks[range.clone()] {
         for (result, inst) in &block.insts {
@@ -339,6 +382,9 @@ struct Translator<'a, 'b> {
     /// Bits made as `x ^ 1`, with their `x`: a later AND-NOT of one takes
     /// `x` instead, and the XOR goes if nothing else uses it.
     negations: HashMap<Value, Value>,
+    /// The type and signedness the number being loaded is extended to
+    /// next (`extending_load`); `load_at` takes it.
+    extending_load: Option<(types::Type, bool)>,
 }
 
 impl Translator<'_, '_> {
@@ -547,8 +593,29 @@ impl Translator<'_, '_> {
         self.builder.ins().store(flags(), value, address, offset);
     }
 
+    /// A load; of a number whose extension comes next (`extending_load`),
+    /// the extending load, which takes `extending_load` for done.
     fn load_at(&mut self, ty: types::Type, (address, offset): (Value, i32)) -> Value {
-        self.builder.ins().load(ty, flags(), address, offset)
+        let ins = self.builder.ins();
+        match (self.extending_load, ty) {
+            (Some((to, true)), types::I16) => {
+                self.extending_load = None;
+                ins.sload16(to, flags(), address, offset)
+            }
+            (Some((to, false)), types::I16) => {
+                self.extending_load = None;
+                ins.uload16(to, flags(), address, offset)
+            }
+            (Some((to, true)), types::I32) if to == types::I64 => {
+                self.extending_load = None;
+                ins.sload32(flags(), address, offset)
+            }
+            (Some((to, false)), types::I32) if to == types::I64 => {
+                self.extending_load = None;
+                ins.uload32(flags(), address, offset)
+            }
+            _ => ins.load(ty, flags(), address, offset),
+        }
     }
 
     /// `count` elements of `size` bytes from an address set to `value`.
