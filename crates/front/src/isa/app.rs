@@ -165,6 +165,29 @@ pub struct AppSpec {
     /// Special relays every execution writes (flags): ON when the condition
     /// holds, OFF otherwise.
     pub writes: &'static [SpecialBit],
+    /// The parts of the machine model it works on beyond its operands and
+    /// special relays.
+    pub machine: &'static [MachinePart],
+}
+
+/// A part of the machine model an instruction works on beyond its operands
+/// and the special relays it declares: what a compact image must hold for
+/// it, and what the scan must keep up to date.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum MachinePart {
+    /// The clock's registers D8013-D8019 and relays M8015-M8019.
+    Clock,
+    /// Counting X0-X7 at the input refresh (high-speed counters and their
+    /// comparisons, SPD).
+    InputCounting,
+    /// The pulse outputs Y0-Y3: which instruction drives each, their
+    /// pulse, speed and position registers and relays, M8029.
+    PulseOutputs,
+    /// The annunciator states S900-S999.
+    AlarmStates,
+    /// The special-function units' buffer memory, as far as the operands
+    /// reach.
+    BufferMemory,
 }
 
 impl AppSpec {
@@ -367,6 +390,7 @@ macro_rules! app_instructions {
         $variant:ident: $name:tt $wide:tt $pulse:ident $family:ident $runs:ident
             ($($field:ident: $kind:ident($devices:expr) $([$($reach:tt)+])?),* $(,)?)
             reads [$($read:ident),* $(,)?] writes [$($flag:ident),* $(,)?]
+            $(machine [$($part:ident),* $(,)?])?
             $summary:literal;
     )*) => {
         /// Every application instruction (its 16/32-bit and pulse forms are
@@ -400,6 +424,7 @@ macro_rules! app_instructions {
                             }),*],
                             reads: &[$(special::$read),*],
                             writes: &[$(special::$flag),*],
+                            machine: &[$($(MachinePart::$part),*)?],
                         };
                         &SPEC
                     })*
@@ -701,11 +726,13 @@ app_instructions! {
     Ans: "ANS" _ pulse Alarm always
         (s: Timer(Devices::of(DeviceClass::T)), n: Count(COUNT), d: BitDestination(Devices::of(DeviceClass::S)))
         reads [] writes []
+        machine [AlarmStates]
         "sets the alarm state D (S900-S999) once the rung has been ON for N × 100 ms, timed by T0-T199 S";
     /// ANR: resets the lowest alarm state that is ON.
     Anr: "ANR" _ pulse Alarm on
         ()
         reads [] writes []
+        machine [AlarmStates]
         "turns OFF the lowest alarm state S900-S999 that is ON";
     /// DECMP S1 S2 D: real comparison.
     RealCmp: "DECMP" _ pulse Float on
@@ -831,11 +858,13 @@ app_instructions! {
     Trd: "TRD" _ pulse Clock on
         (d: BlockDestination(REGISTERS) [7 words])
         reads [] writes []
+        machine [Clock]
         "D..D+6 = year, month, day, hour, minute, second, day of week of the clock (D8018, D8017, ..., D8013, D8019)";
     /// TWR S: sets the clock.
     Twr: "TWR" _ pulse Clock on
         (s: BlockSource(REGISTERS) [7 words])
         reads [] writes []
+        machine [Clock]
         "sets the clock to year, month, day, hour, minute, second, day of week S..S+6 (out of range: 4084H)";
     /// TCMP S1 S2 S3 S D: time comparison.
     Tcmp: "TCMP" _ pulse Clock on
@@ -931,71 +960,85 @@ app_instructions! {
     Hscs: _ "DHSCS" no_pulse HighSpeed state
         (s1: Source(ANY_VALUE), s2: HighSpeedCounter(Devices::of(DeviceClass::C)), d: BitDestination(RESULT_BITS))
         reads [] writes []
+        machine [InputCounting]
         "D turns ON when counting at the input refresh brings counter S2 to S1";
     /// DHSCR S1 S2 D: high-speed counter reset.
     Hscr: _ "DHSCR" no_pulse HighSpeed state
         (s1: Source(ANY_VALUE), s2: HighSpeedCounter(Devices::of(DeviceClass::C)), d: BitDestination(RESULT_BITS))
         reads [] writes []
+        machine [InputCounting]
         "D turns OFF when counting at the input refresh brings counter S2 to S1";
     /// DHSZ S1 S2 S D: high-speed zone compare.
     Hsz: _ "DHSZ" no_pulse HighSpeed state
         (s1: Source(ANY_VALUE), s2: Source(ANY_VALUE), s: HighSpeedCounter(Devices::of(DeviceClass::C)), d: BitTriple(RESULT_BITS))
         reads [] writes []
+        machine [InputCounting]
         "D, D+1, D+2 = counter S below S1, from S1 to S2, above S2, as it counts";
     /// SPD S1 S2 D: pulse speed.
     Spd: "SPD" "DSPD" no_pulse HighSpeed on
         (s1: BitSource(Devices::of(DeviceClass::X)), s2: Source(ANY_VALUE), d: BlockDestination(REGISTERS) [3 units])
         reads [] writes []
+        machine [InputCounting]
         "D = the rising edges of S1 (X0-X5) in the last S2 ms, D+1 so far, D+2 the time left";
     /// PLSY S1 S2 D: pulse output.
     Plsy: "PLSY" "DPLSY" no_pulse HighSpeed state
         (s1: Source(ANY_VALUE), s2: Source(ANY_VALUE), d: BitDestination(Devices::of(DeviceClass::Y)))
         reads [] writes [EXECUTION_COMPLETE]
+        machine [PulseOutputs]
         "S2 pulses (0: without end) at S1 Hz on D (Y0-Y3)";
     /// PLSR S1 S2 S3 D: pulse output with ramps.
     Plsr: "PLSR" "DPLSR" no_pulse HighSpeed state
         (s1: Source(ANY_VALUE), s2: Source(ANY_VALUE), s3: Source(ANY_VALUE), d: BitDestination(Devices::of(DeviceClass::Y)))
         reads [] writes [EXECUTION_COMPLETE]
+        machine [PulseOutputs]
         "S2 pulses up to S1 Hz on D (Y0-Y3), accelerating and decelerating in S3 ms";
     /// PLSV S D1 D2: variable speed output.
     Plsv: "PLSV" "DPLSV" no_pulse HighSpeed state
         (s: Source(ANY_VALUE), d1: BitDestination(Devices::of(DeviceClass::Y)), d2: BitDestination(RESULT_BITS))
         reads [] writes [EXECUTION_COMPLETE]
+        machine [PulseOutputs]
         "pulses at the signed frequency S on D1 (Y0-Y3) while driven; D2 the direction";
     /// DRVI S1 S2 D1 D2: relative positioning.
     Drvi: "DRVI" "DDRVI" no_pulse HighSpeed state
         (s1: Source(ANY_VALUE), s2: Source(ANY_VALUE), d1: BitDestination(Devices::of(DeviceClass::Y)), d2: BitDestination(RESULT_BITS))
         reads [] writes [EXECUTION_COMPLETE]
+        machine [PulseOutputs]
         "moves S1 pulses from where it starts at S2 Hz on D1 (Y0-Y3); D2 the direction";
     /// DRVA S1 S2 D1 D2: absolute positioning.
     Drva: "DRVA" "DDRVA" no_pulse HighSpeed state
         (s1: Source(ANY_VALUE), s2: Source(ANY_VALUE), d1: BitDestination(Devices::of(DeviceClass::Y)), d2: BitDestination(RESULT_BITS))
         reads [] writes [EXECUTION_COMPLETE]
+        machine [PulseOutputs]
         "moves to the address S1 at S2 Hz on D1 (Y0-Y3); D2 the direction";
     /// ZRN S1 S2 S3 D: zero return.
     Zrn: "ZRN" "DZRN" no_pulse HighSpeed state
         (s1: Source(ANY_VALUE), s2: Source(ANY_VALUE), s3: BitSource(ANY_BIT), d: BitDestination(Devices::of(DeviceClass::Y)))
         reads [] writes [EXECUTION_COMPLETE]
+        machine [PulseOutputs]
         "returns to zero at S1 Hz until the near point S3, then at S2 Hz until it is released (address 0)";
     /// DSZR S1 S2 D1 D2: zero return with the near point and zero signal.
     Dszr: "DSZR" _ no_pulse HighSpeed state
         (s1: BitSource(ANY_BIT), s2: BitSource(Devices::of(DeviceClass::X)), d1: BitDestination(Devices::of(DeviceClass::Y)), d2: BitDestination(RESULT_BITS))
         reads [] writes [EXECUTION_COMPLETE]
+        machine [PulseOutputs]
         "returns to zero at the speeds of its output (Y0: D8346, D8345; Y1: D8356, D8355; ...) until the near point S1 is released (address 0)";
     /// PWM S1 S2 D: pulse width modulation.
     Pwm: "PWM" _ no_pulse HighSpeed state
         (s1: Source(ANY_VALUE), s2: Source(ANY_VALUE), d: BitDestination(Devices::of(DeviceClass::Y)))
         reads [] writes []
+        machine [PulseOutputs]
         "D (Y0-Y3) is ON for S1 ms of every S2 ms while driven";
     /// FROM m1 m2 D n: reads buffer memory.
     From: "FROM" "DFROM" pulse Module on
         (m1: Source(COUNT), m2: Source(COUNT), d: BlockDestination(WRITABLE_WORD) [n units], n: Source(COUNT))
         reads [] writes []
+        machine [BufferMemory]
         "n units from buffer word m2 of unit m1 (U0-U7) to D";
     /// TO m1 m2 S n: writes buffer memory.
     To: "TO" "DTO" pulse Module on
         (m1: Source(COUNT), m2: Source(COUNT), s: Source(ANY_VALUE) [n units], n: Source(COUNT))
         reads [] writes []
+        machine [BufferMemory]
         "n units from S (a constant: n times) to buffer word m2 of unit m1 (U0-U7)";
     /// PID S1 S2 S3 D: PID control.
     Pid: "PID" _ no_pulse Control state

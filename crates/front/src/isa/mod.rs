@@ -23,7 +23,7 @@ pub mod operand;
 pub mod reference;
 mod table;
 
-pub use app::{AppArgs, AppOp, AppSpec, Family, OperandDecl};
+pub use app::{AppArgs, AppOp, AppSpec, Family, MachinePart, OperandDecl};
 pub use bits::BitSpec;
 pub use operand::{DeviceClass, Devices, OperandKind};
 pub use table::{lookup, mnemonics, AppForm, Mnemonic};

@@ -33,7 +33,7 @@ use crate as ir;
 use ladder_front::host_device::HostDevice;
 use ladder_front::isa::app::Keeps;
 use ladder_front::isa::reach::ReachUnit;
-use ladder_front::isa::{Family, OperandKind};
+use ladder_front::isa::{MachinePart, OperandKind};
 use ladder_front::program::{
     Address, AppInstruction, AppOperand, BitRef, CheckedProgram, Contact, CounterRef, DigitGroup, Element, Op, Output,
     RangeEnd, ResetTarget, WordRef,
@@ -320,43 +320,35 @@ impl Footprint {
             }
             (Keeps::Nothing | Keeps::SortJob | Keeps::State, _) => {}
         }
-        // What the machine model around the family reads and writes.
-        match spec.family {
-            Family::HighSpeed => {
-                self.high_speed_inputs();
-                self.builder.include_whole(Array::PulseOwner);
-                self.builder.include_whole(Array::PulseRemainder);
-                self.words(WordArea::D, D_PULSE_REGISTERS.start, D_PULSE_REGISTERS.len() as u32);
-                self.words(
-                    WordArea::D,
-                    D_POSITIONING_REGISTERS.start,
-                    D_POSITIONING_REGISTERS.len() as u32,
-                );
-                self.bits(
-                    BitArea::M,
-                    M_POSITIONING_RELAYS.start,
-                    M_POSITIONING_RELAYS.len() as u32,
-                );
-                self.bits(BitArea::M, M_EXECUTION_COMPLETE, 1);
+        // What the instruction declares of the machine model.
+        for part in spec.machine {
+            match part {
+                MachinePart::Clock => {
+                    self.words(WordArea::D, D_CLOCK_REGISTERS.start, D_CLOCK_REGISTERS.len() as u32);
+                    self.bits(BitArea::M, M_CLOCK_RELAYS.start, M_CLOCK_RELAYS.len() as u32);
+                }
+                MachinePart::InputCounting => self.high_speed_inputs(),
+                MachinePart::PulseOutputs => {
+                    self.builder.include_whole(Array::PulseOwner);
+                    self.builder.include_whole(Array::PulseRemainder);
+                    self.words(WordArea::D, D_PULSE_REGISTERS.start, D_PULSE_REGISTERS.len() as u32);
+                    self.words(
+                        WordArea::D,
+                        D_POSITIONING_REGISTERS.start,
+                        D_POSITIONING_REGISTERS.len() as u32,
+                    );
+                    self.bits(
+                        BitArea::M,
+                        M_POSITIONING_RELAYS.start,
+                        M_POSITIONING_RELAYS.len() as u32,
+                    );
+                    self.bits(BitArea::M, M_EXECUTION_COMPLETE, 1);
+                }
+                MachinePart::AlarmStates => {
+                    self.bits(BitArea::S, FIRST_ALARM_STATE, LAST_ALARM_STATE - FIRST_ALARM_STATE + 1)
+                }
+                MachinePart::BufferMemory => self.buffer_transfer(app),
             }
-            Family::Clock => {
-                self.words(WordArea::D, D_CLOCK_REGISTERS.start, D_CLOCK_REGISTERS.len() as u32);
-                self.bits(BitArea::M, M_CLOCK_RELAYS.start, M_CLOCK_RELAYS.len() as u32);
-            }
-            Family::Alarm => self.bits(BitArea::S, FIRST_ALARM_STATE, LAST_ALARM_STATE - FIRST_ALARM_STATE + 1),
-            Family::Module => self.buffer_transfer(app),
-            Family::Handy => self.bits(BitArea::M, M_EXECUTION_COMPLETE, 1),
-            Family::Move
-            | Family::Arithmetic
-            | Family::Logic
-            | Family::Shift
-            | Family::Convert
-            | Family::Compare
-            | Family::Table
-            | Family::Zone
-            | Family::Check
-            | Family::Float
-            | Family::Control => {}
         }
     }
 

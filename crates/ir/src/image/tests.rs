@@ -115,3 +115,29 @@ fn a_huge_run_of_word_bits_holds_the_words() {
     let image = layout("LD X0\nDECO D0 K40 D1.1\n");
     assert_eq!(held(&image, Array::D, [1, 7999]), vec![1, 7999]);
 }
+
+/// The machine parts an instruction declares (`machine [...]`), and only
+/// those: TRD and TWR hold the clock, the time arithmetic of the same
+/// family does not; pulse outputs hold their channel state without the
+/// input counting of the high-speed counters.
+#[test]
+fn declared_machine_parts_are_held_and_only_they() {
+    let clock: Vec<u32> = (8013..8020).collect();
+    for program in ["LD X0\nTRD D300\n", "LD X0\nTWR D300\n"] {
+        assert_eq!(held(&layout(program), Array::D, 8013..8020), clock, "{program}");
+    }
+    for program in ["LD X0\nTCMP K1 K2 K3 D300 M0\n", "LD X0\nHTOS D300 D310\n"] {
+        assert_eq!(
+            held(&layout(program), Array::D, 8013..8020),
+            Vec::<u32>::new(),
+            "{program}"
+        );
+    }
+    let pulses = layout("LD X0\nPLSY K100 K10 Y0\n");
+    assert!(pulses.whole(Array::PulseOwner).is_some());
+    assert_eq!(held(&pulses, Array::M, [8029]), vec![8029]);
+    assert!(pulses.whole(Array::InputEdges).is_none());
+    let speed = layout("LD X0\nSPD X1 K100 D300\n");
+    assert!(speed.whole(Array::InputEdges).is_some());
+    assert!(speed.whole(Array::PulseOwner).is_none());
+}
