@@ -166,6 +166,10 @@ pub fn translate(
     for number in range.clone() {
         let block = &func.blocks[number];
         t.builder.switch_to_block(blocks[number - range.start]);
+        if block.cold {
+            // Laid out after the rest of the function.
+            t.builder.set_cold_block(blocks[number - range.start]);
+        }
         // The value a load made already extended, for the next instruction.
         let mut extended: Option<Value> = None;
         for (position, (result, inst)) in block.insts.iter().enumerate() {

@@ -38,9 +38,16 @@ impl Builder {
         self.func.blocks.push(Block {
             insts: Vec::new(),
             terminator: Terminator::Return,
+            cold: false,
         });
         self.terminated.push(false);
         BlockId(self.func.blocks.len() as u32 - 1)
+    }
+
+    /// Marks the current block as one that runs only when something
+    /// changes (`Block::cold`).
+    pub fn mark_cold(&mut self) {
+        self.block_mut().cold = true;
     }
 
     pub fn switch_to(&mut self, block: BlockId) {

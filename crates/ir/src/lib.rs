@@ -536,6 +536,10 @@ pub struct Block {
     /// Instructions with the value each defines (None for effects).
     pub insts: Vec<(Option<Value>, Inst)>,
     pub terminator: Terminator,
+    /// Runs only when something changes: an STL state turns OFF (its
+    /// outputs are reset) or hands over to the next. Code generation
+    /// places it out of the way of the code every scan runs.
+    pub cold: bool,
 }
 
 /// One function: the main program (the body of the scan, step 3) or a

@@ -530,6 +530,7 @@ pub fn merge_blocks(function: &mut Function) {
                 Block {
                     insts: Vec::new(),
                     terminator: Terminator::Return,
+                    cold: false,
                 },
             );
             predecessors[from] = 0;

@@ -192,7 +192,8 @@ impl Display for Function {
             .collect();
         writeln!(f, "program(mem) {{")?;
         for (number, block) in self.blocks.iter().enumerate() {
-            writeln!(f, "block{number}:")?;
+            let cold = if block.cold { " (cold)" } else { "" };
+            writeln!(f, "block{number}{cold}:")?;
             for (result, instruction) in &block.insts {
                 match result {
                     Some(value) => writeln!(f, "    {value} = {}", inst(self, &constants, instruction))?,

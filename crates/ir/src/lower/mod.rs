@@ -315,6 +315,7 @@ impl<'p> Lowering<'p> {
         });
 
         self.b.switch_to(reset);
+        self.b.mark_cold();
         let off = self.b.bit(false);
         self.b.effect(Inst::StoreBlockActive { state, value: off });
         for &index in &block.reset_outputs {
@@ -410,6 +411,10 @@ impl<'p> Lowering<'p> {
                 transfer_from,
                 written_out: _,
             } => self.when(power, |this, _| {
+                // A transfer happens once per step of the sequence.
+                if transfer_from.is_some() {
+                    this.b.mark_cold();
+                }
                 this.write_bits(*target, *count, true, line);
                 if let Some(state) = transfer_from {
                     let state = this.b.number(*state);
