@@ -34,11 +34,18 @@ impl Builder {
         builder
     }
 
+    /// A new block; made while the current block is cold, it is cold too
+    /// (the rest of a cold region: an inline timer in an STL reset).
     pub fn create_block(&mut self) -> BlockId {
+        let cold = self
+            .func
+            .blocks
+            .get(self.current.0 as usize)
+            .is_some_and(|block| block.cold);
         self.func.blocks.push(Block {
             insts: Vec::new(),
             terminator: Terminator::Return,
-            cold: false,
+            cold,
         });
         self.terminated.push(false);
         BlockId(self.func.blocks.len() as u32 - 1)

@@ -95,14 +95,6 @@ pub enum Bookkeeping {
 }
 
 impl Bookkeeping {
-    pub const ALL: [Bookkeeping; 5] = [
-        Bookkeeping::TimerCoil,
-        Bookkeeping::TimerRemainder,
-        Bookkeeping::TimerForced,
-        Bookkeeping::CounterCoil,
-        Bookkeeping::CounterForced,
-    ];
-
     /// The layout's array that holds it.
     pub fn array(self) -> ladder_runtime::layout::Array {
         use ladder_runtime::layout::Array;

@@ -79,7 +79,8 @@ fn wide_counter_place(n: u32) -> Place {
 /// What a helper call may touch.
 enum Footprint {
     /// Reads and writes only these regions (and bookkeeping the IR never
-    /// names).
+    /// names). Timer and counter helpers also read the force tables, which
+    /// the IR only reads: nothing changes them while a scan runs.
     Regions(Vec<Region>),
     Everything,
 }

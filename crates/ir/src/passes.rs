@@ -510,7 +510,8 @@ pub fn remove_unreachable(function: &mut Function) {
 }
 
 /// Appends a block to its predecessor when the predecessor jumps to it and
-/// nothing else does. Merging keeps every other block's predecessor count, so
+/// nothing else does. The merged block keeps its predecessor's `cold`
+/// mark: the appended block runs exactly when the predecessor does. Merging keeps every other block's predecessor count, so
 /// one sweep with counts taken once is enough.
 pub fn merge_blocks(function: &mut Function) {
     let mut predecessors = vec![0usize; function.blocks.len()];

@@ -6,8 +6,8 @@
 //! interpreter runs the runtime's coils, so the differential test compares
 //! the two on every engine.
 //!
-//! 32-bit counters (their direction relays, high-speed counting) and timers
-//! named through an index register still call the runtime.
+//! 32-bit counters (their direction relays, high-speed counting) and the
+//! timer ANS drives (its number may be indexed) still call the runtime.
 
 use crate::builder::Builder;
 use crate::{BinOp, Bookkeeping, Index, Inst, Terminator, Type, Value};
