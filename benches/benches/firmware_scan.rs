@@ -52,8 +52,9 @@ fn runtime() -> Result<PathBuf, String> {
     Ok(target.join(TARGET).join("firmware/libladder_runtime.a"))
 }
 
-/// The traffic light as C for a compact image, with its header, in `dir`.
-fn program(dir: &Path) -> Result<PathBuf, String> {
+/// The traffic light as C for a compact image, with its header, in `dir`,
+/// its timers compiled as `coils` says.
+fn program(dir: &Path, coils: ladder_ir::Coils) -> Result<PathBuf, String> {
     let path = workspace().join("examples/traffic_light.il");
     let source = SourceFile::read(&path).map_err(|e| e.to_string())?;
     let (checked, diagnostics) = compile_source(&source);
@@ -63,7 +64,8 @@ fn program(dir: &Path) -> Result<PathBuf, String> {
         source_name: "traffic_light.il".to_string(),
         ..Default::default()
     };
-    let built = ladder_engine::pipeline::c_source(&checked, &options, &ImageRequest::compact(Vec::new()));
+    let built = ladder_engine::pipeline::Lowered::with_coils(&checked, coils)
+        .c_source(&options, &ImageRequest::compact(Vec::new()));
     let header = ladder_ir::image::c_header(PREFIX, "traffic_light.il", built.layout.as_ref());
     std::fs::write(dir.join("program.h"), header).map_err(|e| e.to_string())?;
     let c = dir.join("program.c");
@@ -124,22 +126,30 @@ fn main() {
     if !args.is_empty() && !args.iter().any(|a| "firmware_scan".contains(a.as_str())) {
         return;
     }
-    let counted = (|| -> Result<(u64, u64), String> {
-        let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
-        let runtime = runtime()?;
-        let program = program(dir.path())?;
-        let few = instructions(dir.path(), &program, &runtime, SCANS[0])?;
-        let many = instructions(dir.path(), &program, &runtime, SCANS[1])?;
-        Ok((few, many))
-    })();
-    match counted {
-        Ok((few, many)) => {
-            let per_scan = (many - few) as f64 / f64::from(SCANS[1] - SCANS[0]);
-            println!(
-                "firmware_scan: traffic light on a Cortex-M3 (C route, compact image, -O2): \
-                 {per_scan:.1} instructions per scan"
-            );
+    // What `--target thumbv7m-none-eabi` builds (timers calling the
+    // runtime), and the same with the timers inline.
+    let target = ladder_cback::targets::c_target(TARGET).map_or(ladder_ir::Coils::Calls, |target| target.coils);
+    for (coils, what) in [
+        (target, "as the target builds it"),
+        (ladder_ir::Coils::Inline, "timers inline"),
+    ] {
+        let counted = (|| -> Result<(u64, u64), String> {
+            let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
+            let runtime = runtime()?;
+            let program = program(dir.path(), coils)?;
+            let few = instructions(dir.path(), &program, &runtime, SCANS[0])?;
+            let many = instructions(dir.path(), &program, &runtime, SCANS[1])?;
+            Ok((few, many))
+        })();
+        match counted {
+            Ok((few, many)) => {
+                let per_scan = (many - few) as f64 / f64::from(SCANS[1] - SCANS[0]);
+                println!(
+                    "firmware_scan: traffic light on a Cortex-M3 (C route, compact image, -O2, {what}): \
+                     {per_scan:.1} instructions per scan"
+                );
+            }
+            Err(why) => return println!("firmware_scan: skipped: {why}"),
         }
-        Err(why) => println!("firmware_scan: skipped: {why}"),
     }
 }

@@ -345,6 +345,14 @@ fn produce(
     shown: Shown,
 ) -> Result<(Vec<u8>, Option<Layout>), u8> {
     let program = super::compile_file(&args.program, shown)?;
+    // Timers and counters as the target has them: calls of the runtime on
+    // a microcontroller, inline elsewhere.
+    let coils = args
+        .target
+        .as_deref()
+        .and_then(ladder_cback::targets::c_target)
+        .map_or(ladder_ir::Coils::Inline, |target| target.coils);
+    let lowered = ladder_engine::pipeline::Lowered::with_coils(&program, coils);
     let c_options = ladder_cback::COptions {
         prefix: args.prefix.clone(),
         source_name: source_name(args),
@@ -357,13 +365,13 @@ fn produce(
             say_err!("error: an FMU is built by `ladderc build --emit fmu`");
             Err(status::UNUSABLE)
         }
-        (Emit::Ir, _) => Ok((ladder_engine::pipeline::ir(&program).to_string().into_bytes(), None)),
+        (Emit::Ir, _) => Ok((lowered.ir.to_string().into_bytes(), None)),
         (Emit::C, _) => {
-            let built = ladder_engine::pipeline::c_source(&program, &c_options, image);
+            let built = lowered.c_source(&c_options, image);
             Ok((built.output.into_bytes(), built.layout))
         }
         (Emit::Obj, Some((target, compiler))) => {
-            let built = ladder_engine::pipeline::c_source(&program, &c_options, image);
+            let built = lowered.c_source(&c_options, image);
             let object = target.compile(compiler, &built.output).map_err(|error| {
                 say_err!("error: {error}");
                 status::FAILED
@@ -377,7 +385,7 @@ fn produce(
                 layout: None,
                 ..Default::default()
             };
-            let built = ladder_engine::pipeline::object(&program, &options, image).map_err(|error| {
+            let built = lowered.object(&options, image).map_err(|error| {
                 say_err!("error: {error}");
                 match error {
                     // A target ladderc cannot build for is a bad argument.

@@ -200,3 +200,40 @@ fn thirty_two_bit_targets_go_through_the_c_back_end() {
     );
     assert!(!dir.path().join("mine.h").exists(), "nothing written beside it");
 }
+
+/// Timers are calls of the runtime on a microcontroller (flash is short
+/// there, a call cheap) and code of their own everywhere else; the C says
+/// which (`--emit c` needs no cross compiler).
+#[test]
+fn timers_call_the_runtime_only_on_microcontrollers() {
+    let dir = scratch("c-coils");
+    let program = workspace().join("examples/traffic_light.il");
+    for (target, calls) in [
+        (Some("thumbv7m-none-eabi"), true),
+        (Some("riscv32imac-unknown-none-elf"), true),
+        (Some("armv7-unknown-linux-gnueabihf"), false),
+        (None, false),
+    ] {
+        let c = dir.path().join(format!("{}.c", target.unwrap_or("host")));
+        let mut args = vec![
+            "build",
+            program.to_str().unwrap(),
+            "--emit",
+            "c",
+            "-o",
+            c.to_str().unwrap(),
+        ];
+        args.extend(target.iter().flat_map(|target| ["--target", *target]));
+        let result = ladderc(&args);
+        assert!(
+            result.status.success(),
+            "{target:?}: {}",
+            String::from_utf8_lossy(&result.stderr)
+        );
+        let source = std::fs::read_to_string(&c).unwrap();
+        let called = source.contains("ladder_rt_timer_coil((LadderMemory *)m");
+        assert_eq!(called, calls, "{target:?}: timers called: {called}");
+        // Inline, the timers keep their state in the image themselves.
+        assert_eq!(source.contains("TimerCoilWasOn"), !calls, "{target:?}");
+    }
+}

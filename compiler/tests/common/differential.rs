@@ -247,12 +247,18 @@ impl AotHost {
                         layout: None,
                         ..Default::default()
                     };
-                    let image = match self.route {
-                        Route::CompactC => ImageRequest::compact(host_devices(case)),
-                        Route::Object | Route::C => ImageRequest::full_with(host_devices(case)),
+                    // The compact route is the firmware's: its timers and
+                    // counters call the runtime.
+                    let (image, coils) = match self.route {
+                        Route::CompactC => (ImageRequest::compact(host_devices(case)), ladder_ir::Coils::Calls),
+                        Route::Object | Route::C => {
+                            (ImageRequest::full_with(host_devices(case)), ladder_ir::Coils::Inline)
+                        }
                     };
                     let path = work.join(format!("p{i}.c"));
-                    let source = ladder_engine::pipeline::c_source(program, &options, &image).output;
+                    let source = ladder_engine::pipeline::Lowered::with_coils(program, coils)
+                        .c_source(&options, &image)
+                        .output;
                     std::fs::write(&path, source).map_err(|e| e.to_string())?;
                     c_sources.push(path);
                     sources.push(work.join(format!("p{i}.o")));

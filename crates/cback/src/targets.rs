@@ -12,6 +12,9 @@ pub struct CTarget {
     pub flags: &'static [&'static str],
     /// The Debian package that provides the compiler.
     pub package: &'static str,
+    /// How timers and counters are compiled: calls of the runtime on
+    /// microcontrollers (flash), inline on Linux controllers.
+    pub coils: ladder_ir::Coils,
 }
 
 pub const C_TARGETS: &[CTarget] = &[
@@ -20,36 +23,42 @@ pub const C_TARGETS: &[CTarget] = &[
         compilers: &["arm-none-eabi-gcc"],
         flags: &["-mcpu=cortex-m0", "-mthumb"],
         package: "gcc-arm-none-eabi",
+        coils: ladder_ir::Coils::Calls,
     },
     CTarget {
         triple: "thumbv7m-none-eabi",
         compilers: &["arm-none-eabi-gcc"],
         flags: &["-mcpu=cortex-m3", "-mthumb"],
         package: "gcc-arm-none-eabi",
+        coils: ladder_ir::Coils::Calls,
     },
     CTarget {
         triple: "thumbv7em-none-eabi",
         compilers: &["arm-none-eabi-gcc"],
         flags: &["-mcpu=cortex-m4", "-mthumb", "-mfloat-abi=soft"],
         package: "gcc-arm-none-eabi",
+        coils: ladder_ir::Coils::Calls,
     },
     CTarget {
         triple: "thumbv7em-none-eabihf",
         compilers: &["arm-none-eabi-gcc"],
         flags: &["-mcpu=cortex-m4", "-mthumb", "-mfloat-abi=hard", "-mfpu=fpv4-sp-d16"],
         package: "gcc-arm-none-eabi",
+        coils: ladder_ir::Coils::Calls,
     },
     CTarget {
         triple: "armv7-unknown-linux-gnueabihf",
         compilers: &["arm-linux-gnueabihf-gcc"],
         flags: &["-march=armv7-a", "-mfloat-abi=hard", "-mfpu=vfpv3-d16", "-fPIC"],
         package: "gcc-arm-linux-gnueabihf",
+        coils: ladder_ir::Coils::Inline,
     },
     CTarget {
         triple: "riscv32imac-unknown-none-elf",
         compilers: &["riscv64-unknown-elf-gcc", "riscv32-unknown-elf-gcc"],
         flags: &["-march=rv32imac", "-mabi=ilp32"],
         package: "gcc-riscv64-unknown-elf",
+        coils: ladder_ir::Coils::Calls,
     },
 ];
 

@@ -210,8 +210,11 @@ pub fn instantiate_lowered<'p>(
             crate::aot::Route::C,
             &ImageRequest::full_with(host_devices.to_vec()),
         )?)),
+        // The firmware route: a compact image, and the timer and counter
+        // coils a microcontroller gets (calls of the runtime), so that
+        // every scenario runs them as well as the inline ones.
         EngineKind::CCompact => Ok(Box::new(crate::aot::AotEngine::start(
-            lowered,
+            &crate::pipeline::Lowered::with_coils(lowered.checked, ladder_ir::Coils::Calls),
             crate::aot::Route::C,
             &ImageRequest::compact(host_devices.to_vec()),
         )?)),

@@ -5,10 +5,10 @@ use ladder_codegen::{emit_object, CodegenError, JitProgram, ObjectOptions};
 use ladder_front::host_device::HostDevice;
 use ladder_front::program::CheckedProgram;
 use ladder_ir::image::{compact_layout, machine_use, ImageKind};
-use ladder_ir::Program;
+use ladder_ir::{Coils, Program};
 use ladder_runtime::layout::Layout;
 
-/// The optimised IR of a checked program.
+/// The optimised IR of a checked program (timers and counters inline).
 pub fn ir(program: &CheckedProgram) -> Program {
     ladder_ir::lower_and_optimize(program)
 }
@@ -23,9 +23,15 @@ pub struct Lowered<'p> {
 
 impl<'p> Lowered<'p> {
     pub fn new(checked: &'p CheckedProgram) -> Lowered<'p> {
+        Lowered::with_coils(checked, Coils::Inline)
+    }
+
+    /// Lowered with the timer and counter coils as `coils` says (calls for
+    /// a microcontroller's flash).
+    pub fn with_coils(checked: &'p CheckedProgram, coils: Coils) -> Lowered<'p> {
         Lowered {
             checked,
-            ir: ir(checked),
+            ir: ladder_ir::lower_and_optimize_with(checked, coils),
         }
     }
 

@@ -27,11 +27,28 @@ pub use builder::Builder;
 pub use effect::{Effect, Space, Span};
 
 /// The optimised IR of a checked program: lowered once, then the passes;
-/// what every back end compiles.
+/// what every back end compiles. Timers and 16-bit counters inline.
 pub fn lower_and_optimize(program: &ladder_front::program::CheckedProgram) -> Program {
-    let mut ir = lower::lower(program);
+    lower_and_optimize_with(program, Coils::Inline)
+}
+
+/// `lower_and_optimize` with the timer and counter coils as `coils` says.
+pub fn lower_and_optimize_with(program: &ladder_front::program::CheckedProgram, coils: Coils) -> Program {
+    let mut ir = lower::lower(program, coils);
     passes::optimize(&mut ir);
     ir
+}
+
+/// How `OUT Tn` and `OUT Cn` of a 16-bit counter are compiled.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Coils {
+    /// As code of their own (`lower/coil.rs`): no call on the scan's path,
+    /// some 100-180 bytes of code each. For native code and the C of a
+    /// host.
+    Inline,
+    /// As calls of the runtime's coils (some 12-15 bytes each): for
+    /// microcontrollers, where flash is short and a call is cheap.
+    Calls,
 }
 
 use ladder_front::isa::CompareOp;

@@ -21,20 +21,20 @@ use std::collections::BTreeMap;
 
 /// Lowers a checked program to the IR of its scan body and its
 /// subroutines, each a function of its own.
-pub fn lower(program: &CheckedProgram) -> Program {
-    let main = lower_part(program, 0..program.main_end);
+pub fn lower(program: &CheckedProgram, coils: crate::Coils) -> Program {
+    let main = lower_part(program, 0..program.main_end, coils);
     let subroutines = program
         .subroutines
         .iter()
-        .map(|subroutine| lower_part(program, subroutine.entry..subroutine.end))
+        .map(|subroutine| lower_part(program, subroutine.entry..subroutine.end, coils))
         .collect();
     Program { main, subroutines }
 }
 
 /// The function of the instructions `range` (the main program, or a
 /// subroutine without its SRET).
-fn lower_part(program: &CheckedProgram, range: std::ops::Range<usize>) -> Function {
-    let mut lowering = Lowering::new(program);
+fn lower_part(program: &CheckedProgram, range: std::ops::Range<usize>, coils: crate::Coils) -> Function {
+    let mut lowering = Lowering::new(program, coils);
     lowering.run(range);
     let (locals, loop_levels) = (lowering.locals, lowering.loop_levels);
     lowering.b.finish(locals, loop_levels)
@@ -56,10 +56,11 @@ struct Lowering<'p> {
     /// The first block of each open loop's body, innermost last.
     loops: Vec<crate::BlockId>,
     loop_levels: u8,
+    coils: crate::Coils,
 }
 
 impl<'p> Lowering<'p> {
-    fn new(program: &'p CheckedProgram) -> Lowering<'p> {
+    fn new(program: &'p CheckedProgram, coils: crate::Coils) -> Lowering<'p> {
         let mut b = Builder::new();
         let result = b.bit(false);
         Lowering {
@@ -72,6 +73,7 @@ impl<'p> Lowering<'p> {
             locals: 0,
             loops: Vec::new(),
             loop_levels: 0,
+            coils,
         }
     }
 
@@ -358,6 +360,13 @@ impl<'p> Lowering<'p> {
         }
     }
 
+    fn inline_coils(&self) -> bool {
+        match self.coils {
+            crate::Coils::Inline => true,
+            crate::Coils::Calls => false,
+        }
+    }
+
     /// An edge against the slot's previous value; the slot keeps `now`.
     fn edge(&mut self, slot: u32, now: Value, falling: bool) -> Value {
         let before = self.b.push(Inst::LoadSlot { slot });
@@ -378,7 +387,7 @@ impl<'p> Lowering<'p> {
             Output::Coil(bit) => self.write_bit(*bit, power, line),
             Output::Timer { timer, preset } => {
                 let preset = self.preset(*preset, Width::Single);
-                if coil::inline_timer(*timer) {
+                if self.inline_coils() && coil::inline_timer(*timer) {
                     coil::timer(&mut self.b, *timer, power, preset);
                 } else {
                     let (timer, coil) = (self.b.number(*timer), self.b.extend(power, Type::I32, false));
@@ -392,7 +401,7 @@ impl<'p> Lowering<'p> {
                     Width::Single
                 };
                 let preset = self.preset(*preset, width);
-                if coil::inline_counter(*counter) {
+                if self.inline_coils() && coil::inline_counter(*counter) {
                     coil::counter(&mut self.b, *counter, power, preset);
                 } else {
                     let (counter, coil) = (self.b.number(*counter), self.b.extend(power, Type::I32, false));
