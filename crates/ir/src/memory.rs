@@ -157,6 +157,13 @@ impl Known {
         self.values.retain(|place, _| place.region() != Some(region));
     }
 
+    /// Drops what was last used before `oldest`: it is never carried
+    /// again (`LONGEST_CARRY`), and a program of many blocks would
+    /// otherwise copy and compare every place it ever touched at each one.
+    fn forget_before(&mut self, oldest: u64) {
+        self.values.retain(|_, &mut (_, used)| used >= oldest);
+    }
+
     fn holds(&self, place: Place, value: Value) -> bool {
         matches!(self.values.get(&place), Some(&(known, _)) if known == value)
     }
@@ -262,6 +269,7 @@ pub fn forward_memory(function: &mut Function) {
                 }
             }
         }
+        known.forget_before(now.saturating_sub(LONGEST_CARRY));
         let block_data = &mut function.blocks[block.0 as usize];
         optimise_block(block_data, &mut known, &mut replaced, &mut now, &mut carried);
         if successors_left[block.0 as usize] > 0 {
