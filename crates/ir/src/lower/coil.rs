@@ -10,7 +10,7 @@
 //! timer ANS drives (its number may be indexed) still call the runtime.
 
 use crate::builder::Builder;
-use crate::{BinOp, Bookkeeping, Index, Inst, Terminator, Type, Value};
+use crate::{BinOp, BlockId, Bookkeeping, Index, Inst, Terminator, Type, Value};
 use ladder_front::isa::CompareOp;
 use ladder_runtime::device::{TimerClass, FIRST_WIDE_COUNTER, TIMER_COUNT};
 use ladder_runtime::{BitArea, WordArea};
@@ -34,26 +34,8 @@ pub fn inline_counter(counter: u32) -> bool {
 /// 32767); the contact is ON once the value reaches the preset.
 pub fn timer(b: &mut Builder, timer: u32, coil: Value, preset: Value) {
     let class = TimerClass::of(timer);
-    let was_on = b.push(Inst::LoadBookkeeping {
-        field: Bookkeeping::TimerCoil,
-        index: timer,
-    });
-    b.effect(Inst::StoreBookkeeping {
-        field: Bookkeeping::TimerCoil,
-        index: timer,
-        value: coil,
-    });
-    let forced = b.push(Inst::LoadBookkeeping {
-        field: Bookkeeping::TimerForced,
-        index: timer,
-    });
-    let (live, on, off, done) = (b.create_block(), b.create_block(), b.create_block(), b.create_block());
-    b.terminate(Terminator::Branch {
-        condition: forced,
-        then: done,
-        otherwise: live,
-    });
-    b.switch_to(live);
+    let (was_on, done) = unless_forced(b, [Bookkeeping::TimerCoil, Bookkeeping::TimerForced], timer, coil);
+    let (on, off) = (b.create_block(), b.create_block());
     b.terminate(Terminator::Branch {
         condition: coil,
         then: on,
@@ -89,6 +71,29 @@ pub fn timer(b: &mut Builder, timer: u32, coil: Value, preset: Value) {
     let reached = b.compare(CompareOp::Ge, value, preset);
     b.store_bit(BitArea::TimerContact, Index::Fixed(timer), reached);
     b.jump_to(done);
+}
+
+/// What both coils do first, as the runtime's: keep the coil's state
+/// (`fields[0]`) and go on only when the device is not forced
+/// (`fields[1]`). The coil's previous state, and the block after the coil
+/// (a forced device jumps there); the builder continues in the block for
+/// a device that is not forced.
+fn unless_forced(b: &mut Builder, [state, forced]: [Bookkeeping; 2], index: u32, coil: Value) -> (Value, BlockId) {
+    let was_on = b.push(Inst::LoadBookkeeping { field: state, index });
+    b.effect(Inst::StoreBookkeeping {
+        field: state,
+        index,
+        value: coil,
+    });
+    let forced = b.push(Inst::LoadBookkeeping { field: forced, index });
+    let (live, done) = (b.create_block(), b.create_block());
+    b.terminate(Terminator::Branch {
+        condition: forced,
+        then: done,
+        otherwise: live,
+    });
+    b.switch_to(live);
+    (was_on, done)
 }
 
 /// Adds the elapsed time to a timer whose coil stays ON.
@@ -143,26 +148,7 @@ fn advance(b: &mut Builder, timer: u32, resolution_ms: u32, preset: Value) {
 /// state is kept first; a forced counter changes nothing more; a rising
 /// coil adds 1 below the preset; the contact is ON at or above the preset.
 pub fn counter(b: &mut Builder, counter: u32, coil: Value, preset: Value) {
-    let was_on = b.push(Inst::LoadBookkeeping {
-        field: Bookkeeping::CounterCoil,
-        index: counter,
-    });
-    b.effect(Inst::StoreBookkeeping {
-        field: Bookkeeping::CounterCoil,
-        index: counter,
-        value: coil,
-    });
-    let forced = b.push(Inst::LoadBookkeeping {
-        field: Bookkeeping::CounterForced,
-        index: counter,
-    });
-    let (live, done) = (b.create_block(), b.create_block());
-    b.terminate(Terminator::Branch {
-        condition: forced,
-        then: done,
-        otherwise: live,
-    });
-    b.switch_to(live);
+    let (was_on, done) = unless_forced(b, [Bookkeeping::CounterCoil, Bookkeeping::CounterForced], counter, coil);
     {
         let index = Index::Fixed(counter);
         let value = b.push(Inst::LoadWord {
