@@ -25,8 +25,10 @@ pub enum EngineKind {
     /// The C back end's source compiled by the system's C compiler (-O2)
     /// into the same host process as `Aot`.
     C,
-    /// The same with a compact image (`--image compact`): the devices the
-    /// program uses and those the host names (a scenario's).
+    /// The firmware route: the same with a compact image (`--image
+    /// compact`: the devices the program uses and those the host names, a
+    /// scenario's) and the timers and counters of a microcontroller target
+    /// (calls of the runtime, `ladder_ir::Coils::Calls`).
     CCompact,
 }
 
