@@ -601,25 +601,15 @@ impl Translator<'_, '_> {
     /// the extending load, which takes `extending_load` for done.
     fn load_at(&mut self, ty: types::Type, (address, offset): (Value, i32)) -> Value {
         let ins = self.builder.ins();
-        match (self.extending_load, ty) {
-            (Some((to, true)), types::I16) => {
-                self.extending_load = None;
-                ins.sload16(to, flags(), address, offset)
-            }
-            (Some((to, false)), types::I16) => {
-                self.extending_load = None;
-                ins.uload16(to, flags(), address, offset)
-            }
-            (Some((to, true)), types::I32) if to == types::I64 => {
-                self.extending_load = None;
-                ins.sload32(flags(), address, offset)
-            }
-            (Some((to, false)), types::I32) if to == types::I64 => {
-                self.extending_load = None;
-                ins.uload32(flags(), address, offset)
-            }
-            _ => ins.load(ty, flags(), address, offset),
-        }
+        let extended = match (self.extending_load, ty) {
+            (Some((to, true)), types::I16) => ins.sload16(to, flags(), address, offset),
+            (Some((to, false)), types::I16) => ins.uload16(to, flags(), address, offset),
+            (Some((types::I64, true)), types::I32) => ins.sload32(flags(), address, offset),
+            (Some((types::I64, false)), types::I32) => ins.uload32(flags(), address, offset),
+            _ => return ins.load(ty, flags(), address, offset),
+        };
+        self.extending_load = None;
+        extended
     }
 
     /// `count` elements of `size` bytes from an address set to `value`.
@@ -651,15 +641,19 @@ impl Translator<'_, '_> {
         self.builder.switch_to_block(done);
     }
 
+    /// The image pointer as a call's argument: a copy for each call, so
+    /// that the pointer itself never has to be in the first argument
+    /// register, and the register allocator keeps it in one callee-saved
+    /// register for the whole function instead of moving it back at every
+    /// block (measured on the mixed plant: a `mov` per block and jumps that
+    /// could not be threaded).
+    fn image_argument(&mut self) -> Value {
+        self.builder.ins().iadd_imm_s(self.mem, 0)
+    }
+
     /// Calls a runtime helper with the image and `args`; its result, if any.
     fn call(&mut self, helper: Helper, args: &[Value]) -> Option<Value> {
-        // A copy of the image pointer for each call: the pointer itself then
-        // never has to be in the first argument register, so the register
-        // allocator keeps it in one callee-saved register for the whole
-        // function instead of moving it back at every block (measured on
-        // the mixed plant: a `mov` per block and jumps that could not be
-        // threaded).
-        let image = self.builder.ins().iadd_imm_s(self.mem, 0);
+        let image = self.image_argument();
         let mut all = vec![image];
         all.extend_from_slice(args);
         let call = self.builder.ins().call(self.helpers[helper as usize], &all);
@@ -782,8 +776,10 @@ impl Translator<'_, '_> {
                 return None;
             }
             Inst::CallSubroutine { subroutine } => {
-                let mem = self.mem;
-                self.builder.ins().call(self.subroutines[*subroutine as usize], &[mem]);
+                let image = self.image_argument();
+                self.builder
+                    .ins()
+                    .call(self.subroutines[*subroutine as usize], &[image]);
                 return None;
             }
             Inst::Not { value } => self.not(get(value)),

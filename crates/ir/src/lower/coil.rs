@@ -73,11 +73,11 @@ pub fn timer(b: &mut Builder, timer: u32, coil: Value, preset: Value) {
     b.jump_to(done);
 }
 
-/// What both coils do first, as the runtime's: keep the coil's state
-/// (`fields[0]`) and go on only when the device is not forced
-/// (`fields[1]`). The coil's previous state, and the block after the coil
-/// (a forced device jumps there); the builder continues in the block for
-/// a device that is not forced.
+/// What both coils do first, as the runtime's: keep the coil's `state`
+/// and go on only when the device is not `forced`. Returns the coil's
+/// previous state and the block after the coil (a forced device jumps
+/// there); the builder continues in the block for a device that is not
+/// forced.
 fn unless_forced(b: &mut Builder, [state, forced]: [Bookkeeping; 2], index: u32, coil: Value) -> (Value, BlockId) {
     let was_on = b.push(Inst::LoadBookkeeping { field: state, index });
     b.effect(Inst::StoreBookkeeping {
