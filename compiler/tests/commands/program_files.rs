@@ -6,7 +6,7 @@
 
 use crate::common::tools::{ladderc, scratch, workspace};
 use ladder_front::check::compile_source;
-use ladder_front::program::{CheckedProgram, Op};
+use ladder_front::program::{CheckedProgram, Line, Op};
 use ladder_front::source::SourceFile;
 use std::path::{Path, PathBuf};
 
@@ -130,7 +130,7 @@ fn the_real_export_keeps_its_step_numbers_and_structure() {
     assert!(program
         .instructions
         .iter()
-        .any(|i| matches!(i.op, Op::LoopStart { .. })));
+        .any(|i| matches!(i.op, Op::Line(Line::LoopStart { .. }))));
 }
 
 #[test]

@@ -2,7 +2,7 @@
 //! stack starts over, each rebuilt from its instructions.
 
 use super::{Body, Element, Ladder, Node, Rung, Tail, TailItem};
-use ladder_front::program::{CheckedProgram, Contact, Op, Output};
+use ladder_front::program::{CheckedProgram, Contact, Line, Logic, Op, Output};
 use ladder_front::source::SourceFile;
 use ladder_runtime::Width;
 
@@ -50,12 +50,12 @@ pub fn build(program: &CheckedProgram, source: &SourceFile) -> Ladder {
         // FX style: the next STL closes the open block without a RET (the
         // checker's StlEnd stands at that STL). Nothing is drawn for it, as
         // GX Works2 draws nothing: the ladder shows what the program says.
-        if instruction.op == Op::StlEnd && written_mnemonic(source, instruction.span) == "STL" {
+        if instruction.op == Op::Line(Line::StlEnd) && written_mnemonic(source, instruction.span) == "STL" {
             index += 1;
             continue;
         }
         let (body, used) = match &instruction.op {
-            Op::StlBegin { block } => {
+            Op::Line(Line::StlBegin { block }) => {
                 let number = program.stl_blocks.get(*block).map_or(0, |b| b.state);
                 state = Some(number);
                 (
@@ -66,7 +66,7 @@ pub fn build(program: &CheckedProgram, source: &SourceFile) -> Ladder {
                     1,
                 )
             }
-            Op::StlEnd => {
+            Op::Line(Line::StlEnd) => {
                 state = None;
                 let fx_return = written_mnemonic(source, instruction.span) != "STLE";
                 (
@@ -77,14 +77,14 @@ pub fn build(program: &CheckedProgram, source: &SourceFile) -> Ladder {
                     1,
                 )
             }
-            Op::Label { number } => (
+            Op::Line(Line::Label { number }) => (
                 Body::Label {
                     number: *number,
                     element: element(index),
                 },
                 1,
             ),
-            Op::MasterControlReset { level } => {
+            Op::Line(Line::MasterControlReset { level }) => {
                 mc_levels &= (1u8 << level).wrapping_sub(1);
                 (
                     Body::MasterControlReset {
@@ -94,7 +94,7 @@ pub fn build(program: &CheckedProgram, source: &SourceFile) -> Ladder {
                     1,
                 )
             }
-            Op::MainEnd | Op::SubroutineReturn | Op::LoopStart { .. } | Op::LoopEnd { .. } => (
+            Op::Line(Line::MainEnd | Line::SubroutineReturn | Line::LoopStart { .. } | Line::LoopEnd { .. }) => (
                 Body::Rail {
                     element: element(index),
                 },
@@ -108,18 +108,7 @@ pub fn build(program: &CheckedProgram, source: &SourceFile) -> Ladder {
             // A rung always starts with a load; anything else here is a
             // part of a rung the checker accepted in a shape this builder
             // does not know: shown alone rather than lost.
-            Op::And(_)
-            | Op::Or(_)
-            | Op::AndBlock
-            | Op::OrBlock
-            | Op::BranchPush
-            | Op::BranchRead
-            | Op::BranchPop
-            | Op::Invert
-            | Op::ResultEdge { .. }
-            | Op::Output(_)
-            | Op::Jump { .. }
-            | Op::Call { .. } => (
+            Op::And(_) | Op::Or(_) | Op::Logic(_) | Op::Output(_) | Op::Jump { .. } | Op::Call { .. } => (
                 Body::Rail {
                     element: element(index),
                 },
@@ -164,26 +153,8 @@ fn rung_end(program: &CheckedProgram, start: usize) -> usize {
     while let Some(instruction) = program.instructions.get(end) {
         let boundary = match &instruction.op {
             Op::Load { new_rung, .. } => *new_rung,
-            Op::StlBegin { .. }
-            | Op::StlEnd
-            | Op::Label { .. }
-            | Op::MasterControlReset { .. }
-            | Op::MainEnd
-            | Op::SubroutineReturn
-            | Op::LoopStart { .. }
-            | Op::LoopEnd { .. } => true,
-            Op::And(_)
-            | Op::Or(_)
-            | Op::AndBlock
-            | Op::OrBlock
-            | Op::BranchPush
-            | Op::BranchRead
-            | Op::BranchPop
-            | Op::Invert
-            | Op::ResultEdge { .. }
-            | Op::Output(_)
-            | Op::Jump { .. }
-            | Op::Call { .. } => false,
+            Op::Line(_) => true,
+            Op::And(_) | Op::Or(_) | Op::Logic(_) | Op::Output(_) | Op::Jump { .. } | Op::Call { .. } => false,
         };
         if boundary {
             break;
@@ -267,7 +238,7 @@ impl Reader<'_> {
         let top = |stack: &mut Vec<Node>| stack.pop().unwrap_or(Node::Power);
         match op {
             Op::Load { .. } => stack.push(here),
-            Op::And(_) | Op::Invert | Op::ResultEdge { .. } => {
+            Op::And(_) | Op::Logic(Logic::Invert | Logic::ResultEdge { .. }) => {
                 let a = top(stack);
                 stack.push(series(a, here));
             }
@@ -275,30 +246,21 @@ impl Reader<'_> {
                 let a = top(stack);
                 stack.push(parallel(a, here));
             }
-            Op::AndBlock | Op::OrBlock => {
+            Op::Logic(Logic::AndBlock | Logic::OrBlock) => {
                 let b = top(stack);
                 let a = top(stack);
                 let block = Node::Block(Box::new(b));
-                stack.push(if matches!(op, Op::AndBlock) {
+                stack.push(if matches!(op, Op::Logic(Logic::AndBlock)) {
                     series(a, block)
                 } else {
                     parallel(a, block)
                 });
             }
-            Op::BranchPush
-            | Op::BranchRead
-            | Op::BranchPop
+            Op::Logic(Logic::BranchPush | Logic::BranchRead | Logic::BranchPop)
             | Op::Output(_)
             | Op::Jump { .. }
             | Op::Call { .. }
-            | Op::Label { .. }
-            | Op::MasterControlReset { .. }
-            | Op::StlBegin { .. }
-            | Op::StlEnd
-            | Op::MainEnd
-            | Op::SubroutineReturn
-            | Op::LoopStart { .. }
-            | Op::LoopEnd { .. } => return false,
+            | Op::Line(_) => return false,
         }
         self.at += 1;
         true
@@ -323,13 +285,13 @@ impl Reader<'_> {
         };
         while let Some(op) = self.op() {
             match op {
-                Op::BranchRead | Op::BranchPop if nested => break,
-                Op::BranchPush => {
+                Op::Logic(Logic::BranchRead | Logic::BranchPop) if nested => break,
+                Op::Logic(Logic::BranchPush) => {
                     self.at += 1;
                     flush(&mut items, &mut stack);
                     let mut branches = vec![self.tail(true)];
-                    while let Some(next @ (Op::BranchRead | Op::BranchPop)) = self.op() {
-                        let last = matches!(next, Op::BranchPop);
+                    while let Some(next @ Op::Logic(Logic::BranchRead | Logic::BranchPop)) = self.op() {
+                        let last = matches!(next, Op::Logic(Logic::BranchPop));
                         self.at += 1;
                         // The branch after MPP runs to the end of this tail.
                         branches.push(self.tail(if last { nested } else { true }));
@@ -345,23 +307,12 @@ impl Reader<'_> {
                     items.push(TailItem::Output((self.element)(self.at)));
                     self.at += 1;
                 }
-                Op::BranchRead
-                | Op::BranchPop
+                Op::Logic(Logic::BranchRead | Logic::BranchPop)
                 | Op::Load { .. }
                 | Op::And(_)
                 | Op::Or(_)
-                | Op::AndBlock
-                | Op::OrBlock
-                | Op::Invert
-                | Op::ResultEdge { .. }
-                | Op::Label { .. }
-                | Op::MasterControlReset { .. }
-                | Op::StlBegin { .. }
-                | Op::StlEnd
-                | Op::MainEnd
-                | Op::SubroutineReturn
-                | Op::LoopStart { .. }
-                | Op::LoopEnd { .. } => {
+                | Op::Logic(Logic::AndBlock | Logic::OrBlock | Logic::Invert | Logic::ResultEdge { .. })
+                | Op::Line(_) => {
                     // MRD/MPP outside a split and lines of their own cannot
                     // be inside a checked rung; stop rather than loop.
                     if !self.contact_op(&mut stack) {
@@ -416,21 +367,17 @@ fn step_size(op: &Op) -> u32 {
     };
     match op {
         Op::Load { contact: c, .. } | Op::And(c) | Op::Or(c) => contact(c),
-        Op::AndBlock
-        | Op::OrBlock
-        | Op::BranchPush
-        | Op::BranchRead
-        | Op::BranchPop
-        | Op::Invert
-        | Op::ResultEdge { .. }
-        | Op::Label { .. }
-        | Op::StlBegin { .. }
-        | Op::StlEnd
-        | Op::MainEnd
-        | Op::SubroutineReturn
-        | Op::LoopEnd { .. } => 1,
-        Op::MasterControlReset { .. } => 2,
-        Op::Jump { .. } | Op::Call { .. } | Op::LoopStart { .. } => 3,
+        Op::Logic(_)
+        | Op::Line(
+            Line::Label { .. }
+            | Line::StlBegin { .. }
+            | Line::StlEnd
+            | Line::MainEnd
+            | Line::SubroutineReturn
+            | Line::LoopEnd { .. },
+        ) => 1,
+        Op::Line(Line::MasterControlReset { .. }) => 2,
+        Op::Jump { .. } | Op::Call { .. } | Op::Line(Line::LoopStart { .. }) => 3,
         Op::Output(output) => match output {
             Output::Coil(_) | Output::Set { .. } | Output::StateJump { .. } => 1,
             Output::Reset { .. } | Output::Pulse { .. } => 2,

@@ -6,7 +6,7 @@
 use super::names::instruction;
 use super::{Body, Element, Ladder, Node, Tail, TailItem};
 use ladder_front::isa::Role;
-use ladder_front::program::{CheckedProgram, Op};
+use ladder_front::program::{CheckedProgram, Line, Op};
 
 /// The IL of a ladder built from `program`.
 pub fn to_il(ladder: &Ladder, program: &CheckedProgram) -> String {
@@ -37,7 +37,7 @@ pub fn to_il(ladder: &Ladder, program: &CheckedProgram) -> String {
         .instructions
         .iter()
         .filter_map(|i| {
-            if let Op::Label { number } = i.op {
+            if let Op::Line(Line::Label { number }) = i.op {
                 Some(number)
             } else {
                 None

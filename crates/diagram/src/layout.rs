@@ -9,7 +9,7 @@
 use super::names::{bit_name, instruction, word_name};
 use super::{Body, Element, Node, Rung, Tail, TailItem};
 use ladder_front::isa::Role;
-use ladder_front::program::{CheckedProgram, Contact, Op, Output};
+use ladder_front::program::{CheckedProgram, Contact, Logic, Op, Output};
 
 /// Columns from rail to rail, as GX Works2 shows them (eleven contacts and
 /// the output); a rung that needs more is wrapped onto bands below.
@@ -366,8 +366,8 @@ pub fn symbol(element: &Element, program: &CheckedProgram) -> (Symbol, u32) {
                 )
             }
         },
-        Op::Invert => (Symbol::Invert, 1),
-        Op::ResultEdge { falling, .. } => (Symbol::ResultEdge { falling: *falling }, 1),
+        Op::Logic(Logic::Invert) => (Symbol::Invert, 1),
+        Op::Logic(Logic::ResultEdge { falling, .. }) => (Symbol::ResultEdge { falling: *falling }, 1),
         // `OUT Sn` inside a block (a transfer, as SET) is drawn as written.
         Op::Output(
             Output::Coil(bit)
@@ -405,21 +405,10 @@ pub fn symbol(element: &Element, program: &CheckedProgram) -> (Symbol, u32) {
             | Output::MasterControl { .. }
             | Output::App(_),
         )
-        | Op::AndBlock
-        | Op::OrBlock
-        | Op::BranchPush
-        | Op::BranchRead
-        | Op::BranchPop
+        | Op::Logic(Logic::AndBlock | Logic::OrBlock | Logic::BranchPush | Logic::BranchRead | Logic::BranchPop)
         | Op::Jump { .. }
-        | Op::Label { .. }
-        | Op::MasterControlReset { .. }
-        | Op::StlBegin { .. }
-        | Op::StlEnd
-        | Op::MainEnd
         | Op::Call { .. }
-        | Op::SubroutineReturn
-        | Op::LoopStart { .. }
-        | Op::LoopEnd { .. } => boxed(),
+        | Op::Line(_) => boxed(),
     }
 }
 

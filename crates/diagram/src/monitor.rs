@@ -7,7 +7,7 @@
 
 use ladder_front::isa::OperandKind;
 use ladder_front::program::{
-    AppOperand, BitRef, CheckedProgram, Contact, CounterRef, Op, Output, ResetTarget, WordRef,
+    AppOperand, BitRef, CheckedProgram, Contact, CounterRef, Line, Op, Output, ResetTarget, WordRef,
 };
 use ladder_interp::access::{bit_place, effective_index, resolve_word};
 use ladder_runtime::{BitArea, Memory, Place, Width};
@@ -136,7 +136,7 @@ pub fn element_state(program: &CheckedProgram, index: usize, mem: &Memory) -> El
                 }
             }
         },
-        Op::StlBegin { block } => ElementState {
+        Op::Line(Line::StlBegin { block }) => ElementState {
             on: program
                 .stl_blocks
                 .get(*block)
@@ -144,25 +144,21 @@ pub fn element_state(program: &CheckedProgram, index: usize, mem: &Memory) -> El
                 .map(|&on| on != 0),
             ..ElementState::default()
         },
-        Op::LoopStart { count, .. } => ElementState {
+        Op::Line(Line::LoopStart { count, .. }) => ElementState {
             values: vec![shown(count, read_word(mem, count, Width::Single))],
             ..ElementState::default()
         },
-        Op::AndBlock
-        | Op::OrBlock
-        | Op::BranchPush
-        | Op::BranchRead
-        | Op::BranchPop
-        | Op::Invert
-        | Op::ResultEdge { .. }
+        Op::Logic(_)
         | Op::Jump { .. }
-        | Op::Label { .. }
-        | Op::MasterControlReset { .. }
-        | Op::StlEnd
-        | Op::MainEnd
         | Op::Call { .. }
-        | Op::SubroutineReturn
-        | Op::LoopEnd { .. } => ElementState::default(),
+        | Op::Line(
+            Line::Label { .. }
+            | Line::MasterControlReset { .. }
+            | Line::StlEnd
+            | Line::MainEnd
+            | Line::SubroutineReturn
+            | Line::LoopEnd { .. },
+        ) => ElementState::default(),
     }
 }
 

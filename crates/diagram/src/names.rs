@@ -5,8 +5,8 @@
 
 use ladder_front::isa::{CompareOp, OperandKind, Role};
 use ladder_front::program::{
-    Address, AppInstruction, AppOperand, BitRef, CheckedProgram, Contact, CounterRef, Element, Op, Output, RangeEnd,
-    ResetTarget, WordRef,
+    Address, AppInstruction, AppOperand, BitRef, CheckedProgram, Contact, CounterRef, Element, Line, Logic, Op, Output,
+    RangeEnd, ResetTarget, WordRef,
 };
 use ladder_runtime::device::BUFFER_WORDS_PER_UNIT;
 use ladder_runtime::{BitArea, Width, WordArea};
@@ -168,13 +168,13 @@ pub fn instruction(program: &CheckedProgram, index: usize, role: Role) -> (Strin
     let words = |mnemonic: &str, operands: Vec<String>| (mnemonic.to_string(), operands);
     match &instruction.op {
         Op::Load { contact: c, .. } | Op::And(c) | Op::Or(c) => contact(c, role),
-        Op::AndBlock => words("ANB", Vec::new()),
-        Op::OrBlock => words("ORB", Vec::new()),
-        Op::BranchPush => words("MPS", Vec::new()),
-        Op::BranchRead => words("MRD", Vec::new()),
-        Op::BranchPop => words("MPP", Vec::new()),
-        Op::Invert => words("INV", Vec::new()),
-        Op::ResultEdge { falling, .. } => words(if *falling { "MEF" } else { "MEP" }, Vec::new()),
+        Op::Logic(Logic::AndBlock) => words("ANB", Vec::new()),
+        Op::Logic(Logic::OrBlock) => words("ORB", Vec::new()),
+        Op::Logic(Logic::BranchPush) => words("MPS", Vec::new()),
+        Op::Logic(Logic::BranchRead) => words("MRD", Vec::new()),
+        Op::Logic(Logic::BranchPop) => words("MPP", Vec::new()),
+        Op::Logic(Logic::Invert) => words("INV", Vec::new()),
+        Op::Logic(Logic::ResultEdge { falling, .. }) => words(if *falling { "MEF" } else { "MEP" }, Vec::new()),
         Op::Output(output) => match output {
             Output::Coil(bit) => words("OUT", vec![bit_name(bit)]),
             Output::Timer { timer, preset } => words("OUT", vec![format!("T{timer}"), word_name(preset)]),
@@ -217,17 +217,17 @@ pub fn instruction(program: &CheckedProgram, index: usize, role: Role) -> (Strin
             let label = program.subroutines.get(*subroutine).map_or(0, |s| s.label);
             words(if slot.is_some() { "CALLP" } else { "CALL" }, vec![format!("P{label}")])
         }
-        Op::Label { number } => words(&format!("P{number}"), Vec::new()),
-        Op::MasterControlReset { level } => words("MCR", vec![format!("N{level}")]),
-        Op::StlBegin { block } => {
+        Op::Line(Line::Label { number }) => words(&format!("P{number}"), Vec::new()),
+        Op::Line(Line::MasterControlReset { level }) => words("MCR", vec![format!("N{level}")]),
+        Op::Line(Line::StlBegin { block }) => {
             let state = program.stl_blocks.get(*block).map_or(0, |b| b.state);
             words("STL", vec![format!("S{state}")])
         }
-        Op::StlEnd => words("RET", Vec::new()),
-        Op::MainEnd => words("FEND", Vec::new()),
-        Op::SubroutineReturn => words("SRET", Vec::new()),
-        Op::LoopStart { count, .. } => words("FOR", vec![word_name(count)]),
-        Op::LoopEnd { .. } => words("NEXT", Vec::new()),
+        Op::Line(Line::StlEnd) => words("RET", Vec::new()),
+        Op::Line(Line::MainEnd) => words("FEND", Vec::new()),
+        Op::Line(Line::SubroutineReturn) => words("SRET", Vec::new()),
+        Op::Line(Line::LoopStart { count, .. }) => words("FOR", vec![word_name(count)]),
+        Op::Line(Line::LoopEnd { .. }) => words("NEXT", Vec::new()),
     }
 }
 

@@ -13,6 +13,7 @@ pub mod check;
 pub mod diagnostics;
 pub mod host_device;
 pub mod isa;
+pub mod logic;
 pub mod program;
 pub mod source;
 pub mod syntax;

@@ -184,6 +184,11 @@ impl From<Element> for AppOperand {
     }
 }
 
+/// One instruction of the checked program. The kinds a walker other than
+/// the interpreter and the lowering seldom tells apart are grouped: `Logic`
+/// (works on the rung's result, names no device) and `Line` (a line of its
+/// own, outside every rung), so that a walker names the groups it passes
+/// over instead of listing every kind.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Op {
     /// LD-type contact: starts a block, or a new rung when `new_rung` (the
@@ -196,7 +201,35 @@ pub enum Op {
     },
     And(Contact),
     Or(Contact),
+    /// ANB, ORB, MPS, MRD, MPP, INV, MEP/MEF.
+    Logic(Logic),
+    /// An instruction that takes the rung result: a coil, SET/RST, an
+    /// application instruction, ...
+    Output(Output),
+    /// CJ `Plabel`: jump to instruction index `target` (possibly the end of
+    /// the list).
+    Jump {
+        target: usize,
+        label: u32,
+    },
+    /// CALL/CALLP: runs subroutine `subroutine` (an index into
+    /// `CheckedProgram::subroutines`) while the rung is ON, or with `slot`
+    /// (CALLP) at its rising edge, and continues after the CALL.
+    Call {
+        subroutine: usize,
+        slot: Option<u32>,
+    },
+    /// P labels, MCR, STL, RET, FEND, SRET, FOR, NEXT.
+    Line(Line),
+}
+
+/// An instruction that works on the rung's result (and the logic stack)
+/// and names no device.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Logic {
+    /// ANB.
     AndBlock,
+    /// ORB.
     OrBlock,
     /// MPS.
     BranchPush,
@@ -210,15 +243,12 @@ pub enum Op {
         falling: bool,
         slot: u32,
     },
-    /// An instruction that takes the rung result: a coil, SET/RST, an
-    /// application instruction, ...
-    Output(Output),
-    /// CJ `Plabel`: jump to instruction index `target` (possibly the end of
-    /// the list).
-    Jump {
-        target: usize,
-        label: u32,
-    },
+}
+
+/// An instruction on a line of its own: no rung leads to it and it takes
+/// no result.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Line {
     /// A jump target `Pn` (also a subroutine's entry); does nothing.
     Label {
         number: u32,
@@ -234,13 +264,6 @@ pub enum Op {
     StlEnd,
     /// FEND: the main program ends here; subroutines follow.
     MainEnd,
-    /// CALL/CALLP: runs subroutine `subroutine` (an index into
-    /// `CheckedProgram::subroutines`) while the rung is ON, or with `slot`
-    /// (CALLP) at its rising edge, and continues after the CALL.
-    Call {
-        subroutine: usize,
-        slot: Option<u32>,
-    },
     /// SRET: the end of a subroutine.
     SubroutineReturn,
     /// FOR: the instructions up to the NEXT at index `end` run `count`

@@ -13,7 +13,10 @@ mod app;
 
 use access::{read_bit, resolve_word, write_bit};
 use ladder_front::isa::Sense;
-use ladder_front::program::{BitRef, CheckedProgram, Contact, Instruction, Op, Output, ResetTarget, StlBlock, WordRef};
+use ladder_front::logic::{LogicStack, RungLogic};
+use ladder_front::program::{
+    BitRef, CheckedProgram, Contact, Instruction, Line, Op, Output, ResetTarget, StlBlock, WordRef,
+};
 use ladder_runtime::special::LOOP_REPETITION_LIMIT;
 use ladder_runtime::{Memory, OperationError, Width};
 
@@ -43,9 +46,7 @@ impl<'p> Interpreter<'p> {
         let mut run = Run {
             mem,
             program: self.program,
-            result: false,
-            blocks: Vec::new(),
-            branches: Vec::new(),
+            logic: LogicStack::new(false),
             mc_power: [true; 8],
             loops: Vec::new(),
         };
@@ -57,16 +58,45 @@ impl<'p> Interpreter<'p> {
 struct Run<'a> {
     mem: &'a mut Memory,
     program: &'a CheckedProgram,
-    /// The result of the current block (the rung's power flow so far).
-    result: bool,
-    /// Results of earlier blocks waiting for ANB/ORB.
-    blocks: Vec<bool>,
-    /// Branch points pushed by MPS.
-    branches: Vec<bool>,
+    /// The rung's power flow so far, and what ANB/ORB and MRD/MPP read.
+    logic: LogicStack<bool>,
     /// The condition each master-control level was last opened with.
     mc_power: [bool; 8],
     /// Repetitions left in each open FOR/NEXT loop, innermost last.
     loops: Vec<i64>,
+}
+
+/// The interpreter's rung values are bits.
+impl RungLogic for Run<'_> {
+    type Value = bool;
+
+    fn logic_stack(&mut self) -> &mut LogicStack<bool> {
+        &mut self.logic
+    }
+    fn and(&mut self, a: bool, b: bool) -> bool {
+        a && b
+    }
+    fn or(&mut self, a: bool, b: bool) -> bool {
+        a || b
+    }
+    fn not(&mut self, value: bool) -> bool {
+        !value
+    }
+    fn result_edge(&mut self, slot: u32, value: bool, falling: bool) -> bool {
+        self.edge(slot, value, falling)
+    }
+    fn off(&mut self) -> bool {
+        false
+    }
+    fn evaluate_contact(&mut self, contact: &Contact, line: u32) -> bool {
+        self.contact(contact, line)
+    }
+    fn under_rails(&mut self, mc_levels: u8, passes: bool) -> bool {
+        let rail = (0..8)
+            .filter(|level| mc_levels & (1 << level) != 0)
+            .all(|level| self.mc_power[level]);
+        rail && passes
+    }
 }
 
 impl Run<'_> {
@@ -76,7 +106,7 @@ impl Run<'_> {
         let instructions = &self.program.instructions;
         let mut pc = start;
         while let Some(instruction) = instructions.get(pc) {
-            if matches!(instruction.op, Op::MainEnd | Op::SubroutineReturn) {
+            if matches!(instruction.op, Op::Line(Line::MainEnd | Line::SubroutineReturn)) {
                 return;
             }
             pc = self.step(pc, instruction);
@@ -87,13 +117,9 @@ impl Run<'_> {
     /// around the CALL continues afterwards with its own.
     fn call(&mut self, subroutine: usize) {
         let entry = self.program.subroutines[subroutine].entry;
-        let result = self.result;
-        let blocks = std::mem::take(&mut self.blocks);
-        let branches = std::mem::take(&mut self.branches);
+        let around = std::mem::replace(&mut self.logic, LogicStack::new(false));
         self.run_part(entry);
-        self.result = result;
-        self.blocks = blocks;
-        self.branches = branches;
+        self.logic = around;
     }
 
     /// NEXT: back to the instruction after FOR while repetitions are left
@@ -121,69 +147,34 @@ impl Run<'_> {
                 contact,
                 new_rung,
                 mc_levels,
-            } => {
-                if *new_rung {
-                    self.blocks.clear();
-                    self.branches.clear();
-                } else {
-                    self.blocks.push(self.result);
-                }
-                let rail = (0..8)
-                    .filter(|level| mc_levels & (1 << level) != 0)
-                    .all(|level| self.mc_power[level]);
-                // The contact is evaluated even without power, so edge slots
-                // follow their device.
-                let passes = self.contact(contact, line);
-                self.result = rail && passes;
-            }
-            Op::And(contact) => {
-                let passes = self.contact(contact, line);
-                self.result = self.result && passes;
-            }
-            Op::Or(contact) => {
-                let passes = self.contact(contact, line);
-                self.result = self.result || passes;
-            }
-            // The checker refuses a program that reads an empty logic stack
-            // (E0010, E0011); were one to, the value read is OFF, as in the
-            // lowering.
-            Op::AndBlock => {
-                let earlier = self.blocks.pop().unwrap_or(false);
-                self.result = earlier && self.result;
-            }
-            Op::OrBlock => {
-                let earlier = self.blocks.pop().unwrap_or(false);
-                self.result = earlier || self.result;
-            }
-            Op::BranchPush => self.branches.push(self.result),
-            Op::BranchRead => self.result = self.branches.last().copied().unwrap_or(false),
-            Op::BranchPop => self.result = self.branches.pop().unwrap_or(false),
-            Op::Invert => self.result = !self.result,
-            Op::ResultEdge { falling, slot } => self.result = self.edge(*slot, self.result, *falling),
+            } => self.load_contact(contact, *new_rung, *mc_levels, line),
+            Op::And(contact) => self.and_contact(contact, line),
+            Op::Or(contact) => self.or_contact(contact, line),
+            Op::Logic(op) => self.logic(*op),
             Op::Jump { target, .. } => {
-                if self.result {
+                if self.logic.result {
                     return *target;
                 }
             }
-            Op::StlBegin { block } => return self.enter_block(&self.program.stl_blocks[*block], pc),
-            Op::Label { .. } | Op::MasterControlReset { .. } | Op::StlEnd => {}
-            Op::Output(output) => self.output(output, self.result, line),
+            Op::Line(Line::StlBegin { block }) => return self.enter_block(&self.program.stl_blocks[*block], pc),
+            Op::Line(Line::Label { .. } | Line::MasterControlReset { .. } | Line::StlEnd) => {}
+            Op::Output(output) => self.output(output, self.logic.result, line),
             Op::Call { subroutine, slot } => {
                 let power = match slot {
-                    Some(slot) => self.edge(*slot, self.result, false),
-                    None => self.result,
+                    Some(slot) => self.edge(*slot, self.logic.result, false),
+                    None => self.logic.result,
                 };
                 if power {
                     self.call(*subroutine);
                 }
             }
-            Op::LoopStart { count, .. } => {
+            Op::Line(Line::LoopStart { count, .. }) => {
                 let count = self.compare_operand(*count, Width::Single, line);
                 self.loops.push(i64::from(count.max(1)));
             }
-            Op::LoopEnd { start } => return self.next(*start, pc, line),
+            Op::Line(Line::LoopEnd { start }) => return self.next(*start, pc, line),
             // The end of a part: `run_part` stops before these.
-            Op::MainEnd | Op::SubroutineReturn => {}
+            Op::Line(Line::MainEnd | Line::SubroutineReturn) => {}
         }
         pc + 1
     }

@@ -169,3 +169,29 @@ impl Inst {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use ladder_runtime::device::{FIRST_WIDE_COUNTER, WIDE_COUNTER_COUNT};
+
+    /// Constant folding makes a run-time index fixed only inside its
+    /// space's array (`passes::fix_index`), so each array spans exactly the
+    /// devices of its area.
+    #[test]
+    fn each_space_spans_the_devices_of_its_area() {
+        for area in BitArea::ALL {
+            let array = Space::Bits(area).array();
+            assert_eq!((array.first(), array.end()), (0, area.count()), "{area:?}");
+        }
+        for area in WordArea::ALL {
+            let array = Space::Words(area).array();
+            assert_eq!((array.first(), array.end()), (0, area.count()), "{area:?}");
+        }
+        let wide = Space::WideCounters.array();
+        assert_eq!(
+            (wide.first(), wide.end()),
+            (FIRST_WIDE_COUNTER, FIRST_WIDE_COUNTER + WIDE_COUNTER_COUNT)
+        );
+    }
+}

@@ -442,11 +442,15 @@ impl Inst {
 
     /// Visits every value the instruction reads, mutably (for rewriting).
     pub fn for_each_operand_mut(&mut self, mut visit: impl FnMut(&mut Value)) {
-        let index = |i: &mut Index, visit: &mut dyn FnMut(&mut Value)| {
-            if let Index::Dynamic(v) = i {
-                visit(v);
-            }
-        };
+        self.visit_operands_mut(|operand| match operand {
+            OperandMut::Index(Index::Dynamic(value)) | OperandMut::Value(value) => visit(value),
+            OperandMut::Index(Index::Fixed(_)) => {}
+        });
+    }
+
+    /// Visits every operand mutably: the index of an image access (a
+    /// device number or a value) and every value.
+    pub fn visit_operands_mut(&mut self, mut visit: impl FnMut(OperandMut<'_>)) {
         match self {
             Inst::Const { .. }
             | Inst::LoadSlot { .. }
@@ -457,15 +461,20 @@ impl Inst {
             | Inst::LoadLoopCount { .. }
             | Inst::CallSubroutine { .. }
             | Inst::RecordError { .. } => {}
-            Inst::LoadBit { index: i, .. } | Inst::LoadWord { index: i, .. } | Inst::LoadWideCounter { index: i } => {
-                index(i, &mut visit)
+            Inst::LoadBit { index, .. }
+            | Inst::LoadWord { index, .. }
+            | Inst::LoadWideCounter { index }
+            | Inst::FillBits { start: index, .. }
+            | Inst::ClearWords { start: index, .. } => visit(OperandMut::Index(index)),
+            Inst::StoreBit {
+                index, value: stored, ..
             }
-            Inst::FillBits { start, .. } | Inst::ClearWords { start, .. } => index(start, &mut visit),
-            Inst::StoreBit { index: i, value, .. }
-            | Inst::StoreWord { index: i, value, .. }
-            | Inst::StoreWideCounter { index: i, value } => {
-                index(i, &mut visit);
-                visit(value);
+            | Inst::StoreWord {
+                index, value: stored, ..
+            }
+            | Inst::StoreWideCounter { index, value: stored } => {
+                visit(OperandMut::Index(index));
+                visit(OperandMut::Value(stored));
             }
             Inst::StoreSlot { value, .. }
             | Inst::StoreBlockActive { value, .. }
@@ -478,28 +487,35 @@ impl Inst {
             | Inst::Truncate { value, .. }
             | Inst::FloatUnary { value, .. }
             | Inst::Bitcast { value, .. }
-            | Inst::Convert { value, .. } => visit(value),
+            | Inst::Convert { value, .. } => visit(OperandMut::Value(value)),
             Inst::And { a, b }
             | Inst::Or { a, b }
             | Inst::Binary { a, b, .. }
             | Inst::Compare { a, b, .. }
             | Inst::Float { a, b, .. }
             | Inst::FloatCompare { a, b, .. } => {
-                visit(a);
-                visit(b);
+                visit(OperandMut::Value(a));
+                visit(OperandMut::Value(b));
             }
             Inst::Select {
                 condition,
                 if_true,
                 if_false,
             } => {
-                visit(condition);
-                visit(if_true);
-                visit(if_false);
+                visit(OperandMut::Value(condition));
+                visit(OperandMut::Value(if_true));
+                visit(OperandMut::Value(if_false));
             }
-            Inst::Call { args, .. } => args.iter_mut().for_each(&mut visit),
+            Inst::Call { args, .. } => args.iter_mut().for_each(|arg| visit(OperandMut::Value(arg))),
         }
     }
+}
+
+/// An operand as `Inst::visit_operands_mut` hands it over.
+pub enum OperandMut<'a> {
+    /// Where an image access starts: a device number, or a value.
+    Index(&'a mut Index),
+    Value(&'a mut Value),
 }
 
 #[derive(Clone, Debug, PartialEq, Eq)]

@@ -9,9 +9,10 @@
 //! - removal of pure instructions whose values are never used;
 //! - memory forwarding across rungs (`memory.rs`).
 
-use super::{BinOp, Block, BlockId, Effect, Function, Index, Inst, Program, Space, Terminator, Type, UnaryOp, Value};
+use super::{
+    BinOp, Block, BlockId, Effect, Function, Index, Inst, OperandMut, Program, Space, Terminator, Type, UnaryOp, Value,
+};
 use ladder_front::isa::CompareOp;
-use ladder_runtime::device::{FIRST_WIDE_COUNTER, WIDE_COUNTER_COUNT};
 use ladder_runtime::helpers::{Param, Writes};
 use ladder_runtime::special::{M_ALWAYS_OFF, M_ALWAYS_ON, M_OPERATION_ERROR, SM_ALWAYS_OFF, SM_ALWAYS_ON};
 use ladder_runtime::{BitArea, Place};
@@ -374,54 +375,29 @@ fn fold(
 /// run-time index differently from a fixed one (a negative index clamps to
 /// the last device), so those stay as they are.
 fn fix_index(inst: &mut Inst, constants: &HashMap<Value, i64>) {
-    let fix = |index: &mut Index, first: u32, end: u32, count: u32| {
-        if let Index::Dynamic(value) = *index {
-            if let Some(&n) = constants.get(&value) {
-                if n >= i64::from(first) && n + i64::from(count.max(1)) <= i64::from(end) {
-                    *index = Index::Fixed(n as u32);
+    let span = match inst.effect() {
+        Effect::Load(span) | Effect::Store(span, _) | Effect::Fill(span) => span,
+        Effect::Pure
+        | Effect::ReadsLocal
+        | Effect::WritesLocal
+        | Effect::Helper(..)
+        | Effect::OperationError
+        | Effect::Subroutine => return,
+    };
+    let array = span.space.array();
+    let (first, end) = (array.first(), array.end());
+    inst.visit_operands_mut(|operand| match operand {
+        OperandMut::Index(index) => {
+            if let Index::Dynamic(value) = *index {
+                if let Some(&n) = constants.get(&value) {
+                    if n >= i64::from(first) && n + i64::from(span.count.max(1)) <= i64::from(end) {
+                        *index = Index::Fixed(n as u32);
+                    }
                 }
             }
         }
-    };
-    let wide_counters = (FIRST_WIDE_COUNTER, FIRST_WIDE_COUNTER + WIDE_COUNTER_COUNT);
-    match inst {
-        Inst::LoadBit { area, index } | Inst::StoreBit { area, index, .. } => fix(index, 0, area.count(), 1),
-        Inst::FillBits { area, start, count, .. } => fix(start, 0, area.count(), *count),
-        Inst::LoadWord { area, index } | Inst::StoreWord { area, index, .. } => fix(index, 0, area.count(), 1),
-        Inst::ClearWords { area, start, count } => fix(start, 0, area.count(), *count),
-        Inst::LoadWideCounter { index } | Inst::StoreWideCounter { index, .. } => {
-            fix(index, wide_counters.0, wide_counters.1, 1)
-        }
-        Inst::Const { .. }
-        | Inst::LoadSlot { .. }
-        | Inst::StoreSlot { .. }
-        | Inst::LoadBlockActive { .. }
-        | Inst::StoreBlockActive { .. }
-        | Inst::LoadBookkeeping { .. }
-        | Inst::StoreBookkeeping { .. }
-        | Inst::LoadElapsed
-        | Inst::GetLocal { .. }
-        | Inst::SetLocal { .. }
-        | Inst::LoadLoopCount { .. }
-        | Inst::StoreLoopCount { .. }
-        | Inst::CallSubroutine { .. }
-        | Inst::Call { .. }
-        | Inst::RecordError { .. }
-        | Inst::Not { .. }
-        | Inst::And { .. }
-        | Inst::Or { .. }
-        | Inst::Binary { .. }
-        | Inst::Unary { .. }
-        | Inst::Compare { .. }
-        | Inst::Extend { .. }
-        | Inst::Truncate { .. }
-        | Inst::Select { .. }
-        | Inst::Float { .. }
-        | Inst::FloatUnary { .. }
-        | Inst::FloatCompare { .. }
-        | Inst::Bitcast { .. }
-        | Inst::Convert { .. } => {}
-    }
+        OperandMut::Value(_) => {}
+    });
 }
 
 /// Folds instructions with constant operands to constants, and instructions

@@ -9,7 +9,7 @@
 //! an output driven by an instruction that is gone is released.
 
 use ladder_front::isa::app::Keeps;
-use ladder_front::program::{CheckedProgram, Contact, Op, Output};
+use ladder_front::program::{CheckedProgram, Contact, Logic, Op, Output};
 use ladder_front::source::SourceFile;
 use ladder_runtime::Memory;
 use std::collections::HashMap;
@@ -128,7 +128,7 @@ fn edge_slot(op: &Op) -> Option<u32> {
             Contact::Edge { slot, .. } => Some(*slot),
             Contact::Level { .. } | Contact::Constant(_) | Contact::Compare { .. } => None,
         },
-        Op::ResultEdge { slot, .. } => Some(*slot),
+        Op::Logic(Logic::ResultEdge { slot, .. }) => Some(*slot),
         Op::Output(Output::Pulse { slot, .. }) => Some(*slot),
         Op::Output(Output::App(app)) => app.pulse_slot,
         Op::Call { slot, .. } => *slot,
@@ -141,21 +141,11 @@ fn edge_slot(op: &Op) -> Option<u32> {
             | Output::StateJump { .. }
             | Output::MasterControl { .. },
         )
-        | Op::AndBlock
-        | Op::OrBlock
-        | Op::BranchPush
-        | Op::BranchRead
-        | Op::BranchPop
-        | Op::Invert
+        | Op::Logic(
+            Logic::AndBlock | Logic::OrBlock | Logic::BranchPush | Logic::BranchRead | Logic::BranchPop | Logic::Invert,
+        )
         | Op::Jump { .. }
-        | Op::Label { .. }
-        | Op::MasterControlReset { .. }
-        | Op::StlBegin { .. }
-        | Op::StlEnd
-        | Op::MainEnd
-        | Op::SubroutineReturn
-        | Op::LoopStart { .. }
-        | Op::LoopEnd { .. } => None,
+        | Op::Line(_) => None,
     }
 }
 

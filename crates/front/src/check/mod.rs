@@ -226,7 +226,7 @@ impl Checker {
         let target = self.instructions.len();
         self.blocks
             .label(number, position, target, site.span, &mut self.diagnostics);
-        self.emit(Op::Label { number }, site);
+        self.emit(Op::Line(Line::Label { number }), site);
     }
 
     /// END or the end of the file: everything open is an error.
@@ -410,36 +410,36 @@ impl Checker {
             }
             BitClass::BlockAnd => {
                 self.rung.combine(span, &mut self.diagnostics);
-                self.emit(Op::AndBlock, site);
+                self.emit(Op::Logic(Logic::AndBlock), site);
             }
             BitClass::BlockOr => {
                 self.rung.combine(span, &mut self.diagnostics);
-                self.emit(Op::OrBlock, site);
+                self.emit(Op::Logic(Logic::OrBlock), site);
             }
             BitClass::BranchPush => {
                 self.rung.push(span, &mut self.diagnostics);
-                self.emit(Op::BranchPush, site);
+                self.emit(Op::Logic(Logic::BranchPush), site);
             }
             BitClass::BranchRead => {
                 self.rung.read(span, false, &mut self.diagnostics);
-                self.emit(Op::BranchRead, site);
+                self.emit(Op::Logic(Logic::BranchRead), site);
             }
             BitClass::BranchPop => {
                 self.rung.read(span, true, &mut self.diagnostics);
-                self.emit(Op::BranchPop, site);
+                self.emit(Op::Logic(Logic::BranchPop), site);
             }
             BitClass::Invert => {
                 self.rung.series(span, &mut self.diagnostics);
-                self.emit(Op::Invert, site);
+                self.emit(Op::Logic(Logic::Invert), site);
             }
             BitClass::ResultEdge(sense) => {
                 self.rung.series(span, &mut self.diagnostics);
                 let slot = self.slot(span);
                 self.emit(
-                    Op::ResultEdge {
+                    Op::Logic(Logic::ResultEdge {
                         falling: sense == Sense::Falling,
                         slot,
-                    },
+                    }),
                     site,
                 );
             }
@@ -501,7 +501,7 @@ impl Checker {
                 if let Some([level]) = operands {
                     if let Some(level) = self.ok(operands::nest_level(level)) {
                         if self.blocks.mcr(level, span, &mut self.diagnostics) {
-                            self.emit(Op::MasterControlReset { level }, site);
+                            self.emit(Op::Line(Line::MasterControlReset { level }), site);
                         }
                     }
                 }

@@ -4,7 +4,7 @@
 
 use super::{operands, Checker, Site};
 use crate::diagnostics::{Code, Diagnostic};
-use crate::program::{Contact, Op, StlBlock, Subroutine};
+use crate::program::{Contact, Line, Op, StlBlock, Subroutine};
 use crate::source::Span;
 use crate::syntax;
 use ladder_runtime::Width;
@@ -96,7 +96,7 @@ impl Checker {
             return;
         };
         self.blocks.set_subroutine(None);
-        if let Some(index) = self.emit(Op::SubroutineReturn, site) {
+        if let Some(index) = self.emit(Op::Line(Line::SubroutineReturn), site) {
             self.parts.subroutines[id].end = index;
         }
     }
@@ -125,7 +125,7 @@ impl Checker {
             return;
         }
         self.parts.after_main_end = true;
-        self.parts.main_end = self.emit(Op::MainEnd, site);
+        self.parts.main_end = self.emit(Op::Line(Line::MainEnd), site);
     }
 
     /// CALL/CALLP Pn.
@@ -166,7 +166,7 @@ impl Checker {
         let start = self.instructions.len();
         if self.blocks.loop_start(start, site.span, &mut self.diagnostics) {
             if let Some(count) = count {
-                self.emit(Op::LoopStart { count, end: usize::MAX }, site);
+                self.emit(Op::Line(Line::LoopStart { count, end: usize::MAX }), site);
             }
         }
     }
@@ -179,9 +179,11 @@ impl Checker {
         };
         let end = self.instructions.len();
         // The FOR is missing when its operand was bad (already reported).
-        if let Some(Op::LoopStart { end: for_end, .. }) = self.instructions.get_mut(start).map(|i| &mut i.op) {
+        if let Some(Op::Line(Line::LoopStart { end: for_end, .. })) =
+            self.instructions.get_mut(start).map(|i| &mut i.op)
+        {
             *for_end = end;
-            self.emit(Op::LoopEnd { start }, site);
+            self.emit(Op::Line(Line::LoopEnd { start }), site);
         }
     }
 
@@ -227,7 +229,9 @@ impl Checker {
             .blocks
             .open_block()
             .and_then(|id| self.emitted_blocks.get(&id).copied());
-        if self.blocks.stle(name, site.span, &mut self.diagnostics).is_some() && self.emit(Op::StlEnd, site).is_some() {
+        if self.blocks.stle(name, site.span, &mut self.diagnostics).is_some()
+            && self.emit(Op::Line(Line::StlEnd), site).is_some()
+        {
             if let Some(block) = closed {
                 self.stl_blocks[block].end = end;
             }
@@ -254,7 +258,7 @@ impl Checker {
         let id = self.blocks.stl(state, site.span, &mut self.diagnostics);
         let begin = self.instructions.len();
         let block = self.stl_blocks.len();
-        if self.emit(Op::StlBegin { block }, site).is_some() {
+        if self.emit(Op::Line(Line::StlBegin { block }), site).is_some() {
             self.emitted_blocks.insert(id, block);
             self.stl_blocks.push(StlBlock {
                 state: state.unwrap_or(0),

@@ -5,7 +5,7 @@
 
 use super::compile_source;
 use crate::diagnostics::{Code, Diagnostic};
-use crate::program::{CheckedProgram, Contact, Op, Output};
+use crate::program::{CheckedProgram, Contact, Line, Logic, Op, Output};
 use crate::source::SourceFile;
 
 fn compile(text: &str) -> (Option<CheckedProgram>, Vec<Diagnostic>) {
@@ -70,8 +70,8 @@ fn an_stl_closes_the_open_block() {
     assert!(matches!(
         blocks[..],
         [
-            (0, Op::StlBegin { .. }, Op::StlEnd),
-            (1, Op::StlBegin { .. }, Op::StlEnd)
+            (0, Op::Line(Line::StlBegin { .. }), Op::Line(Line::StlEnd)),
+            (1, Op::Line(Line::StlBegin { .. }), Op::Line(Line::StlEnd))
         ]
     ));
     // OUT Y0 right after STL takes the state's power; OUT S2 is a transfer.
@@ -144,7 +144,7 @@ fn edge_instructions_get_their_own_slots() {
                 ..
             }
             | Op::And(Contact::Edge { slot, .. }) => Some(*slot),
-            Op::ResultEdge { slot, .. } | Op::Output(Output::Pulse { slot, .. }) => Some(*slot),
+            Op::Logic(Logic::ResultEdge { slot, .. }) | Op::Output(Output::Pulse { slot, .. }) => Some(*slot),
             Op::Output(Output::App(app)) => app.pulse_slot,
             _ => None,
         })

@@ -35,8 +35,8 @@ use ladder_front::isa::app::Keeps;
 use ladder_front::isa::reach::ReachUnit;
 use ladder_front::isa::{MachinePart, OperandKind};
 use ladder_front::program::{
-    Address, AppInstruction, AppOperand, BitRef, CheckedProgram, Contact, CounterRef, DigitGroup, Element, Op, Output,
-    RangeEnd, ResetTarget, WordRef,
+    Address, AppInstruction, AppOperand, BitRef, CheckedProgram, Contact, CounterRef, DigitGroup, Element, Line, Op,
+    Output, RangeEnd, ResetTarget, WordRef,
 };
 use ladder_runtime::calendar::D_CLOCK_FIRST;
 use ladder_runtime::device::{
@@ -214,23 +214,19 @@ impl Footprint {
             match &instruction.op {
                 Op::Load { contact, .. } | Op::And(contact) | Op::Or(contact) => self.contact(contact),
                 Op::Output(output) => self.output(output),
-                Op::LoopStart { count, .. } => self.word(count, 1),
-                Op::AndBlock
-                | Op::OrBlock
-                | Op::BranchPush
-                | Op::BranchRead
-                | Op::BranchPop
-                | Op::Invert
-                | Op::ResultEdge { .. }
+                Op::Line(Line::LoopStart { count, .. }) => self.word(count, 1),
+                Op::Logic(_)
                 | Op::Jump { .. }
-                | Op::Label { .. }
-                | Op::MasterControlReset { .. }
-                | Op::StlBegin { .. }
-                | Op::StlEnd
-                | Op::MainEnd
                 | Op::Call { .. }
-                | Op::SubroutineReturn
-                | Op::LoopEnd { .. } => {}
+                | Op::Line(
+                    Line::Label { .. }
+                    | Line::MasterControlReset { .. }
+                    | Line::StlBegin { .. }
+                    | Line::StlEnd
+                    | Line::MainEnd
+                    | Line::SubroutineReturn
+                    | Line::LoopEnd { .. },
+                ) => {}
             }
         }
     }

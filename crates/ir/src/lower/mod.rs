@@ -14,7 +14,8 @@ mod operand;
 use crate::{Builder, Function, Inst, Local, Program, Terminator, Type, Value};
 use ladder_front::isa::app::Runs;
 use ladder_front::isa::Sense;
-use ladder_front::program::{BitRef, CheckedProgram, Contact, Instruction, Op, Output, ResetTarget, StlBlock};
+use ladder_front::logic::{LogicStack, RungLogic};
+use ladder_front::program::{BitRef, CheckedProgram, Contact, Instruction, Line, Op, Output, ResetTarget, StlBlock};
 use ladder_runtime::helpers::Helper;
 use ladder_runtime::{BitArea, OperationError, Width};
 use std::collections::BTreeMap;
@@ -43,12 +44,8 @@ fn lower_part(program: &CheckedProgram, range: std::ops::Range<usize>, coils: cr
 struct Lowering<'p> {
     program: &'p CheckedProgram,
     b: Builder,
-    /// The current block's power flow.
-    result: Value,
-    /// Earlier blocks waiting for ANB/ORB.
-    blocks: Vec<Value>,
-    /// Branch points pushed by MPS.
-    branches: Vec<Value>,
+    /// The rung's power flow so far, and what ANB/ORB and MRD/MPP read.
+    logic: LogicStack<Value>,
     /// The IR block that starts at each instruction index something jumps to
     /// (labels, the instruction after an STL block, the end).
     targets: BTreeMap<usize, crate::BlockId>,
@@ -59,6 +56,39 @@ struct Lowering<'p> {
     coils: crate::Coils,
 }
 
+/// The lowering's rung values are IR values.
+impl RungLogic for Lowering<'_> {
+    type Value = Value;
+
+    fn logic_stack(&mut self) -> &mut LogicStack<Value> {
+        &mut self.logic
+    }
+    fn and(&mut self, a: Value, b: Value) -> Value {
+        self.b.and(a, b)
+    }
+    fn or(&mut self, a: Value, b: Value) -> Value {
+        self.b.or(a, b)
+    }
+    fn not(&mut self, value: Value) -> Value {
+        self.b.not(value)
+    }
+    fn result_edge(&mut self, slot: u32, value: Value, falling: bool) -> Value {
+        self.edge(slot, value, falling)
+    }
+    fn off(&mut self) -> Value {
+        self.b.bit(false)
+    }
+    fn evaluate_contact(&mut self, contact: &Contact, line: u32) -> Value {
+        self.contact(contact, line)
+    }
+    fn under_rails(&mut self, mc_levels: u8, passes: Value) -> Value {
+        match self.rail(mc_levels) {
+            Some(rail) => self.b.and(rail, passes),
+            None => passes,
+        }
+    }
+}
+
 impl<'p> Lowering<'p> {
     fn new(program: &'p CheckedProgram, coils: crate::Coils) -> Lowering<'p> {
         let mut b = Builder::new();
@@ -66,9 +96,7 @@ impl<'p> Lowering<'p> {
         Lowering {
             program,
             b,
-            result,
-            blocks: Vec::new(),
-            branches: Vec::new(),
+            logic: LogicStack::new(result),
             targets: BTreeMap::new(),
             locals: 0,
             loops: Vec::new(),
@@ -82,26 +110,22 @@ impl<'p> Lowering<'p> {
         for instruction in instructions {
             let target = match &instruction.op {
                 Op::Jump { target, .. } => Some(*target),
-                Op::StlBegin { block } => Some(self.program.stl_blocks[*block].end + 1),
+                Op::Line(Line::StlBegin { block }) => Some(self.program.stl_blocks[*block].end + 1),
                 Op::Load { .. }
                 | Op::And(_)
                 | Op::Or(_)
-                | Op::AndBlock
-                | Op::OrBlock
-                | Op::BranchPush
-                | Op::BranchRead
-                | Op::BranchPop
-                | Op::Invert
-                | Op::ResultEdge { .. }
+                | Op::Logic(_)
                 | Op::Output(_)
-                | Op::Label { .. }
-                | Op::MasterControlReset { .. }
-                | Op::StlEnd
-                | Op::MainEnd
                 | Op::Call { .. }
-                | Op::SubroutineReturn
-                | Op::LoopStart { .. }
-                | Op::LoopEnd { .. } => None,
+                | Op::Line(
+                    Line::Label { .. }
+                    | Line::MasterControlReset { .. }
+                    | Line::StlEnd
+                    | Line::MainEnd
+                    | Line::SubroutineReturn
+                    | Line::LoopStart { .. }
+                    | Line::LoopEnd { .. },
+                ) => None,
             };
             if let Some(target) = target {
                 if !self.targets.contains_key(&target) {
@@ -131,9 +155,8 @@ impl<'p> Lowering<'p> {
 
     /// A new rung structure: nothing of the logic stack crosses here.
     fn clear_logic(&mut self) {
-        self.result = self.b.bit(false);
-        self.blocks.clear();
-        self.branches.clear();
+        self.logic.result = self.b.bit(false);
+        self.logic.clear();
     }
 
     /// FOR: the loop count (below 1 counts as 1) goes to the local of this
@@ -202,81 +225,38 @@ impl<'p> Lowering<'p> {
                 contact,
                 new_rung,
                 mc_levels,
-            } => {
-                if *new_rung {
-                    self.blocks.clear();
-                    self.branches.clear();
-                } else {
-                    self.blocks.push(self.result);
-                }
-                let passes = self.contact(contact, line);
-                self.result = match self.rail(*mc_levels) {
-                    Some(rail) => self.b.and(rail, passes),
-                    None => passes,
-                };
-            }
-            Op::And(contact) => {
-                let passes = self.contact(contact, line);
-                self.result = self.b.and(self.result, passes);
-            }
-            Op::Or(contact) => {
-                let passes = self.contact(contact, line);
-                self.result = self.b.or(self.result, passes);
-            }
-            Op::AndBlock | Op::OrBlock => {
-                let earlier = self.blocks.pop().unwrap_or_else(|| self.b.bit(false));
-                self.result = if instruction.op == Op::AndBlock {
-                    self.b.and(earlier, self.result)
-                } else {
-                    self.b.or(earlier, self.result)
-                };
-            }
-            Op::BranchPush => self.branches.push(self.result),
-            // The checker refuses a program that reads an empty logic stack
-            // (E0010, E0011); were one to, the value read is OFF, as in the
-            // interpreter.
-            Op::BranchRead => {
-                self.result = match self.branches.last() {
-                    Some(&value) => value,
-                    None => self.b.bit(false),
-                }
-            }
-            Op::BranchPop => {
-                self.result = match self.branches.pop() {
-                    Some(value) => value,
-                    None => self.b.bit(false),
-                }
-            }
-            Op::Invert => self.result = self.b.not(self.result),
-            Op::ResultEdge { falling, slot } => self.result = self.edge(*slot, self.result, *falling),
+            } => self.load_contact(contact, *new_rung, *mc_levels, line),
+            Op::And(contact) => self.and_contact(contact, line),
+            Op::Or(contact) => self.or_contact(contact, line),
+            Op::Logic(op) => self.logic(*op),
             Op::Jump { target, .. } => {
                 let continue_at = self.b.create_block();
                 let taken = self.targets[target];
                 self.b.terminate(Terminator::Branch {
-                    condition: self.result,
+                    condition: self.logic.result,
                     then: taken,
                     otherwise: continue_at,
                 });
                 self.b.switch_to(continue_at);
             }
-            Op::StlBegin { block } => {
+            Op::Line(Line::StlBegin { block }) => {
                 let program = self.program;
                 self.stl_gate(&program.stl_blocks[*block]);
             }
-            Op::Label { .. } | Op::MasterControlReset { .. } | Op::StlEnd => {}
-            Op::Output(output) => self.output(output, self.result, line),
+            Op::Line(Line::Label { .. } | Line::MasterControlReset { .. } | Line::StlEnd) => {}
+            Op::Output(output) => self.output(output, self.logic.result, line),
             Op::Call { subroutine, slot } => {
                 let power = match slot {
-                    Some(slot) => self.edge(*slot, self.result, false),
-                    None => self.result,
+                    Some(slot) => self.edge(*slot, self.logic.result, false),
+                    None => self.logic.result,
                 };
                 let subroutine = *subroutine as u32;
                 self.b.if_then(power, |b| b.effect(Inst::CallSubroutine { subroutine }));
             }
-            Op::LoopStart { count, .. } => self.loop_start(*count, line),
-            Op::LoopEnd { .. } => self.loop_end(line),
+            Op::Line(Line::LoopStart { count, .. }) => self.loop_start(*count, line),
+            Op::Line(Line::LoopEnd { .. }) => self.loop_end(line),
             // Parts end before these: `lower_part` stops at FEND and SRET.
-            Op::MainEnd | Op::SubroutineReturn => {}
+            Op::Line(Line::MainEnd | Line::SubroutineReturn) => {}
         }
     }
 
@@ -334,7 +314,7 @@ impl<'p> Lowering<'p> {
         self.b.switch_to(run);
         let on = self.b.bit(true);
         self.b.effect(Inst::StoreBlockActive { state, value: on });
-        self.result = self.b.bit(false);
+        self.logic.result = self.b.bit(false);
     }
 
     fn contact(&mut self, contact: &Contact, line: u32) -> Value {
