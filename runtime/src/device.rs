@@ -245,6 +245,15 @@ pub const fn is_wide_counter(counter: u32) -> bool {
     counter >= FIRST_WIDE_COUNTER
 }
 
+/// The width of a counter's value and preset: 32 bits from C200 on.
+pub const fn counter_width(counter: u32) -> crate::Width {
+    if is_wide_counter(counter) {
+        crate::Width::Double
+    } else {
+        crate::Width::Single
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -61,12 +61,8 @@ fn c_type(ty: Type) -> &'static str {
 
 /// The width suffix of the prelude's integer operations (`ld_add32`).
 fn width(ty: Type) -> u32 {
-    match ty {
-        Type::Bit => 8,
-        Type::I16 => 16,
-        Type::I32 | Type::F32 => 32,
-        Type::I64 | Type::F64 => 64,
-    }
+    // A bit is held in a byte.
+    ty.bits().max(8)
 }
 
 fn compare_operator(op: CompareOp) -> &'static str {

@@ -107,7 +107,7 @@ pub fn translate(
     wide_bits: bool,
 ) {
     let wide_loads = wide_bits.then(|| super::wide::wide_bit_loads(layout, func, range.clone()));
-    let uses = use_counts(func);
+    let uses = func.use_counts();
     let folded_nots = folded_nots(func, range.clone(), &uses);
     let bit_type = if wide_bits { types::I32 } else { types::I8 };
     let entry = builder.create_block();
@@ -238,23 +238,6 @@ pub fn translate(
     for value in defined {
         values[value.0 as usize] = None;
     }
-}
-
-/// How many times each value of `func` is used (as an operand or a branch
-/// condition).
-fn use_counts(func: &ir::Function) -> Vec<u32> {
-    let mut uses = vec![0u32; func.value_types.len()];
-    for block in &func.blocks {
-        for (_, inst) in &block.insts {
-            for operand in inst.operands() {
-                uses[operand.0 as usize] += 1;
-            }
-        }
-        if let Terminator::Branch { condition, .. } = block.terminator {
-            uses[condition.0 as usize] += 1;
-        }
-    }
-    uses
 }
 
 /// The extension a load of a number makes itself (`sload16` and the

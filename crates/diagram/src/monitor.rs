@@ -7,7 +7,7 @@
 
 use ladder_front::isa::OperandKind;
 use ladder_front::program::{
-    AppOperand, BitRef, CheckedProgram, Contact, CounterRef, Line, Op, Output, ResetTarget, WordRef,
+    AppOperand, BitRef, CheckedProgram, Contact, CounterRef, LineReads, Op, Output, ResetTarget, WordRef,
 };
 use ladder_interp::access::{bit_place, effective_index, resolve_word};
 use ladder_runtime::{BitArea, Memory, Place, Width};
@@ -136,29 +136,22 @@ pub fn element_state(program: &CheckedProgram, index: usize, mem: &Memory) -> El
                 }
             }
         },
-        Op::Line(Line::StlBegin { block }) => ElementState {
-            on: program
-                .stl_blocks
-                .get(*block)
-                .and_then(|b| mem.s.get(b.state as usize))
-                .map(|&on| on != 0),
-            ..ElementState::default()
+        Op::Line(line) => match line.reads() {
+            LineReads::State(block) => ElementState {
+                on: program
+                    .stl_blocks
+                    .get(block)
+                    .and_then(|b| mem.s.get(b.state as usize))
+                    .map(|&on| on != 0),
+                ..ElementState::default()
+            },
+            LineReads::Word(count) => ElementState {
+                values: vec![shown(count, read_word(mem, count, Width::Single))],
+                ..ElementState::default()
+            },
+            LineReads::Nothing => ElementState::default(),
         },
-        Op::Line(Line::LoopStart { count, .. }) => ElementState {
-            values: vec![shown(count, read_word(mem, count, Width::Single))],
-            ..ElementState::default()
-        },
-        Op::Logic(_)
-        | Op::Jump { .. }
-        | Op::Call { .. }
-        | Op::Line(
-            Line::Label { .. }
-            | Line::MasterControlReset { .. }
-            | Line::StlEnd
-            | Line::MainEnd
-            | Line::SubroutineReturn
-            | Line::LoopEnd { .. },
-        ) => ElementState::default(),
+        Op::Logic(_) | Op::Jump { .. } | Op::Call { .. } => ElementState::default(),
     }
 }
 

@@ -4,7 +4,7 @@
 //! to the stack, and what a read of an empty stack gives, is decided here;
 //! a walker says only how it combines two values.
 
-use crate::program::{Contact, Logic};
+use crate::program::{Contact, Logic, Op};
 
 /// The result so far, the blocks LD opened (ANB/ORB close them) and the
 /// branch points MPS saved (MRD reads them, MPP takes them).
@@ -42,9 +42,9 @@ pub trait RungLogic {
     fn and(&mut self, a: Self::Value, b: Self::Value) -> Self::Value;
     fn or(&mut self, a: Self::Value, b: Self::Value) -> Self::Value;
     fn not(&mut self, value: Self::Value) -> Self::Value;
-    /// MEP (`falling` false) or MEF: the edge of `value` since the
-    /// instruction with previous-scan slot `slot` last ran.
-    fn result_edge(&mut self, slot: u32, value: Self::Value, falling: bool) -> Self::Value;
+    /// Whether `value` rose (`falling` false) or fell since the instruction
+    /// with previous-scan slot `slot` last ran (MEP/MEF, P forms).
+    fn transition(&mut self, slot: u32, value: Self::Value, falling: bool) -> Self::Value;
     /// OFF, what a read of an empty stack gives. The checker refuses a
     /// program that reads one (E0010, E0011); a program built without the
     /// checker reads OFF on every engine.
@@ -55,6 +55,33 @@ pub trait RungLogic {
     /// `passes` under the power rails of the master-control levels in
     /// `mc_levels` (bit k = level Nk).
     fn under_rails(&mut self, mc_levels: u8, passes: Self::Value) -> Self::Value;
+
+    /// The power an instruction with a pulse form (CALLP, MOVP, ...) runs
+    /// with: `power` itself, or with the instruction's previous-scan `slot`
+    /// (the P form) the rising edge of `power`.
+    fn pulsed(&mut self, slot: Option<u32>, power: Self::Value) -> Self::Value {
+        match slot {
+            Some(slot) => self.transition(slot, power, false),
+            None => power,
+        }
+    }
+
+    /// LD, AND, OR and the `Logic` instructions; the other kinds (outputs,
+    /// jumps, calls, lines of their own) read the result but leave the
+    /// stack to the walker.
+    fn evaluate(&mut self, op: &Op, line: u32) {
+        match op {
+            Op::Load {
+                contact,
+                new_rung,
+                mc_levels,
+            } => self.load_contact(contact, *new_rung, *mc_levels, line),
+            Op::And(contact) => self.and_contact(contact, line),
+            Op::Or(contact) => self.or_contact(contact, line),
+            Op::Logic(logic) => self.logic(*logic),
+            Op::Output(_) | Op::Jump { .. } | Op::Call { .. } | Op::Line(_) => {}
+        }
+    }
 
     /// LD/LDI/LDP/LD=...: the contact, under its rails, starts a block or
     /// (`new_rung`) a rung.
@@ -127,7 +154,7 @@ pub trait RungLogic {
                 None => self.off(),
             },
             Logic::Invert => self.not(result),
-            Logic::ResultEdge { falling, slot } => self.result_edge(slot, result, falling),
+            Logic::ResultEdge { falling, slot } => self.transition(slot, result, falling),
         };
         self.logic_stack().result = next;
     }
@@ -188,7 +215,7 @@ mod tests {
             let text = format!("!{}", self.terms[value]);
             self.term(text)
         }
-        fn result_edge(&mut self, slot: u32, value: usize, falling: bool) -> usize {
+        fn transition(&mut self, slot: u32, value: usize, falling: bool) -> usize {
             let edge = if falling { "fall" } else { "rise" };
             let text = format!("{edge}{slot}({})", self.terms[value]);
             self.term(text)
@@ -295,5 +322,24 @@ mod tests {
         rung.and_contact(&Contact::Constant(false), 2);
         rung.or_contact(&Contact::Constant(true), 3);
         assert_eq!(rung.result(), "(((N101 & true) & false) | true)");
+    }
+
+    #[test]
+    fn only_rung_logic_moves_the_stack_and_a_pulse_form_takes_the_rising_edge() {
+        let mut rung = Expression::new();
+        let load = Op::Load {
+            contact: Contact::Constant(true),
+            new_rung: true,
+            mc_levels: 0,
+        };
+        rung.evaluate(&load, 1);
+        rung.evaluate(&Op::Logic(Logic::Invert), 2);
+        rung.evaluate(&Op::Line(crate::program::Line::MainEnd), 3);
+        rung.evaluate(&Op::Jump { target: 0, label: 0 }, 4);
+        assert_eq!(rung.result(), "!true");
+        let power = rung.stack.result;
+        let pulsed = rung.pulsed(Some(4), power);
+        assert_eq!(rung.terms[pulsed], "rise4(!true)");
+        assert_eq!(rung.pulsed(None, power), power);
     }
 }

@@ -278,6 +278,32 @@ pub enum Line {
     },
 }
 
+/// What a line of its own reads when it runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LineReads<'a> {
+    /// FOR: its count.
+    Word(&'a WordRef),
+    /// STL: the state of block `n` (`CheckedProgram::stl_blocks`).
+    State(usize),
+    /// P labels, MCR, RET, FEND, SRET, NEXT.
+    Nothing,
+}
+
+impl Line {
+    pub fn reads(&self) -> LineReads<'_> {
+        match self {
+            Line::LoopStart { count, .. } => LineReads::Word(count),
+            Line::StlBegin { block } => LineReads::State(*block),
+            Line::Label { .. }
+            | Line::MasterControlReset { .. }
+            | Line::StlEnd
+            | Line::MainEnd
+            | Line::SubroutineReturn
+            | Line::LoopEnd { .. } => LineReads::Nothing,
+        }
+    }
+}
+
 /// What an output instruction does with the rung result (its power).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Output {

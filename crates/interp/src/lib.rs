@@ -82,7 +82,7 @@ impl RungLogic for Run<'_> {
     fn not(&mut self, value: bool) -> bool {
         !value
     }
-    fn result_edge(&mut self, slot: u32, value: bool, falling: bool) -> bool {
+    fn transition(&mut self, slot: u32, value: bool, falling: bool) -> bool {
         self.edge(slot, value, falling)
     }
     fn off(&mut self) -> bool {
@@ -143,14 +143,7 @@ impl Run<'_> {
     fn step(&mut self, pc: usize, instruction: &Instruction) -> usize {
         let line = instruction.line;
         match &instruction.op {
-            Op::Load {
-                contact,
-                new_rung,
-                mc_levels,
-            } => self.load_contact(contact, *new_rung, *mc_levels, line),
-            Op::And(contact) => self.and_contact(contact, line),
-            Op::Or(contact) => self.or_contact(contact, line),
-            Op::Logic(op) => self.logic(*op),
+            Op::Load { .. } | Op::And(_) | Op::Or(_) | Op::Logic(_) => self.evaluate(&instruction.op, line),
             Op::Jump { target, .. } => {
                 if self.logic.result {
                     return *target;
@@ -160,10 +153,7 @@ impl Run<'_> {
             Op::Line(Line::Label { .. } | Line::MasterControlReset { .. } | Line::StlEnd) => {}
             Op::Output(output) => self.output(output, self.logic.result, line),
             Op::Call { subroutine, slot } => {
-                let power = match slot {
-                    Some(slot) => self.edge(*slot, self.logic.result, false),
-                    None => self.logic.result,
-                };
+                let power = self.pulsed(*slot, self.logic.result);
                 if power {
                     self.call(*subroutine);
                 }
@@ -189,11 +179,7 @@ impl Run<'_> {
                 self.mem.timer_coil(*timer, power, preset);
             }
             Output::Counter { counter, preset } => {
-                let width = if ladder_runtime::device::is_wide_counter(*counter) {
-                    Width::Double
-                } else {
-                    Width::Single
-                };
+                let width = ladder_runtime::device::counter_width(*counter);
                 let preset = self.preset(*preset, width);
                 self.mem.counter_coil(*counter, power, preset);
             }
@@ -229,10 +215,7 @@ impl Run<'_> {
                 write_bit(self.mem, *relay, power, line);
             }
             Output::App(app) => {
-                let power = match app.pulse_slot {
-                    Some(slot) => self.edge(slot, power, false),
-                    None => power,
-                };
+                let power = self.pulsed(app.pulse_slot, power);
                 app::execute(self.mem, app, power, line);
             }
         }

@@ -96,6 +96,15 @@ impl Builder {
 
     /// Runs `then` in a new block only when `condition` holds; continues after.
     pub fn if_then(&mut self, condition: Value, then: impl FnOnce(&mut Builder)) {
+        let after = self.begin_if(condition);
+        then(self);
+        self.jump_to(after);
+    }
+
+    /// Switches to a new block that runs only when `condition` holds and
+    /// returns the block after it, which the caller jumps to at its end
+    /// (`if_then` for a body that needs only the builder).
+    pub fn begin_if(&mut self, condition: Value) -> BlockId {
         let then_block = self.create_block();
         let after = self.create_block();
         self.terminate(Terminator::Branch {
@@ -104,8 +113,7 @@ impl Builder {
             otherwise: after,
         });
         self.switch_to(then_block);
-        then(self);
-        self.jump_to(after);
+        after
     }
 
     pub fn finish(self, locals: u8, loop_levels: u8) -> Function {

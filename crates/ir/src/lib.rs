@@ -82,6 +82,18 @@ pub enum Type {
     F64,
 }
 
+impl Type {
+    /// The bits of a value of this type.
+    pub fn bits(self) -> u32 {
+        match self {
+            Type::Bit => 1,
+            Type::I16 => 16,
+            Type::I32 | Type::F32 => 32,
+            Type::I64 | Type::F64 => 64,
+        }
+    }
+}
+
 /// A device number: fixed, or computed at run time and already brought into
 /// the area by the lowering (code generation clamps it once more, so a
 /// lowering mistake cannot reach outside the image).
@@ -596,5 +608,34 @@ impl Function {
 
     pub fn block(&self, block: BlockId) -> &Block {
         &self.blocks[block.0 as usize]
+    }
+
+    /// How many times each value is used, by number (as an operand or a
+    /// branch condition).
+    pub fn use_counts(&self) -> Vec<u32> {
+        let mut uses = vec![0u32; self.value_types.len()];
+        for block in &self.blocks {
+            for (_, inst) in &block.insts {
+                for operand in inst.operands() {
+                    uses[operand.0 as usize] += 1;
+                }
+            }
+            if let Terminator::Branch { condition, .. } = block.terminator {
+                uses[condition.0 as usize] += 1;
+            }
+        }
+        uses
+    }
+
+    /// The value of every constant.
+    pub fn constants(&self) -> std::collections::HashMap<Value, i64> {
+        self.blocks
+            .iter()
+            .flat_map(|b| b.insts.iter())
+            .filter_map(|(result, inst)| match (result, inst) {
+                (Some(r), Inst::Const { value, .. }) => Some((*r, *value)),
+                _ => None,
+            })
+            .collect()
     }
 }

@@ -101,19 +101,6 @@ pub(super) fn reverse_postorder(function: &Function) -> Vec<BlockId> {
     order
 }
 
-/// The value of every constant of the function.
-fn constant_values(function: &Function) -> HashMap<Value, i64> {
-    function
-        .blocks
-        .iter()
-        .flat_map(|b| b.insts.iter())
-        .filter_map(|(result, inst)| match (result, inst) {
-            (Some(r), Inst::Const { value, .. }) => Some((*r, *value)),
-            _ => None,
-        })
-        .collect()
-}
-
 /// Relays with a value known for the whole program run.
 type Relays = HashMap<(BitArea, u32), bool>;
 
@@ -130,7 +117,7 @@ fn constant_relays<'f>(functions: impl Iterator<Item = &'f Function>) -> Relays 
         known.insert((BitArea::M, n), false);
     }
     for function in functions {
-        let constants = constant_values(function);
+        let constants = function.constants();
         for block in &function.blocks {
             for (_, inst) in &block.insts {
                 for (area, start, count) in written_bits(inst, &constants) {
@@ -234,20 +221,11 @@ fn unsigned(ty: Type, value: i64) -> u64 {
     }
 }
 
-fn bits_of(ty: Type) -> u32 {
-    match ty {
-        Type::Bit => 1,
-        Type::I16 => 16,
-        Type::I32 | Type::F32 => 32,
-        Type::I64 | Type::F64 => 64,
-    }
-}
-
 fn fold_unary(op: UnaryOp, ty: Type, value: i64) -> Option<i64> {
     let bits = unsigned(ty, value);
     Some(match op {
         UnaryOp::PopCount => i64::from(bits.count_ones()),
-        UnaryOp::LeadingZeros => i64::from(bits.leading_zeros() - (64 - bits_of(ty))),
+        UnaryOp::LeadingZeros => i64::from(bits.leading_zeros() - (64 - ty.bits())),
         UnaryOp::SquareRoot if value < 0 => return None,
         UnaryOp::SquareRoot => (value as u64).isqrt() as i64,
     })
@@ -447,7 +425,7 @@ pub fn fold_constants(function: &mut Function, relays: &Relays) {
 
 /// A branch on a constant becomes a jump.
 pub fn fold_branches(function: &mut Function) {
-    let constants = constant_values(function);
+    let constants = function.constants();
     for block in &mut function.blocks {
         if let Terminator::Branch {
             condition,
@@ -523,17 +501,7 @@ pub fn merge_blocks(function: &mut Function) {
 /// Removes pure instructions whose values nothing uses, following chains:
 /// removing a use may make its operands dead in turn.
 pub fn remove_dead_values(function: &mut Function) {
-    let mut uses = vec![0u32; function.value_types.len()];
-    for block in &function.blocks {
-        for (_, inst) in &block.insts {
-            for value in inst.operands() {
-                uses[value.0 as usize] += 1;
-            }
-        }
-        if let Terminator::Branch { condition, .. } = block.terminator {
-            uses[condition.0 as usize] += 1;
-        }
-    }
+    let mut uses = function.use_counts();
     // Walk each block backwards so a dead use is removed before its operands
     // are judged; repeat while a sweep removes something in an earlier block.
     loop {

@@ -181,15 +181,7 @@ impl Display for super::Program {
 
 impl Display for Function {
     fn fmt(&self, f: &mut Formatter<'_>) -> fmt::Result {
-        let constants: Constants = self
-            .blocks
-            .iter()
-            .flat_map(|b| b.insts.iter())
-            .filter_map(|(result, inst)| match (result, inst) {
-                (Some(v), Inst::Const { value, .. }) => Some((*v, *value)),
-                _ => None,
-            })
-            .collect();
+        let constants: Constants = self.constants();
         writeln!(f, "program(mem) {{")?;
         for (number, block) in self.blocks.iter().enumerate() {
             let cold = if block.cold { " (cold)" } else { "" };

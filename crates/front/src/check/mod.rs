@@ -671,11 +671,7 @@ impl Checker {
                 Output::Timer { timer, preset }
             }
             (Coil::Counter(counter), Some(preset)) => {
-                let width = if ladder_runtime::device::is_wide_counter(counter) {
-                    Width::Double
-                } else {
-                    Width::Single
-                };
+                let width = ladder_runtime::device::counter_width(counter);
                 let Some(preset) = self.ok(operands::preset(preset, width)) else {
                     return;
                 };

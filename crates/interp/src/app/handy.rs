@@ -397,11 +397,7 @@ fn words_for(n: u32, eight_bit: bool) -> u32 {
 /// ASCII characters from D, the most significant first (M8161: one
 /// character per word, else two, the first in the low byte). n 1-256.
 pub fn ascii(step: &mut Step, s: &WordRef, d: &WordRef, n: &WordRef) -> Outcome {
-    let n = step.count_value(n)?;
-    if !(1..=256).contains(&n) {
-        return Err(OperationError::DataOutOfRange);
-    }
-    let n = n as u32;
+    let n = character_count(step, n)?;
     let eight_bit = step.eight_bit();
     let s = step.resolve(s, Width::Single, n.div_ceil(4), true);
     let d = step.resolve(d, Width::Single, words_for(n, eight_bit), false);
@@ -432,16 +428,21 @@ pub fn ascii(step: &mut Step, s: &WordRef, d: &WordRef, n: &WordRef) -> Outcome 
     Ok(())
 }
 
+/// n of ASCI, HEX and CCD: 1-256 characters or bytes, else 4084H.
+fn character_count(step: &mut Step, n: &WordRef) -> Result<u32, OperationError> {
+    let n = step.count_value(n)?;
+    if !(1..=256).contains(&n) {
+        return Err(OperationError::DataOutOfRange);
+    }
+    Ok(n as u32)
+}
+
 /// HEX S D n: n ASCII hex characters from S (as ASCI lays them out) as a
 /// number in D, D+1, ... (the last character is the lowest digit; unused
 /// digits of the last word 0). A character that is not 0-9 or A-F is
 /// 4084H. n 1-256.
 pub fn hex(step: &mut Step, s: &WordRef, d: &WordRef, n: &WordRef) -> Outcome {
-    let n = step.count_value(n)?;
-    if !(1..=256).contains(&n) {
-        return Err(OperationError::DataOutOfRange);
-    }
-    let n = n as u32;
+    let n = character_count(step, n)?;
     let eight_bit = step.eight_bit();
     let s = step.resolve(s, Width::Single, words_for(n, eight_bit), true);
     let d = step.resolve(d, Width::Single, n.div_ceil(4), false);
@@ -468,11 +469,7 @@ pub fn hex(step: &mut Step, s: &WordRef, d: &WordRef, n: &WordRef) -> Outcome {
 /// CCD S D n: D = the sum of n bytes from S, D+1 = their exclusive OR
 /// (horizontal parity). n 1-256.
 pub fn check_code(step: &mut Step, s: &WordRef, d: &WordRef, n: &WordRef) -> Outcome {
-    let n = step.count_value(n)?;
-    if !(1..=256).contains(&n) {
-        return Err(OperationError::DataOutOfRange);
-    }
-    let n = n as u32;
+    let n = character_count(step, n)?;
     let eight_bit = step.eight_bit();
     let s = step.resolve(s, Width::Single, words_for(n, eight_bit), true);
     let d = step.resolve(d, Width::Single, 2, false);

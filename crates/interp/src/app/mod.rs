@@ -227,14 +227,7 @@ impl Step<'_> {
         d: &WordRef,
         kernel: impl FnOnce([i64; N], Width) -> Result<i64, OperationError>,
     ) -> Outcome {
-        let places = self.sources(sources);
-        let d = self.destination(d);
-        self.commit()?;
-        let value = kernel(self.values(places), self.width)?;
-        if let Some(d) = d {
-            self.write(d, value);
-        }
-        Ok(())
+        self.map_flags::<N, 0>(sources, d, &[], |values, width| Ok((kernel(values, width)?, [])))
     }
 
     /// D = kernel(S1, ..., Sn), and the instruction's flags (`flags`, in

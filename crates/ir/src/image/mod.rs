@@ -35,8 +35,8 @@ use ladder_front::isa::app::Keeps;
 use ladder_front::isa::reach::ReachUnit;
 use ladder_front::isa::{MachinePart, OperandKind};
 use ladder_front::program::{
-    Address, AppInstruction, AppOperand, BitRef, CheckedProgram, Contact, CounterRef, DigitGroup, Element, Line, Op,
-    Output, RangeEnd, ResetTarget, WordRef,
+    Address, AppInstruction, AppOperand, BitRef, CheckedProgram, Contact, CounterRef, DigitGroup, Element, LineReads,
+    Op, Output, RangeEnd, ResetTarget, WordRef,
 };
 use ladder_runtime::calendar::D_CLOCK_FIRST;
 use ladder_runtime::device::{
@@ -214,19 +214,12 @@ impl Footprint {
             match &instruction.op {
                 Op::Load { contact, .. } | Op::And(contact) | Op::Or(contact) => self.contact(contact),
                 Op::Output(output) => self.output(output),
-                Op::Line(Line::LoopStart { count, .. }) => self.word(count, 1),
-                Op::Logic(_)
-                | Op::Jump { .. }
-                | Op::Call { .. }
-                | Op::Line(
-                    Line::Label { .. }
-                    | Line::MasterControlReset { .. }
-                    | Line::StlBegin { .. }
-                    | Line::StlEnd
-                    | Line::MainEnd
-                    | Line::SubroutineReturn
-                    | Line::LoopEnd { .. },
-                ) => {}
+                Op::Line(line) => match line.reads() {
+                    LineReads::Word(count) => self.word(count, 1),
+                    // The states of STL blocks are held above.
+                    LineReads::State(_) | LineReads::Nothing => {}
+                },
+                Op::Logic(_) | Op::Jump { .. } | Op::Call { .. } => {}
             }
         }
     }
@@ -253,14 +246,13 @@ impl Footprint {
             }
             Output::Counter { counter, preset } => {
                 self.counter(*counter);
-                let wide = *counter >= FIRST_WIDE_COUNTER;
-                self.word(preset, if wide { 2 } else { 1 });
+                self.word(preset, ladder_runtime::device::counter_width(*counter).words());
             }
             Output::Set {
                 target,
                 count,
                 transfer_from,
-                written_out: _,
+                ..
             } => {
                 self.bit(target, *count);
                 if let Some(state) = transfer_from {

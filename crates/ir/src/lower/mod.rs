@@ -15,7 +15,9 @@ use crate::{Builder, Function, Inst, Local, Program, Terminator, Type, Value};
 use ladder_front::isa::app::Runs;
 use ladder_front::isa::Sense;
 use ladder_front::logic::{LogicStack, RungLogic};
-use ladder_front::program::{BitRef, CheckedProgram, Contact, Instruction, Line, Op, Output, ResetTarget, StlBlock};
+use ladder_front::program::{
+    BitRef, CheckedProgram, Contact, Instruction, Line, LineReads, Op, Output, ResetTarget, StlBlock,
+};
 use ladder_runtime::helpers::Helper;
 use ladder_runtime::{BitArea, OperationError, Width};
 use std::collections::BTreeMap;
@@ -72,7 +74,7 @@ impl RungLogic for Lowering<'_> {
     fn not(&mut self, value: Value) -> Value {
         self.b.not(value)
     }
-    fn result_edge(&mut self, slot: u32, value: Value, falling: bool) -> Value {
+    fn transition(&mut self, slot: u32, value: Value, falling: bool) -> Value {
         self.edge(slot, value, falling)
     }
     fn off(&mut self) -> Value {
@@ -110,22 +112,12 @@ impl<'p> Lowering<'p> {
         for instruction in instructions {
             let target = match &instruction.op {
                 Op::Jump { target, .. } => Some(*target),
-                Op::Line(Line::StlBegin { block }) => Some(self.program.stl_blocks[*block].end + 1),
-                Op::Load { .. }
-                | Op::And(_)
-                | Op::Or(_)
-                | Op::Logic(_)
-                | Op::Output(_)
-                | Op::Call { .. }
-                | Op::Line(
-                    Line::Label { .. }
-                    | Line::MasterControlReset { .. }
-                    | Line::StlEnd
-                    | Line::MainEnd
-                    | Line::SubroutineReturn
-                    | Line::LoopStart { .. }
-                    | Line::LoopEnd { .. },
-                ) => None,
+                // An STL block that does not run is skipped to its end.
+                Op::Line(line) => match line.reads() {
+                    LineReads::State(block) => Some(self.program.stl_blocks[block].end + 1),
+                    LineReads::Word(_) | LineReads::Nothing => None,
+                },
+                Op::Load { .. } | Op::And(_) | Op::Or(_) | Op::Logic(_) | Op::Output(_) | Op::Call { .. } => None,
             };
             if let Some(target) = target {
                 if !self.targets.contains_key(&target) {
@@ -221,14 +213,7 @@ impl<'p> Lowering<'p> {
     fn instruction(&mut self, instruction: &Instruction) {
         let line = instruction.line;
         match &instruction.op {
-            Op::Load {
-                contact,
-                new_rung,
-                mc_levels,
-            } => self.load_contact(contact, *new_rung, *mc_levels, line),
-            Op::And(contact) => self.and_contact(contact, line),
-            Op::Or(contact) => self.or_contact(contact, line),
-            Op::Logic(op) => self.logic(*op),
+            Op::Load { .. } | Op::And(_) | Op::Or(_) | Op::Logic(_) => self.evaluate(&instruction.op, line),
             Op::Jump { target, .. } => {
                 let continue_at = self.b.create_block();
                 let taken = self.targets[target];
@@ -246,10 +231,7 @@ impl<'p> Lowering<'p> {
             Op::Line(Line::Label { .. } | Line::MasterControlReset { .. } | Line::StlEnd) => {}
             Op::Output(output) => self.output(output, self.logic.result, line),
             Op::Call { subroutine, slot } => {
-                let power = match slot {
-                    Some(slot) => self.edge(*slot, self.logic.result, false),
-                    None => self.logic.result,
-                };
+                let power = self.pulsed(*slot, self.logic.result);
                 let subroutine = *subroutine as u32;
                 self.b.if_then(power, |b| b.effect(Inst::CallSubroutine { subroutine }));
             }
@@ -375,11 +357,7 @@ impl<'p> Lowering<'p> {
                 }
             }
             Output::Counter { counter, preset } => {
-                let width = if ladder_runtime::device::is_wide_counter(*counter) {
-                    Width::Double
-                } else {
-                    Width::Single
-                };
+                let width = ladder_runtime::device::counter_width(*counter);
                 let preset = self.preset(*preset, width);
                 if self.inline_coils() && coil::inline_counter(*counter) {
                     coil::counter(&mut self.b, *counter, power, preset);
@@ -433,10 +411,7 @@ impl<'p> Lowering<'p> {
                 self.write_bit(*relay, power, line);
             }
             Output::App(app) => {
-                let power = match app.pulse_slot {
-                    Some(slot) => self.edge(slot, power, false),
-                    None => power,
-                };
+                let power = self.pulsed(app.pulse_slot, power);
                 // A failed operand check leaves the body early, to `after`.
                 match app.args.op().spec().runs {
                     Runs::WhenOn => self.when(power, |this, after| this.app(app, power, line, after)),

@@ -141,15 +141,7 @@ impl Step<'_, '_> {
 
     /// Runs `then` only while `condition` holds, then goes on here.
     pub fn when(&mut self, condition: Value, then: impl FnOnce(&mut Step)) {
-        let b = self.b();
-        let body = b.create_block();
-        let next = b.create_block();
-        b.terminate(Terminator::Branch {
-            condition,
-            then: body,
-            otherwise: next,
-        });
-        b.switch_to(body);
+        let next = self.b().begin_if(condition);
         then(self);
         self.b().jump_to(next);
     }
