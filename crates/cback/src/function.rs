@@ -1,7 +1,9 @@
 //! One IR function as a C function `static void NAME(uint8_t *m)`.
 
 use ladder_front::isa::CompareOp;
-use ladder_ir::{self as ir, BinOp, Conversion, FloatOp, FloatUnaryOp, Index, Inst, Terminator, Type, UnaryOp, Value};
+use ladder_ir::{
+    self as ir, BinOp, Cell, Conversion, FloatOp, FloatUnaryOp, Held, Index, Inst, Terminator, Type, UnaryOp, Value,
+};
 use ladder_runtime::helpers::Helper;
 use ladder_runtime::layout::{Array, Layout, Scalar};
 use std::collections::{BTreeSet, HashSet};
@@ -168,15 +170,10 @@ impl Emitter<'_> {
         format!("memset({at}, {byte}, {});", count as usize * size)
     }
 
-    /// A 32-bit counter by device number (C200..C255).
-    fn wide_counter(&self, index: Index) -> String {
-        let array = Array::WideCounterValue;
-        self.element(array, array.end() - array.first(), index)
-    }
-
-    /// Element `n` of a byte array of the scan's bookkeeping.
-    fn bookkeeping(&self, array: Array, n: u32) -> String {
-        self.element(array, array.end(), Index::Fixed(n))
+    /// The address of a cell's first byte.
+    fn cell_address(&self, cell: &Cell) -> String {
+        let array = cell.array();
+        self.element(array, array.end() - array.first(), cell.span().start)
     }
 
     /// The C expression an instruction computes, or the statement it runs
@@ -186,75 +183,29 @@ impl Emitter<'_> {
         let v = |value: &Value| self.v(*value);
         Ok(match inst {
             Inst::Const { ty, value } => constant(*ty, *value),
-            Inst::LoadBit { area, index } => {
-                format!("*({})", self.element(Array::of_bits(*area), area.count(), *index))
+            Inst::Load { cell } => {
+                let at = self.cell_address(cell);
+                match cell.held() {
+                    Held::Bit => format!("*({at})"),
+                    // A force byte is FORCE_NONE (0), FORCE_OFF or FORCE_ON.
+                    Held::Force => format!("(uint8_t)(*({at}) != 0)"),
+                    Held::I16 => format!("ld_load16({at})"),
+                    Held::I32 => format!("ld_load32({at})"),
+                }
             }
-            Inst::StoreBit { area, index, value } => {
-                return Err(format!(
-                    "*({}) = {};",
-                    self.element(Array::of_bits(*area), area.count(), *index),
-                    v(value)
-                ))
+            Inst::Store { cell, value } => {
+                let at = self.cell_address(cell);
+                return Err(match cell.held() {
+                    Held::Bit | Held::Force => format!("*({at}) = {};", v(value)),
+                    Held::I16 => format!("ld_store16({at}, {});", v(value)),
+                    Held::I32 => format!("ld_store32({at}, {});", v(value)),
+                });
             }
             Inst::FillBits { area, start, count, on } => {
                 return Err(self.fill(Array::of_bits(*area), area.count(), *start, *count, u8::from(*on)));
             }
-            Inst::LoadWord { area, index } => {
-                format!(
-                    "ld_load16({})",
-                    self.element(Array::of_words(*area), area.count(), *index)
-                )
-            }
-            Inst::StoreWord { area, index, value } => {
-                return Err(format!(
-                    "ld_store16({}, {});",
-                    self.element(Array::of_words(*area), area.count(), *index),
-                    v(value)
-                ))
-            }
             Inst::ClearWords { area, start, count } => {
                 return Err(self.fill(Array::of_words(*area), area.count(), *start, *count, 0));
-            }
-            Inst::LoadWideCounter { index } => format!("ld_load32({})", self.wide_counter(*index)),
-            Inst::StoreWideCounter { index, value } => {
-                return Err(format!("ld_store32({}, {});", self.wide_counter(*index), v(value)))
-            }
-            Inst::LoadSlot { slot } => format!("*({})", self.bookkeeping(Array::EdgeSlot, *slot)),
-            Inst::StoreSlot { slot, value } => {
-                return Err(format!(
-                    "*({}) = {};",
-                    self.bookkeeping(Array::EdgeSlot, *slot),
-                    v(value)
-                ))
-            }
-            Inst::LoadBlockActive { state } => format!("*({})", self.bookkeeping(Array::StlBlockActive, *state)),
-            Inst::StoreBlockActive { state, value } => {
-                return Err(format!(
-                    "*({}) = {};",
-                    self.bookkeeping(Array::StlBlockActive, *state),
-                    v(value)
-                ))
-            }
-            Inst::LoadBookkeeping { field, index } => {
-                let at = self.bookkeeping(field.array(), *index);
-                match field {
-                    ir::Bookkeeping::TimerRemainder => format!("ld_load16({at})"),
-                    ir::Bookkeeping::TimerCoil | ir::Bookkeeping::CounterCoil => format!("*({at})"),
-                    // A force byte is FORCE_NONE (0), FORCE_OFF or FORCE_ON.
-                    ir::Bookkeeping::TimerForced | ir::Bookkeeping::CounterForced => {
-                        format!("(uint8_t)(*({at}) != 0)")
-                    }
-                }
-            }
-            Inst::StoreBookkeeping { field, index, value } => {
-                let at = self.bookkeeping(field.array(), *index);
-                return Err(match field {
-                    ir::Bookkeeping::TimerRemainder => format!("ld_store16({at}, {});", v(value)),
-                    ir::Bookkeeping::TimerCoil
-                    | ir::Bookkeeping::CounterCoil
-                    | ir::Bookkeeping::TimerForced
-                    | ir::Bookkeeping::CounterForced => format!("*({at}) = {};", v(value)),
-                });
             }
             Inst::LoadElapsed => format!("ld_load32(m + {})", Scalar::ElapsedMs.offset()),
             Inst::GetLocal { local } => format!("l{}", local.0),

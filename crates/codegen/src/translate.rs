@@ -19,8 +19,9 @@ use ladder_front::isa::CompareOp;
 use ladder_ir::{self as ir, BinOp, Conversion, FloatOp, FloatUnaryOp, Index, Inst, Terminator, Type, UnaryOp};
 use ladder_runtime::helpers::Helper;
 use ladder_runtime::layout::{Array, Layout, Scalar};
-use ladder_runtime::{BitArea, WordArea};
 use std::collections::HashMap;
+
+mod cells;
 
 /// The Cranelift type of an IR type; a bit is an `i8` (see
 /// `Translator::bit_type` for wide bits).
@@ -516,26 +517,6 @@ impl Translator<'_, '_> {
         }
     }
 
-    fn bit_address(&mut self, area: BitArea, index: Index, values: &[Option<Value>]) -> (Value, i32) {
-        self.element(Array::of_bits(area), area.count(), index, values)
-    }
-
-    fn word_address(&mut self, area: WordArea, index: Index, values: &[Option<Value>]) -> (Value, i32) {
-        self.element(Array::of_words(area), area.count(), index, values)
-    }
-
-    /// A timer's or counter's state by device number.
-    fn bookkeeping(&mut self, field: ir::Bookkeeping, index: u32, values: &[Option<Value>]) -> (Value, i32) {
-        let array = field.array();
-        self.element(array, array.end() - array.first(), Index::Fixed(index), values)
-    }
-
-    /// A 32-bit counter by device number (C200..C255).
-    fn wide_counter_address(&mut self, index: Index, values: &[Option<Value>]) -> (Value, i32) {
-        let array = Array::WideCounterValue;
-        self.element(array, array.end() - array.first(), index, values)
-    }
-
     /// `count` elements of `array` from `start` set to `value`: one fill
     /// where the image holds them in one piece, else element by element.
     fn fill_run(
@@ -643,7 +624,7 @@ impl Translator<'_, '_> {
         self.builder.inst_results(call).first().copied()
     }
 
-    /// Translates one instruction; `wide_load`: a `LoadBit` that reads four
+    /// Translates one instruction; `wide_load`: a load of a bit that reads four
     /// bytes (`wide.rs`).
     fn inst(&mut self, inst: &Inst, values: &[Option<Value>], wide_load: bool) -> Option<Value> {
         let get = |v: &ir::Value| values[v.0 as usize].expect("defined before use");
@@ -654,22 +635,9 @@ impl Translator<'_, '_> {
                 let ty = self.ty(*ty);
                 self.iconst(ty, *value)
             }
-            Inst::LoadBit { area, index } => {
-                let (address, offset) = self.bit_address(*area, *index, values);
-                if wide_load {
-                    // Unaligned, and reading three bytes past the device.
-                    let flags = MemFlagsData::new().with_notrap();
-                    self.builder.ins().load(types::I32, flags, address, offset)
-                } else if self.wide_bits {
-                    self.builder.ins().uload8(types::I32, flags(), address, offset)
-                } else {
-                    self.load_at(types::I8, (address, offset))
-                }
-            }
-            Inst::StoreBit { area, index, value } => {
-                let at = self.bit_address(*area, *index, values);
-                let value = self.bit_byte(get(value));
-                self.store_at(value, at);
+            Inst::Load { cell } => self.load_cell(cell, values, wide_load),
+            Inst::Store { cell, value } => {
+                self.store_cell(cell, get(value), values);
                 return None;
             }
             Inst::FillBits { area, start, count, on } => {
@@ -677,73 +645,9 @@ impl Translator<'_, '_> {
                 self.fill_run(Array::of_bits(*area), area.count(), *start, *count, value, values);
                 return None;
             }
-            Inst::LoadWord { area, index } => {
-                let at = self.word_address(*area, *index, values);
-                self.load_at(types::I16, at)
-            }
-            Inst::StoreWord { area, index, value } => {
-                let at = self.word_address(*area, *index, values);
-                self.store_at(get(value), at);
-                return None;
-            }
             Inst::ClearWords { area, start, count } => {
                 let zero = self.iconst(types::I16, 0);
                 self.fill_run(Array::of_words(*area), area.count(), *start, *count, zero, values);
-                return None;
-            }
-            Inst::LoadWideCounter { index } => {
-                let at = self.wide_counter_address(*index, values);
-                self.load_at(types::I32, at)
-            }
-            Inst::StoreWideCounter { index, value } => {
-                let at = self.wide_counter_address(*index, values);
-                self.store_at(get(value), at);
-                return None;
-            }
-            Inst::LoadSlot { slot } => {
-                let at = self.element(Array::EdgeSlot, Array::EdgeSlot.end(), Index::Fixed(*slot), values);
-                self.load_bit_byte(at)
-            }
-            Inst::StoreSlot { slot, value } => {
-                let at = self.element(Array::EdgeSlot, Array::EdgeSlot.end(), Index::Fixed(*slot), values);
-                let value = self.bit_byte(get(value));
-                self.store_at(value, at);
-                return None;
-            }
-            Inst::LoadBlockActive { state } => {
-                let array = Array::StlBlockActive;
-                let at = self.element(array, array.end(), Index::Fixed(*state), values);
-                self.load_bit_byte(at)
-            }
-            Inst::StoreBlockActive { state, value } => {
-                let array = Array::StlBlockActive;
-                let at = self.element(array, array.end(), Index::Fixed(*state), values);
-                let value = self.bit_byte(get(value));
-                self.store_at(value, at);
-                return None;
-            }
-            Inst::LoadBookkeeping { field, index } => {
-                let at = self.bookkeeping(*field, *index, values);
-                match field {
-                    ir::Bookkeeping::TimerRemainder => self.load_at(types::I16, at),
-                    ir::Bookkeeping::TimerCoil | ir::Bookkeeping::CounterCoil => self.load_bit_byte(at),
-                    // A force byte is FORCE_NONE (0), FORCE_OFF or FORCE_ON.
-                    ir::Bookkeeping::TimerForced | ir::Bookkeeping::CounterForced => {
-                        let byte = self.load_at(types::I8, at);
-                        self.builder.ins().icmp_imm_s(IntCC::NotEqual, byte, 0)
-                    }
-                }
-            }
-            Inst::StoreBookkeeping { field, index, value } => {
-                let at = self.bookkeeping(*field, *index, values);
-                let value = match field {
-                    ir::Bookkeeping::TimerRemainder => get(value),
-                    ir::Bookkeeping::TimerCoil
-                    | ir::Bookkeeping::CounterCoil
-                    | ir::Bookkeeping::TimerForced
-                    | ir::Bookkeeping::CounterForced => self.bit_byte(get(value)),
-                };
-                self.store_at(value, at);
                 return None;
             }
             Inst::LoadElapsed => self.load_at(types::I32, (self.mem, Scalar::ElapsedMs.offset() as i32)),

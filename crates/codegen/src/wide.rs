@@ -22,7 +22,7 @@
 //! load again). A value the program stored is usually forwarded in a
 //! register by the memory pass anyway (`crates/ir/src/memory.rs`).
 
-use ladder_ir::{Effect, Function, Index, Inst};
+use ladder_ir::{Cell, Effect, Function, Index, Inst};
 use ladder_runtime::helpers::Helper;
 use ladder_runtime::layout::{Array, Layout};
 use ladder_runtime::BitArea;
@@ -158,7 +158,7 @@ fn wide_candidate(layout: &Layout, area: BitArea, index: Index) -> Option<u32> {
 }
 
 /// For blocks `range` of `function` (compiled as one machine function,
-/// entered after unknown stores), which `LoadBit` instructions may read
+/// entered after unknown stores), which loads of bits may read
 /// four bytes: `result[b][i]` for instruction `i` of block `range.start + b`.
 pub fn wide_bit_loads(layout: &Layout, function: &Function, range: std::ops::Range<usize>) -> Vec<Vec<bool>> {
     let blocks = &function.blocks[range.clone()];
@@ -188,7 +188,9 @@ pub fn wide_bit_loads(layout: &Layout, function: &Function, range: std::ops::Ran
         for (_, inst) in &block.insts {
             position += 1;
             let wide = match inst {
-                Inst::LoadBit { area, index } if !looping && !recent(last_call, position) => {
+                Inst::Load {
+                    cell: Cell::Bit { area, index },
+                } if !looping && !recent(last_call, position) => {
                     wide_candidate(layout, *area, *index).is_some_and(|at| {
                         let bytes = at..at + WIDE_LOAD_BYTES;
                         !bytes

@@ -1,6 +1,6 @@
 //! Building a function block by block.
 
-use super::{BinOp, Block, BlockId, Function, Index, Inst, Local, Terminator, Type, Value};
+use super::{BinOp, Block, BlockId, Cell, Function, Index, Inst, Local, Terminator, Type, Value};
 use ladder_front::isa::CompareOp;
 use ladder_runtime::helpers::Helper;
 
@@ -234,12 +234,20 @@ impl Builder {
         self.push(Inst::Convert { value, to, conversion })
     }
 
+    pub fn load(&mut self, cell: Cell) -> Value {
+        self.push(Inst::Load { cell })
+    }
+
+    pub fn store(&mut self, cell: Cell, value: Value) {
+        self.effect(Inst::Store { cell, value });
+    }
+
     pub fn load_bit(&mut self, area: ladder_runtime::BitArea, index: Index) -> Value {
-        self.push(Inst::LoadBit { area, index })
+        self.load(Cell::Bit { area, index })
     }
 
     pub fn store_bit(&mut self, area: ladder_runtime::BitArea, index: Index, value: Value) {
-        self.effect(Inst::StoreBit { area, index, value });
+        self.store(Cell::Bit { area, index }, value);
     }
 
     pub fn get_local(&mut self, local: Local) -> Value {

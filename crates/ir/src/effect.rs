@@ -6,7 +6,7 @@
 //! A new instruction is described here, and the compiler points at this
 //! match and at the back ends' translations, nowhere else.
 
-use super::{Bookkeeping, Index, Inst, Value};
+use super::{Bookkeeping, Cell, Index, Inst, Value};
 use ladder_runtime::helpers::Helper;
 use ladder_runtime::layout::Array;
 use ladder_runtime::{BitArea, WordArea};
@@ -113,38 +113,42 @@ impl Span {
     }
 }
 
+impl Cell {
+    /// Where the cell lies in the image.
+    pub fn span(self) -> Span {
+        let (space, index) = match self {
+            Cell::Bit { area, index } => (Space::Bits(area), index),
+            Cell::Word { area, index } => (Space::Words(area), index),
+            Cell::WideCounter { index } => (Space::WideCounters, index),
+            Cell::Slot { slot } => (Space::EdgeSlots, Index::Fixed(slot)),
+            Cell::BlockActive { state } => (Space::BlockActive, Index::Fixed(state)),
+            Cell::Bookkeeping { field, index } => (Space::Bookkeeping(field), Index::Fixed(index)),
+        };
+        Span::one(space, index)
+    }
+
+    /// The layout's array the cell is an element of.
+    pub fn array(self) -> Array {
+        self.span().space.array()
+    }
+}
+
 impl Inst {
     /// What the instruction reads and writes (see `Effect`).
     pub fn effect(&self) -> Effect<'_> {
         match self {
-            Inst::LoadBit { area, index } => Effect::Load(Span::one(Space::Bits(*area), *index)),
-            Inst::StoreBit { area, index, value } => Effect::Store(Span::one(Space::Bits(*area), *index), *value),
+            Inst::Load { cell } => Effect::Load(cell.span()),
+            Inst::Store { cell, value } => Effect::Store(cell.span(), *value),
             Inst::FillBits { area, start, count, .. } => Effect::Fill(Span {
                 space: Space::Bits(*area),
                 start: *start,
                 count: *count,
             }),
-            Inst::LoadWord { area, index } => Effect::Load(Span::one(Space::Words(*area), *index)),
-            Inst::StoreWord { area, index, value } => Effect::Store(Span::one(Space::Words(*area), *index), *value),
             Inst::ClearWords { area, start, count } => Effect::Fill(Span {
                 space: Space::Words(*area),
                 start: *start,
                 count: *count,
             }),
-            Inst::LoadWideCounter { index } => Effect::Load(Span::one(Space::WideCounters, *index)),
-            Inst::StoreWideCounter { index, value } => Effect::Store(Span::one(Space::WideCounters, *index), *value),
-            Inst::LoadSlot { slot } => Effect::Load(Span::one(Space::EdgeSlots, Index::Fixed(*slot))),
-            Inst::StoreSlot { slot, value } => Effect::Store(Span::one(Space::EdgeSlots, Index::Fixed(*slot)), *value),
-            Inst::LoadBlockActive { state } => Effect::Load(Span::one(Space::BlockActive, Index::Fixed(*state))),
-            Inst::StoreBlockActive { state, value } => {
-                Effect::Store(Span::one(Space::BlockActive, Index::Fixed(*state)), *value)
-            }
-            Inst::LoadBookkeeping { field, index } => {
-                Effect::Load(Span::one(Space::Bookkeeping(*field), Index::Fixed(*index)))
-            }
-            Inst::StoreBookkeeping { field, index, value } => {
-                Effect::Store(Span::one(Space::Bookkeeping(*field), Index::Fixed(*index)), *value)
-            }
             Inst::GetLocal { .. } | Inst::LoadLoopCount { .. } => Effect::ReadsLocal,
             Inst::SetLocal { .. } | Inst::StoreLoopCount { .. } => Effect::WritesLocal,
             Inst::Call { helper, args } => Effect::Helper(*helper, args),

@@ -136,14 +136,12 @@ impl Bookkeeping {
         }
     }
 
-    /// The IR type of an element.
-    pub fn value_type(self) -> Type {
+    /// How the image holds an element.
+    pub fn held(self) -> Held {
         match self {
-            Bookkeeping::TimerRemainder => Type::I16,
-            Bookkeeping::TimerCoil
-            | Bookkeeping::TimerForced
-            | Bookkeeping::CounterCoil
-            | Bookkeeping::CounterForced => Type::Bit,
+            Bookkeeping::TimerRemainder => Held::I16,
+            Bookkeeping::TimerCoil | Bookkeeping::CounterCoil => Held::Bit,
+            Bookkeeping::TimerForced | Bookkeeping::CounterForced => Held::Force,
         }
     }
 
@@ -222,19 +220,95 @@ pub enum UnaryOp {
     SquareRoot,
 }
 
+/// One element of the image, or of the runtime's state in it, that
+/// `Inst::Load` reads and `Inst::Store` writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Cell {
+    Bit {
+        area: BitArea,
+        index: Index,
+    },
+    Word {
+        area: WordArea,
+        index: Index,
+    },
+    /// The current value of a 32-bit counter (index = device number).
+    WideCounter {
+        index: Index,
+    },
+    /// The previous-scan value of edge instruction `slot`.
+    Slot {
+        slot: u32,
+    },
+    /// Whether the block of `state` last ran with its state ON.
+    BlockActive {
+        state: u32,
+    },
+    /// The runtime's own state of timer or counter `index` (`Bookkeeping`).
+    Bookkeeping {
+        field: Bookkeeping,
+        index: u32,
+    },
+}
+
+/// How the image holds a cell's value; both back ends load and store a
+/// cell by this.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Held {
+    /// A byte 0 or 1.
+    Bit,
+    /// A force byte: FORCE_NONE (0), FORCE_OFF or FORCE_ON. It loads as a
+    /// bit (forced either way) and is stored as 0 or 1.
+    Force,
+    /// A 16-bit number.
+    I16,
+    /// A 32-bit number.
+    I32,
+}
+
+impl Cell {
+    /// How the image holds the cell's value.
+    pub fn held(self) -> Held {
+        match self {
+            Cell::Bit { .. } | Cell::Slot { .. } | Cell::BlockActive { .. } => Held::Bit,
+            Cell::Word { .. } => Held::I16,
+            Cell::WideCounter { .. } => Held::I32,
+            Cell::Bookkeeping { field, .. } => field.held(),
+        }
+    }
+
+    /// The type of the value a load of the cell defines.
+    pub fn value_type(self) -> Type {
+        match self.held() {
+            Held::Bit | Held::Force => Type::Bit,
+            Held::I16 => Type::I16,
+            Held::I32 => Type::I32,
+        }
+    }
+
+    /// The device number of a cell addressed by one (fixed, or a value);
+    /// the others are fixed by the program.
+    pub fn index_mut(&mut self) -> Option<&mut Index> {
+        match self {
+            Cell::Bit { index, .. } | Cell::Word { index, .. } | Cell::WideCounter { index } => Some(index),
+            Cell::Slot { .. } | Cell::BlockActive { .. } | Cell::Bookkeeping { .. } => None,
+        }
+    }
+}
+
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Inst {
     Const {
         ty: Type,
         value: i64,
     },
-    LoadBit {
-        area: BitArea,
-        index: Index,
+    /// Reads one element of the image.
+    Load {
+        cell: Cell,
     },
-    StoreBit {
-        area: BitArea,
-        index: Index,
+    /// Writes `value` into one element.
+    Store {
+        cell: Cell,
         value: Value,
     },
     /// `count` consecutive bits from `start` set to `on` (SET/RST Kn).
@@ -244,54 +318,11 @@ pub enum Inst {
         count: u32,
         on: bool,
     },
-    LoadWord {
-        area: WordArea,
-        index: Index,
-    },
-    StoreWord {
-        area: WordArea,
-        index: Index,
-        value: Value,
-    },
     /// `count` consecutive words from `start` set to 0 (RST Dn Kn).
     ClearWords {
         area: WordArea,
         start: Index,
         count: u32,
-    },
-    /// The current value of a 32-bit counter (index = device number).
-    LoadWideCounter {
-        index: Index,
-    },
-    StoreWideCounter {
-        index: Index,
-        value: Value,
-    },
-    /// The previous-scan value of edge instruction `slot`.
-    LoadSlot {
-        slot: u32,
-    },
-    StoreSlot {
-        slot: u32,
-        value: Value,
-    },
-    /// Whether the block of `state` last ran with its state ON.
-    LoadBlockActive {
-        state: u32,
-    },
-    StoreBlockActive {
-        state: u32,
-        value: Value,
-    },
-    /// The runtime's own state of timer or counter `index` (`Bookkeeping`).
-    LoadBookkeeping {
-        field: Bookkeeping,
-        index: u32,
-    },
-    StoreBookkeeping {
-        field: Bookkeeping,
-        index: u32,
-        value: Value,
     },
     /// The milliseconds since the previous scan (I32 holding the image's
     /// unsigned count). Nothing changes it while the program runs, so it
@@ -404,18 +435,14 @@ impl Inst {
     pub fn result_type(&self, value_type: impl Fn(Value) -> Type) -> Option<Type> {
         Some(match self {
             Inst::Const { ty, .. } => *ty,
-            Inst::LoadBit { .. }
-            | Inst::LoadSlot { .. }
-            | Inst::LoadBlockActive { .. }
-            | Inst::GetLocal { .. }
+            Inst::Load { cell } => cell.value_type(),
+            Inst::GetLocal { .. }
             | Inst::Not { .. }
             | Inst::And { .. }
             | Inst::Or { .. }
             | Inst::Compare { .. }
             | Inst::FloatCompare { .. } => Type::Bit,
-            Inst::LoadWord { .. } => Type::I16,
-            Inst::LoadBookkeeping { field, .. } => field.value_type(),
-            Inst::LoadWideCounter { .. } | Inst::LoadLoopCount { .. } | Inst::LoadElapsed => Type::I32,
+            Inst::LoadLoopCount { .. } | Inst::LoadElapsed => Type::I32,
             Inst::Binary { a, .. } => value_type(*a),
             Inst::Unary { value, .. } => value_type(*value),
             Inst::Extend { to, .. } | Inst::Truncate { to, .. } => *to,
@@ -424,14 +451,9 @@ impl Inst {
             Inst::FloatUnary { value, .. } => value_type(*value),
             Inst::Bitcast { to, .. } | Inst::Convert { to, .. } => *to,
             Inst::Call { helper, .. } => return helper.decl().returns.map(|_| Type::I32),
-            Inst::StoreBit { .. }
+            Inst::Store { .. }
             | Inst::FillBits { .. }
-            | Inst::StoreWord { .. }
             | Inst::ClearWords { .. }
-            | Inst::StoreWideCounter { .. }
-            | Inst::StoreSlot { .. }
-            | Inst::StoreBlockActive { .. }
-            | Inst::StoreBookkeeping { .. }
             | Inst::SetLocal { .. }
             | Inst::StoreLoopCount { .. }
             | Inst::CallSubroutine { .. }
@@ -465,33 +487,26 @@ impl Inst {
     pub fn visit_operands_mut(&mut self, mut visit: impl FnMut(OperandMut<'_>)) {
         match self {
             Inst::Const { .. }
-            | Inst::LoadSlot { .. }
-            | Inst::LoadBlockActive { .. }
-            | Inst::LoadBookkeeping { .. }
             | Inst::LoadElapsed
             | Inst::GetLocal { .. }
             | Inst::LoadLoopCount { .. }
             | Inst::CallSubroutine { .. }
             | Inst::RecordError { .. } => {}
-            Inst::LoadBit { index, .. }
-            | Inst::LoadWord { index, .. }
-            | Inst::LoadWideCounter { index }
-            | Inst::FillBits { start: index, .. }
-            | Inst::ClearWords { start: index, .. } => visit(OperandMut::Index(index)),
-            Inst::StoreBit {
-                index, value: stored, ..
+            Inst::Load { cell } => {
+                if let Some(index) = cell.index_mut() {
+                    visit(OperandMut::Index(index));
+                }
             }
-            | Inst::StoreWord {
-                index, value: stored, ..
+            Inst::FillBits { start: index, .. } | Inst::ClearWords { start: index, .. } => {
+                visit(OperandMut::Index(index))
             }
-            | Inst::StoreWideCounter { index, value: stored } => {
-                visit(OperandMut::Index(index));
-                visit(OperandMut::Value(stored));
+            Inst::Store { cell, value } => {
+                if let Some(index) = cell.index_mut() {
+                    visit(OperandMut::Index(index));
+                }
+                visit(OperandMut::Value(value));
             }
-            Inst::StoreSlot { value, .. }
-            | Inst::StoreBlockActive { value, .. }
-            | Inst::StoreBookkeeping { value, .. }
-            | Inst::SetLocal { value, .. }
+            Inst::SetLocal { value, .. }
             | Inst::StoreLoopCount { value, .. }
             | Inst::Not { value }
             | Inst::Unary { value, .. }

@@ -10,7 +10,8 @@
 //! - memory forwarding across rungs (`memory.rs`).
 
 use super::{
-    BinOp, Block, BlockId, Effect, Function, Index, Inst, OperandMut, Program, Space, Terminator, Type, UnaryOp, Value,
+    BinOp, Block, BlockId, Cell, Effect, Function, Index, Inst, OperandMut, Program, Space, Terminator, Type, UnaryOp,
+    Value,
 };
 use ladder_front::isa::CompareOp;
 use ladder_runtime::helpers::{Param, Writes};
@@ -268,9 +269,11 @@ fn fold(
     let constant = |value: Option<i64>| value.map_or(Folded::Nothing, Folded::Constant);
     match inst {
         Inst::Const { value, .. } => Folded::Constant(*value),
-        Inst::LoadBit {
-            area,
-            index: Index::Fixed(n),
+        Inst::Load {
+            cell: Cell::Bit {
+                area,
+                index: Index::Fixed(n),
+            },
         } => constant(relays.get(&(*area, *n)).map(|&on| on as i64)),
         Inst::Not { value } => constant(known(value).map(|v| 1 - v)),
         Inst::And { a, b } => fold_logic(*a, *b, known(a), known(b), 0),
@@ -325,20 +328,10 @@ fn fold(
         Inst::LoadLoopCount { .. }
         | Inst::StoreLoopCount { .. }
         | Inst::CallSubroutine { .. }
-        | Inst::LoadBit { .. }
-        | Inst::StoreBit { .. }
+        | Inst::Load { .. }
+        | Inst::Store { .. }
         | Inst::FillBits { .. }
-        | Inst::LoadWord { .. }
-        | Inst::StoreWord { .. }
         | Inst::ClearWords { .. }
-        | Inst::LoadWideCounter { .. }
-        | Inst::StoreWideCounter { .. }
-        | Inst::LoadSlot { .. }
-        | Inst::StoreSlot { .. }
-        | Inst::LoadBlockActive { .. }
-        | Inst::StoreBlockActive { .. }
-        | Inst::LoadBookkeeping { .. }
-        | Inst::StoreBookkeeping { .. }
         | Inst::LoadElapsed
         | Inst::GetLocal { .. }
         | Inst::SetLocal { .. }

@@ -1,6 +1,6 @@
 //! The text form of the IR (`ladderc build --emit ir`), stable for snapshots.
 
-use super::{BinOp, Function, Index, Inst, Terminator, Type, UnaryOp};
+use super::{BinOp, Cell, Function, Index, Inst, Terminator, Type, UnaryOp};
 use std::fmt::{self, Display, Formatter};
 
 impl Display for Type {
@@ -80,45 +80,35 @@ fn unop(op: UnaryOp) -> &'static str {
 /// their constant arguments inline.
 type Constants = std::collections::HashMap<super::Value, i64>;
 
+/// A cell as loads and stores print it: its type and where it is.
+fn cell_text(cell: &Cell) -> String {
+    match cell {
+        Cell::Bit { area, index: i } => format!("bit {}", index(area.prefix(), |n| area.device_name(n), i)),
+        Cell::Word { area, index: i } => format!("i16 {}", index(area.prefix(), |n| area.device_name(n), i)),
+        Cell::WideCounter { index: i } => format!("i32 {}", index("CN", |n| format!("CN{n}"), i)),
+        Cell::Slot { slot } => format!("slot #{slot}"),
+        Cell::BlockActive { state } => format!("active S{state}"),
+        Cell::Bookkeeping { field, index } => format!("{} #{index}", field.name()),
+    }
+}
+
 fn inst(func: &Function, constants: &Constants, inst: &Inst) -> String {
     use Inst::*;
     match inst {
         Const { ty, value } => format!("const.{ty} {value}"),
-        LoadBit { area, index: i } => format!("load.bit {}", index(area.prefix(), |n| area.device_name(n), i)),
-        StoreBit { area, index: i, value } => {
-            format!(
-                "store.bit {}, {value}",
-                index(area.prefix(), |n| area.device_name(n), i)
-            )
-        }
+        Load { cell } => format!("load.{}", cell_text(cell)),
+        Store { cell, value } => format!("store.{}, {value}", cell_text(cell)),
         FillBits { area, start, count, on } => format!(
             "fill.bit {} x{count}, {}",
             index(area.prefix(), |n| area.device_name(n), start),
             *on as u8
         ),
-        LoadWord { area, index: i } => format!("load.i16 {}", index(area.prefix(), |n| area.device_name(n), i)),
-        StoreWord { area, index: i, value } => {
-            format!(
-                "store.i16 {}, {value}",
-                index(area.prefix(), |n| area.device_name(n), i)
-            )
-        }
         ClearWords { area, start, count } => {
             format!(
                 "clear.i16 {} x{count}",
                 index(area.prefix(), |n| area.device_name(n), start)
             )
         }
-        LoadWideCounter { index: i } => {
-            format!("load.i32 {}", index("CN", |n| format!("CN{n}"), i))
-        }
-        StoreWideCounter { index: i, value } => format!("store.i32 {}, {value}", index("CN", |n| format!("CN{n}"), i)),
-        LoadSlot { slot } => format!("load.slot #{slot}"),
-        StoreSlot { slot, value } => format!("store.slot #{slot}, {value}"),
-        LoadBlockActive { state } => format!("load.active S{state}"),
-        StoreBlockActive { state, value } => format!("store.active S{state}, {value}"),
-        LoadBookkeeping { field, index } => format!("load.{} #{index}", field.name()),
-        StoreBookkeeping { field, index, value } => format!("store.{} #{index}, {value}", field.name()),
         LoadElapsed => "load.elapsed".to_string(),
         GetLocal { local } => format!("get.mc N{}", local.0),
         SetLocal { local, value } => format!("set.mc N{}, {value}", local.0),

@@ -4,7 +4,7 @@
 
 use super::operand::Operand;
 use super::Lowering;
-use crate::{BinOp, Index, Inst, Type, Value};
+use crate::{BinOp, Cell, Index, Inst, Type, Value};
 use ladder_front::isa::CompareOp;
 use ladder_front::program::{Address, BitRef, IndexRegister, WordRef};
 use ladder_runtime::device::{COUNTER_COUNT, FIRST_WIDE_COUNTER};
@@ -13,7 +13,7 @@ use ladder_runtime::{OperationError, Width};
 impl Lowering<'_> {
     /// `base` plus the index register's signed value, as an I32.
     pub(super) fn indexed(&mut self, base: u32, register: IndexRegister) -> Value {
-        let offset = self.b.push(Inst::LoadWord {
+        let offset = self.b.load(Cell::Word {
             area: register.area,
             index: Index::Fixed(register.number),
         });

@@ -10,7 +10,7 @@
 //! timer ANS drives (its number may be indexed) still call the runtime.
 
 use crate::builder::Builder;
-use crate::{BinOp, BlockId, Bookkeeping, Index, Inst, Terminator, Type, Value};
+use crate::{BinOp, BlockId, Bookkeeping, Cell, Index, Inst, Terminator, Type, Value};
 use ladder_front::isa::CompareOp;
 use ladder_runtime::device::{TimerClass, FIRST_WIDE_COUNTER, TIMER_COUNT};
 use ladder_runtime::{BitArea, WordArea};
@@ -46,16 +46,20 @@ pub fn timer(b: &mut Builder, timer: u32, coil: Value, preset: Value) {
     if !class.retentive {
         let zero = b.constant(Type::I16, 0);
         let index = Index::Fixed(timer);
-        b.effect(Inst::StoreWord {
-            area: WordArea::TimerValue,
-            index,
-            value: zero,
-        });
-        b.effect(Inst::StoreBookkeeping {
-            field: Bookkeeping::TimerRemainder,
-            index: timer,
-            value: zero,
-        });
+        b.store(
+            Cell::Word {
+                area: WordArea::TimerValue,
+                index,
+            },
+            zero,
+        );
+        b.store(
+            Cell::Bookkeeping {
+                field: Bookkeeping::TimerRemainder,
+                index: timer,
+            },
+            zero,
+        );
         let off = b.bit(false);
         b.store_bit(BitArea::TimerContact, index, off);
     }
@@ -63,7 +67,7 @@ pub fn timer(b: &mut Builder, timer: u32, coil: Value, preset: Value) {
 
     b.switch_to(on);
     b.if_then(was_on, |b| advance(b, timer, class.resolution_ms, preset));
-    let value = b.push(Inst::LoadWord {
+    let value = b.load(Cell::Word {
         area: WordArea::TimerValue,
         index: Index::Fixed(timer),
     });
@@ -79,13 +83,9 @@ pub fn timer(b: &mut Builder, timer: u32, coil: Value, preset: Value) {
 /// there); the builder continues in the block for a device that is not
 /// forced.
 fn unless_forced(b: &mut Builder, [state, forced]: [Bookkeeping; 2], index: u32, coil: Value) -> (Value, BlockId) {
-    let was_on = b.push(Inst::LoadBookkeeping { field: state, index });
-    b.effect(Inst::StoreBookkeeping {
-        field: state,
-        index,
-        value: coil,
-    });
-    let forced = b.push(Inst::LoadBookkeeping { field: forced, index });
+    let was_on = b.load(Cell::Bookkeeping { field: state, index });
+    b.store(Cell::Bookkeeping { field: state, index }, coil);
+    let forced = b.load(Cell::Bookkeeping { field: forced, index });
     let (live, done) = (b.create_block(), b.create_block());
     b.terminate(Terminator::Branch {
         condition: forced,
@@ -98,7 +98,7 @@ fn unless_forced(b: &mut Builder, [state, forced]: [Bookkeeping; 2], index: u32,
 
 /// Adds the elapsed time to a timer whose coil stays ON.
 fn advance(b: &mut Builder, timer: u32, resolution_ms: u32, preset: Value) {
-    let remainder = b.push(Inst::LoadBookkeeping {
+    let remainder = b.load(Cell::Bookkeeping {
         field: Bookkeeping::TimerRemainder,
         index: timer,
     });
@@ -116,12 +116,14 @@ fn advance(b: &mut Builder, timer: u32, resolution_ms: u32, preset: Value) {
         (counts, b.binary(BinOp::Sub, total, counted))
     };
     let left = b.truncate(left, Type::I16);
-    b.effect(Inst::StoreBookkeeping {
-        field: Bookkeeping::TimerRemainder,
-        index: timer,
-        value: left,
-    });
-    let value = b.push(Inst::LoadWord {
+    b.store(
+        Cell::Bookkeeping {
+            field: Bookkeeping::TimerRemainder,
+            index: timer,
+        },
+        left,
+    );
+    let value = b.load(Cell::Word {
         area: WordArea::TimerValue,
         index: Index::Fixed(timer),
     });
@@ -136,11 +138,13 @@ fn advance(b: &mut Builder, timer: u32, resolution_ms: u32, preset: Value) {
     let capped = b.select(sum_below_limit, sum, limit);
     let new = b.select(below_limit, capped, value);
     let new = b.truncate(new, Type::I16);
-    b.effect(Inst::StoreWord {
-        area: WordArea::TimerValue,
-        index: Index::Fixed(timer),
-        value: new,
-    });
+    b.store(
+        Cell::Word {
+            area: WordArea::TimerValue,
+            index: Index::Fixed(timer),
+        },
+        new,
+    );
 }
 
 /// `OUT Cn preset` of a 16-bit counter (`inline_counter`) with the rung
@@ -151,7 +155,7 @@ pub fn counter(b: &mut Builder, counter: u32, coil: Value, preset: Value) {
     let (was_on, done) = unless_forced(b, [Bookkeeping::CounterCoil, Bookkeeping::CounterForced], counter, coil);
     {
         let index = Index::Fixed(counter);
-        let value = b.push(Inst::LoadWord {
+        let value = b.load(Cell::Word {
             area: WordArea::CounterValue,
             index,
         });
@@ -164,11 +168,13 @@ pub fn counter(b: &mut Builder, counter: u32, coil: Value, preset: Value) {
         // value < preset <= 32767 when it counts, so this cannot overflow.
         let new = b.binary(BinOp::Add, value, step);
         let stored = b.truncate(new, Type::I16);
-        b.effect(Inst::StoreWord {
-            area: WordArea::CounterValue,
-            index,
-            value: stored,
-        });
+        b.store(
+            Cell::Word {
+                area: WordArea::CounterValue,
+                index,
+            },
+            stored,
+        );
         let reached = b.compare(CompareOp::Ge, new, preset);
         b.store_bit(BitArea::CounterContact, index, reached);
     }

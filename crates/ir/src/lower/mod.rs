@@ -11,7 +11,7 @@ mod app;
 mod coil;
 mod operand;
 
-use crate::{Builder, Function, Inst, Local, Program, Terminator, Type, Value};
+use crate::{Builder, Cell, Function, Inst, Local, Program, Terminator, Type, Value};
 use ladder_front::isa::app::Runs;
 use ladder_front::isa::Sense;
 use ladder_front::logic::{LogicStack, RungLogic};
@@ -271,7 +271,7 @@ impl<'p> Lowering<'p> {
         });
 
         self.b.switch_to(inactive);
-        let was_active = self.b.push(Inst::LoadBlockActive { state });
+        let was_active = self.b.load(Cell::BlockActive { state });
         self.b.terminate(Terminator::Branch {
             condition: was_active,
             then: reset,
@@ -281,7 +281,7 @@ impl<'p> Lowering<'p> {
         self.b.switch_to(reset);
         self.b.mark_cold();
         let off = self.b.bit(false);
-        self.b.effect(Inst::StoreBlockActive { state, value: off });
+        self.b.store(Cell::BlockActive { state }, off);
         for &index in &block.reset_outputs {
             let instruction = &self.program.instructions[index];
             if let Op::Output(output) = &instruction.op {
@@ -289,13 +289,13 @@ impl<'p> Lowering<'p> {
             }
         }
         for &slot in &block.reset_slots {
-            self.b.effect(Inst::StoreSlot { slot, value: off });
+            self.b.store(Cell::Slot { slot }, off);
         }
         self.b.terminate(Terminator::Jump(skip_to));
 
         self.b.switch_to(run);
         let on = self.b.bit(true);
-        self.b.effect(Inst::StoreBlockActive { state, value: on });
+        self.b.store(Cell::BlockActive { state }, on);
         self.logic.result = self.b.bit(false);
     }
 
@@ -331,8 +331,8 @@ impl<'p> Lowering<'p> {
 
     /// An edge against the slot's previous value; the slot keeps `now`.
     fn edge(&mut self, slot: u32, now: Value, falling: bool) -> Value {
-        let before = self.b.push(Inst::LoadSlot { slot });
-        self.b.effect(Inst::StoreSlot { slot, value: now });
+        let before = self.b.load(Cell::Slot { slot });
+        self.b.store(Cell::Slot { slot }, now);
         if falling {
             let off_now = self.b.not(now);
             self.b.and(off_now, before)

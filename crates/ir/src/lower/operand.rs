@@ -3,7 +3,7 @@
 //! reading and writing operands at a width.
 
 use super::Lowering;
-use crate::{BinOp, Index, Inst, Type, Value};
+use crate::{BinOp, Cell, Index, Type, Value};
 use ladder_front::isa::CompareOp;
 use ladder_front::program::WordRef;
 use ladder_runtime::device::{COUNTER_COUNT, FIRST_WIDE_COUNTER};
@@ -145,9 +145,9 @@ impl Lowering<'_> {
         match *operand {
             Operand::Constant(value) => self.b.constant(Type::I64, value),
             Operand::Word(area, index) if wide => {
-                let low = self.b.push(Inst::LoadWord { area, index });
+                let low = self.b.load(Cell::Word { area, index });
                 let high_index = self.index_plus(index, 1);
-                let high = self.b.push(Inst::LoadWord {
+                let high = self.b.load(Cell::Word {
                     area,
                     index: high_index,
                 });
@@ -159,11 +159,11 @@ impl Lowering<'_> {
                 self.b.extend(joined, Type::I64, true)
             }
             Operand::Word(area, index) => {
-                let word = self.b.push(Inst::LoadWord { area, index });
+                let word = self.b.load(Cell::Word { area, index });
                 self.b.extend(word, Type::I64, true)
             }
             Operand::WideCounter(index) => {
-                let value = self.b.push(Inst::LoadWideCounter { index });
+                let value = self.b.load(Cell::WideCounter { index });
                 self.b.extend(value, Type::I64, true)
             }
             Operand::Digits(area, start, digits) => {
@@ -202,26 +202,24 @@ impl Lowering<'_> {
             Operand::Constant(_) => {}
             Operand::Word(area, index) => {
                 let low = self.b.truncate(value, Type::I16);
-                self.b.effect(Inst::StoreWord {
-                    area,
-                    index,
-                    value: low,
-                });
+                self.b.store(Cell::Word { area, index }, low);
                 if wide {
                     let sixteen = self.b.constant(Type::I64, 16);
                     let high = self.b.binary(BinOp::Shr, value, sixteen);
                     let high = self.b.truncate(high, Type::I16);
                     let high_index = self.index_plus(index, 1);
-                    self.b.effect(Inst::StoreWord {
-                        area,
-                        index: high_index,
-                        value: high,
-                    });
+                    self.b.store(
+                        Cell::Word {
+                            area,
+                            index: high_index,
+                        },
+                        high,
+                    );
                 }
             }
             Operand::WideCounter(index) => {
                 let value = self.b.truncate(value, Type::I32);
-                self.b.effect(Inst::StoreWideCounter { index, value });
+                self.b.store(Cell::WideCounter { index }, value);
             }
             Operand::Digits(area, start, digits) => {
                 let one = self.b.constant(Type::I64, 1);
@@ -249,7 +247,7 @@ impl Lowering<'_> {
 
     /// The bit of word `index` that `mask` (an I32 with one bit set) picks.
     pub(super) fn load_word_bit(&mut self, area: WordArea, index: Index, mask: Value) -> Value {
-        let word = self.b.push(Inst::LoadWord { area, index });
+        let word = self.b.load(Cell::Word { area, index });
         let word = self.b.extend(word, Type::I32, true);
         let masked = self.b.binary(BinOp::And, word, mask);
         let zero = self.b.constant(Type::I32, 0);
@@ -259,7 +257,7 @@ impl Lowering<'_> {
     /// Sets the bit of word `index` that `mask` picks to the Bit `on`,
     /// keeping the other bits.
     pub(super) fn store_word_bit(&mut self, area: WordArea, index: Index, mask: Value, on: Value) {
-        let word = self.b.push(Inst::LoadWord { area, index });
+        let word = self.b.load(Cell::Word { area, index });
         let word = self.b.extend(word, Type::I32, true);
         let all = self.b.constant(Type::I32, -1);
         let keep = self.b.binary(BinOp::Xor, mask, all);
@@ -268,11 +266,7 @@ impl Lowering<'_> {
         let set = self.b.select(on, mask, zero);
         let updated = self.b.binary(BinOp::Or, cleared, set);
         let updated = self.b.truncate(updated, Type::I16);
-        self.b.effect(Inst::StoreWord {
-            area,
-            index,
-            value: updated,
-        });
+        self.b.store(Cell::Word { area, index }, updated);
     }
 
     /// Bit 0 of an I64 as a Bit.

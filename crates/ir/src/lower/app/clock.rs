@@ -4,7 +4,7 @@
 
 use super::Step;
 use crate::lower::operand::Units;
-use crate::{BinOp, Index, Type, Value};
+use crate::{BinOp, Cell, Index, Type, Value};
 use ladder_front::isa::CompareOp;
 use ladder_front::program::{BitRef, WordRef};
 use ladder_runtime::calendar::D_CLOCK_FIRST;
@@ -30,7 +30,7 @@ pub fn read(step: &mut Step, d: &WordRef) {
     let values: Vec<Value> = [5, 4, 3, 2, 1, 0, 6]
         .into_iter()
         .map(|offset| {
-            let value = step.b().push(crate::Inst::LoadWord {
+            let value = step.b().load(Cell::Word {
                 area: WordArea::D,
                 index: Index::Fixed(D_CLOCK_FIRST + offset),
             });
