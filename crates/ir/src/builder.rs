@@ -105,15 +105,22 @@ impl Builder {
     /// returns the block after it, which the caller jumps to at its end
     /// (`if_then` for a body that needs only the builder).
     pub fn begin_if(&mut self, condition: Value) -> BlockId {
+        let (then_block, after) = self.branch_to_new(condition);
+        self.switch_to(then_block);
+        after
+    }
+
+    /// Ends the current block with a branch on `condition` to two new
+    /// blocks, returned as (taken when it holds, taken when not).
+    pub fn branch_to_new(&mut self, condition: Value) -> (BlockId, BlockId) {
         let then_block = self.create_block();
-        let after = self.create_block();
+        let otherwise = self.create_block();
         self.terminate(Terminator::Branch {
             condition,
             then: then_block,
-            otherwise: after,
+            otherwise,
         });
-        self.switch_to(then_block);
-        after
+        (then_block, otherwise)
     }
 
     pub fn finish(self, locals: u8, loop_levels: u8) -> Function {

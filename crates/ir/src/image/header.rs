@@ -92,27 +92,36 @@ pub fn c_header(prefix: &str, source_name: &str, layout: Option<&Layout>) -> Str
     out
 }
 
-/// What a device array holds, for the header's comments; `None` for the
-/// scan's bookkeeping.
-fn device_kind(array: Array) -> Option<&'static str> {
+/// How the devices of an array are named in C, by number.
+type DeviceNames = fn(u32) -> String;
+
+/// What a device array holds (for the header's comments) and how its
+/// devices are named in C; `None` for the scan's bookkeeping.
+fn device_array(array: Array) -> Option<(&'static str, DeviceNames)> {
     Some(match array {
-        Array::X => "inputs (as the program sees them)",
-        Array::Y => "outputs",
-        Array::M => "relays",
-        Array::S => "states",
-        Array::Sm => "special relays",
-        Array::TimerContact => "timer contacts",
-        Array::CounterContact => "counter contacts",
-        Array::D => "data registers (int16_t)",
-        Array::Sd => "special registers (int16_t)",
-        Array::R => "file registers (int16_t)",
-        Array::TimerValue => "timer values (int16_t)",
-        Array::CounterValue => "counter values (int16_t)",
-        Array::WideCounterValue => "32-bit counter values (int32_t)",
-        Array::Index => "index registers (int16_t)",
-        Array::Buffer => "buffer memory (int16_t)",
-        Array::InputImage => "the input image the next scan copies to X",
-        Array::OutputImage => "the output image of the latest scan",
+        Array::X => ("inputs (as the program sees them)", |n| format!("X{n:o}")),
+        Array::Y => ("outputs", |n| format!("Y{n:o}")),
+        Array::M => ("relays", |n| format!("M{n}")),
+        Array::S => ("states", |n| format!("S{n}")),
+        Array::Sm => ("special relays", |n| format!("SM{n}")),
+        Array::TimerContact => ("timer contacts", |n| format!("T{n}")),
+        Array::CounterContact => ("counter contacts", |n| format!("C{n}")),
+        Array::D => ("data registers (int16_t)", |n| format!("D{n}")),
+        Array::Sd => ("special registers (int16_t)", |n| format!("SD{n}")),
+        Array::R => ("file registers (int16_t)", |n| format!("R{n}")),
+        Array::TimerValue => ("timer values (int16_t)", |n| format!("TN{n}")),
+        Array::CounterValue => ("counter values (int16_t)", |n| format!("CN{n}")),
+        Array::WideCounterValue => ("32-bit counter values (int32_t)", |n| {
+            format!("CN{}", n.max(FIRST_WIDE_COUNTER))
+        }),
+        Array::Index => ("index registers (int16_t)", |n| {
+            format!("{}{}", if n % 2 == 1 { "V" } else { "Z" }, n / 2)
+        }),
+        Array::Buffer => ("buffer memory (int16_t)", |n| {
+            format!("U{}_G{}", n / BUFFER_WORDS_PER_UNIT, n % BUFFER_WORDS_PER_UNIT)
+        }),
+        Array::InputImage => ("the input image the next scan copies to X", |n| format!("INPUT_X{n:o}")),
+        Array::OutputImage => ("the output image of the latest scan", |n| format!("OUTPUT_Y{n:o}")),
         Array::TimerRemainder
         | Array::TimerCoilWasOn
         | Array::CounterCoilWasOn
@@ -134,45 +143,19 @@ fn device_kind(array: Array) -> Option<&'static str> {
     })
 }
 
+/// What a device array holds, for the header's comments; `None` for the
+/// scan's bookkeeping.
+fn device_kind(array: Array) -> Option<&'static str> {
+    device_array(array).map(|(kind, _)| kind)
+}
+
 /// A device as a C name: `X17`, `M8000`, `TN0` (a timer's value), `CN200`,
-/// `Z0`, `U1_G10`, `INPUT_X0`.
+/// `Z0`, `U1_G10`, `INPUT_X0`; an element of the bookkeeping by its array
+/// (`EdgeSlot3`).
 pub fn device_name(array: Array, n: u32) -> String {
-    match array {
-        Array::X => format!("X{n:o}"),
-        Array::Y => format!("Y{n:o}"),
-        Array::InputImage => format!("INPUT_X{n:o}"),
-        Array::OutputImage => format!("OUTPUT_Y{n:o}"),
-        Array::M => format!("M{n}"),
-        Array::S => format!("S{n}"),
-        Array::Sm => format!("SM{n}"),
-        Array::TimerContact => format!("T{n}"),
-        Array::CounterContact => format!("C{n}"),
-        Array::D => format!("D{n}"),
-        Array::Sd => format!("SD{n}"),
-        Array::R => format!("R{n}"),
-        Array::TimerValue => format!("TN{n}"),
-        Array::CounterValue => format!("CN{n}"),
-        Array::WideCounterValue => format!("CN{}", n.max(FIRST_WIDE_COUNTER)),
-        Array::Index => format!("{}{}", if n % 2 == 1 { "V" } else { "Z" }, n / 2),
-        Array::Buffer => format!("U{}_G{}", n / BUFFER_WORDS_PER_UNIT, n % BUFFER_WORDS_PER_UNIT),
-        Array::TimerRemainder
-        | Array::TimerCoilWasOn
-        | Array::CounterCoilWasOn
-        | Array::StlPendingOff
-        | Array::StlBlockActive
-        | Array::EdgeSlot
-        | Array::SortState
-        | Array::SortScans
-        | Array::ForceX
-        | Array::ForceY
-        | Array::ForceM
-        | Array::ForceTimer
-        | Array::ForceCounter
-        | Array::PulsesPending
-        | Array::InputEdges
-        | Array::Instance
-        | Array::PulseOwner
-        | Array::PulseRemainder => format!("{array:?}{n}"),
+    match device_array(array) {
+        Some((_, name)) => name(n),
+        None => format!("{array:?}{n}"),
     }
 }
 

@@ -234,13 +234,7 @@ impl Step<'_, '_> {
     pub fn require(&mut self, check: Value, error: OperationError) {
         let (line, after) = (self.line, self.after);
         let b = self.b();
-        let pass = b.create_block();
-        let fail = b.create_block();
-        b.terminate(Terminator::Branch {
-            condition: check,
-            then: pass,
-            otherwise: fail,
-        });
+        let (pass, fail) = b.branch_to_new(check);
         b.switch_to(fail);
         b.effect(Inst::RecordError { error, line });
         b.terminate(Terminator::Jump(after));
