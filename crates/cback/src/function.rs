@@ -99,6 +99,8 @@ fn constant(ty: Type, value: i64) -> String {
 struct Emitter<'a> {
     layout: &'a Layout,
     function: &'a ir::Function,
+    /// The body's name; subroutine `n` is `{body}_sub{n}`.
+    body: &'a str,
     out: String,
 }
 
@@ -212,7 +214,7 @@ impl Emitter<'_> {
             Inst::SetLocal { local, value } => return Err(format!("l{} = {};", local.0, v(value))),
             Inst::LoadLoopCount { level } => format!("c{level}"),
             Inst::StoreLoopCount { level, value } => return Err(format!("c{level} = {};", v(value))),
-            Inst::CallSubroutine { .. } => return Err(String::new()),
+            Inst::CallSubroutine { subroutine } => return Err(format!("{}_sub{subroutine}(m);", self.body)),
             Inst::Not { value } => format!("(uint8_t)({} ^ 1)", v(value)),
             Inst::And { a, b } => format!("(uint8_t)({} & {})", v(a), v(b)),
             Inst::Or { a, b } => format!("(uint8_t)({} | {})", v(a), v(b)),
@@ -347,6 +349,7 @@ pub fn emit(out: &mut String, layout: &Layout, function: &ir::Function, name: &s
     let mut emitter = Emitter {
         layout,
         function,
+        body,
         out: String::new(),
     };
     // Values that are read somewhere: only they get a variable.
@@ -400,10 +403,9 @@ pub fn emit(out: &mut String, layout: &Layout, function: &ir::Function, name: &s
             let _ = writeln!(emitter.out, "b{number}:;");
         }
         for (result, inst) in &block.insts {
-            let line = match (emitter.inst(inst), inst) {
-                (Err(_), Inst::CallSubroutine { subroutine }) => format!("{body}_sub{subroutine}(m);"),
-                (Err(statement), _) => statement,
-                (Ok(expression), _) => match result {
+            let line = match emitter.inst(inst) {
+                Err(statement) => statement,
+                Ok(expression) => match result {
                     Some(value) if used.contains(value) => format!("v{} = {expression};", value.0),
                     // A value nobody reads: only a call has an effect.
                     _ if matches!(inst, Inst::Call { .. }) => format!("(void){expression};"),

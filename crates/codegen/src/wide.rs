@@ -22,10 +22,9 @@
 //! load again). A value the program stored is usually forwarded in a
 //! register by the memory pass anyway (`crates/ir/src/memory.rs`).
 
-use ladder_ir::{Cell, Effect, Function, Index, Inst};
+use ladder_ir::{Effect, Function, Index, Inst, Space, Span};
 use ladder_runtime::helpers::Helper;
 use ladder_runtime::layout::{Array, Layout};
-use ladder_runtime::BitArea;
 use std::collections::HashMap;
 
 /// How far back (in IR instructions, about one machine instruction each) a
@@ -149,10 +148,15 @@ fn writes(layout: &Layout, inst: &Inst) -> Writes {
 }
 
 /// The image offset of the bit a load reads, when the load may read four
-/// bytes there (all inside the image).
-fn wide_candidate(layout: &Layout, area: BitArea, index: Index) -> Option<u32> {
-    let Index::Fixed(n) = index else { return None };
-    let array = Array::of_bits(area);
+/// bytes there (all inside the image): a bit device at a fixed number.
+fn wide_candidate(layout: &Layout, span: Span) -> Option<u32> {
+    let Index::Fixed(n) = span.start else { return None };
+    let array = match span.space {
+        Space::Bits(area) => Array::of_bits(area),
+        Space::Words(_) | Space::WideCounters | Space::EdgeSlots | Space::BlockActive | Space::Bookkeeping(_) => {
+            return None
+        }
+    };
     let at = layout.offset(array, n.clamp(array.first(), array.end() - 1))? as u32;
     (at.checked_add(WIDE_LOAD_BYTES)? <= layout.size).then_some(at)
 }
@@ -187,11 +191,9 @@ pub fn wide_bit_loads(layout: &Layout, function: &Function, range: std::ops::Ran
         let mut flags = Vec::with_capacity(block.insts.len());
         for (_, inst) in &block.insts {
             position += 1;
-            let wide = match inst {
-                Inst::Load {
-                    cell: Cell::Bit { area, index },
-                } if !looping && !recent(last_call, position) => {
-                    wide_candidate(layout, *area, *index).is_some_and(|at| {
+            let wide = match inst.effect() {
+                Effect::Load(span) if !looping && !recent(last_call, position) => wide_candidate(layout, span)
+                    .is_some_and(|at| {
                         let bytes = at..at + WIDE_LOAD_BYTES;
                         !bytes
                             .clone()
@@ -199,9 +201,16 @@ pub fn wide_bit_loads(layout: &Layout, function: &Function, range: std::ops::Ran
                             && !wide_stores
                                 .iter()
                                 .any(|&(start, end, p)| start < bytes.end && bytes.start < end && recent(p, position))
-                    })
-                }
-                _ => false,
+                    }),
+                Effect::Load(_)
+                | Effect::Pure
+                | Effect::ReadsLocal
+                | Effect::WritesLocal
+                | Effect::Store(..)
+                | Effect::Fill(_)
+                | Effect::Helper(..)
+                | Effect::OperationError
+                | Effect::Subroutine => false,
             };
             flags.push(wide);
             match writes(layout, inst) {

@@ -647,9 +647,11 @@ impl Function {
         self.blocks
             .iter()
             .flat_map(|b| b.insts.iter())
-            .filter_map(|(result, inst)| match (result, inst) {
-                (Some(r), Inst::Const { value, .. }) => Some((*r, *value)),
-                _ => None,
+            .filter_map(|(result, inst)| {
+                let (Some(r), Inst::Const { value, .. }) = (result, inst) else {
+                    return None;
+                };
+                Some((*r, *value))
             })
             .collect()
     }

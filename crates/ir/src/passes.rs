@@ -278,14 +278,11 @@ fn fold(
         Inst::Not { value } => constant(known(value).map(|v| 1 - v)),
         Inst::And { a, b } => fold_logic(*a, *b, known(a), known(b), 0),
         Inst::Or { a, b } => fold_logic(*a, *b, known(a), known(b), 1),
-        Inst::Binary { op, a, b } => match (op, known(a), known(b)) {
-            (_, Some(x), Some(y)) => constant(fold_binary(*op, ty, x, y)),
-            // x + 0, x - 0, x | 0, x << 0, x >> 0, x * 1
-            (BinOp::Add | BinOp::Sub | BinOp::Or | BinOp::Shl | BinOp::Shr, None, Some(0))
-            | (BinOp::Mul, None, Some(1)) => Folded::Same(*a),
-            // 0 + x, 0 | x, 1 * x
-            (BinOp::Add | BinOp::Or, Some(0), None) | (BinOp::Mul, Some(1), None) => Folded::Same(*b),
-            _ => Folded::Nothing,
+        Inst::Binary { op, a, b } => match (known(a), known(b)) {
+            (Some(x), Some(y)) => constant(fold_binary(*op, ty, x, y)),
+            (None, Some(k)) if right_identity(*op) == Some(k) => Folded::Same(*a),
+            (Some(k), None) if left_identity(*op) == Some(k) => Folded::Same(*b),
+            (None, Some(_)) | (Some(_), None) | (None, None) => Folded::Nothing,
         },
         Inst::Unary { op, value } => constant(known(value).and_then(|v| fold_unary(*op, ty, v))),
         Inst::Compare { op, a, b } => match (known(a), known(b)) {
@@ -337,6 +334,25 @@ fn fold(
         | Inst::SetLocal { .. }
         | Inst::RecordError { .. }
         | Inst::Call { .. } => Folded::Nothing,
+    }
+}
+
+/// The constant `k` with `x op k == x`: x + 0, x - 0, x | 0, x << 0,
+/// x >> 0, x * 1.
+fn right_identity(op: BinOp) -> Option<i64> {
+    match op {
+        BinOp::Add | BinOp::Sub | BinOp::Or | BinOp::Shl | BinOp::Shr => Some(0),
+        BinOp::Mul => Some(1),
+        BinOp::Div | BinOp::Rem | BinOp::And | BinOp::Xor | BinOp::UShr => None,
+    }
+}
+
+/// The constant `k` with `k op x == x`: 0 + x, 0 | x, 1 * x.
+fn left_identity(op: BinOp) -> Option<i64> {
+    match op {
+        BinOp::Add | BinOp::Or => Some(0),
+        BinOp::Mul => Some(1),
+        BinOp::Sub | BinOp::Div | BinOp::Rem | BinOp::And | BinOp::Xor | BinOp::Shl | BinOp::Shr | BinOp::UShr => None,
     }
 }
 
