@@ -22,6 +22,7 @@ pub mod lower;
 mod memory;
 pub mod passes;
 mod print;
+mod ranges;
 
 pub use builder::Builder;
 pub use effect::{Effect, Space, Span};
@@ -222,7 +223,7 @@ pub enum UnaryOp {
 
 /// One element of the image, or of the runtime's state in it, that
 /// `Inst::Load` reads and `Inst::Store` writes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Cell {
     Bit {
         area: BitArea,
@@ -296,7 +297,7 @@ impl Cell {
     }
 }
 
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum Inst {
     Const {
         ty: Type,

@@ -9,6 +9,7 @@
 //! - removal of pure instructions whose values are never used;
 //! - memory forwarding across rungs (`memory.rs`).
 
+use super::ranges::Ranges;
 use super::{
     BinOp, Block, BlockId, Cell, Effect, Function, Index, Inst, OperandMut, Program, Space, Terminator, Type, UnaryOp,
     Value,
@@ -29,11 +30,12 @@ pub fn optimize(program: &mut Program) {
     }
 }
 
-/// Forwarding memory works best on merged blocks, and what it forwards may
-/// fold further.
+/// Forwarding memory works best on merged blocks; what it forwards, and the
+/// computations shared after it, may fold further.
 fn optimize_function(function: &mut Function, relays: &Relays) {
     simplify_control(function, relays);
     super::memory::forward_memory(function);
+    share_pure_values(function);
     simplify_control(function, relays);
     remove_dead_values(function);
 }
@@ -264,6 +266,7 @@ fn fold(
     constants: &HashMap<Value, i64>,
     extended_from: &HashMap<Value, Value>,
     relays: &HashMap<(BitArea, u32), bool>,
+    ranges: &Ranges,
 ) -> Folded {
     let known = |v: &Value| constants.get(v).copied();
     let constant = |value: Option<i64>| value.map_or(Folded::Nothing, Folded::Constant);
@@ -287,7 +290,11 @@ fn fold(
         Inst::Unary { op, value } => constant(known(value).and_then(|v| fold_unary(*op, ty, v))),
         Inst::Compare { op, a, b } => match (known(a), known(b)) {
             (Some(x), Some(y)) => Folded::Constant(compare(*op, x, y) as i64),
-            _ => Folded::Nothing,
+            // A number compared with itself (values shared by
+            // `share_pure_values`).
+            (None, None) if a == b => Folded::Constant(compare(*op, 0, 0) as i64),
+            // Decided by the operands' ranges, or not at all.
+            _ => constant(ranges.decide(*op, *a, *b, types, constants).map(i64::from)),
         },
         Inst::Extend { value, signed, .. } => {
             constant(known(value).map(|v| match (*signed, types[value.0 as usize]) {
@@ -394,6 +401,7 @@ pub fn fold_constants(function: &mut Function, relays: &Relays) {
     let mut replaced: HashMap<Value, Value> = HashMap::new();
     // Value defined by an Extend -> the value it extended.
     let mut extended_from: HashMap<Value, Value> = HashMap::new();
+    let mut ranges = Ranges::default();
     let types = function.value_types.clone();
     for block in reverse_postorder(function) {
         let block = &mut function.blocks[block.0 as usize];
@@ -410,7 +418,7 @@ pub fn fold_constants(function: &mut Function, relays: &Relays) {
             if let Inst::Extend { value, .. } = inst {
                 extended_from.insert(result, *value);
             }
-            match fold(inst, ty, &types, &constants, &extended_from, relays) {
+            match fold(inst, ty, &types, &constants, &extended_from, relays, &ranges) {
                 Folded::Constant(value) => {
                     let value = wrap(ty, value);
                     constants.insert(result, value);
@@ -419,7 +427,7 @@ pub fn fold_constants(function: &mut Function, relays: &Relays) {
                 Folded::Same(other) => {
                     replaced.insert(result, other);
                 }
-                Folded::Nothing => {}
+                Folded::Nothing => ranges.record(result, inst, &types, &constants),
             }
         }
     }
@@ -507,6 +515,71 @@ pub fn merge_blocks(function: &mut Function) {
     remove_unreachable(function);
 }
 
+/// How far apart (in instructions of one block) two equal computations
+/// may be for the later to use the earlier's value: further, the value
+/// would hold a register over more code than recomputing it costs.
+const SHARE_DISTANCE: usize = 32;
+
+/// Gives a pure computation the value of an equal one shortly before it in
+/// the same block (`v8 = sext v7 ... v20 = sext v7`: the uses of v20 read
+/// v8), as a C compiler's value numbering does; Cranelift without its
+/// optimiser would compute it again. Constants are left alone (code
+/// generation makes them where they are used). The duplicates are left to
+/// `remove_dead_values`.
+pub fn share_pure_values(function: &mut Function) {
+    let mut replaced: HashMap<Value, Value> = HashMap::new();
+    for block in reverse_postorder(function) {
+        let block = &mut function.blocks[block.0 as usize];
+        let mut seen: HashMap<Inst, (Value, usize)> = HashMap::new();
+        for (position, (result, inst)) in block.insts.iter_mut().enumerate() {
+            // Definitions come first in this order, so one step suffices.
+            inst.for_each_operand_mut(|v| {
+                if let Some(&other) = replaced.get(v) {
+                    *v = other;
+                }
+            });
+            let Some(result) = *result else { continue };
+            if !shareable(inst) {
+                continue;
+            }
+            match seen.get(inst) {
+                Some(&(earlier, at)) if position - at <= SHARE_DISTANCE => {
+                    replaced.insert(result, earlier);
+                }
+                Some(_) | None => {
+                    seen.insert(inst.clone(), (result, position));
+                }
+            }
+        }
+    }
+    for block in &mut function.blocks {
+        if let Terminator::Branch { condition, .. } = &mut block.terminator {
+            if let Some(&other) = replaced.get(condition) {
+                *condition = other;
+            }
+        }
+    }
+}
+
+/// A computation whose value depends on its operands alone, other than a
+/// constant.
+fn shareable(inst: &Inst) -> bool {
+    if let Inst::Const { .. } = inst {
+        return false;
+    }
+    match inst.effect() {
+        Effect::Pure => true,
+        Effect::ReadsLocal
+        | Effect::WritesLocal
+        | Effect::Load(_)
+        | Effect::Store(..)
+        | Effect::Fill(_)
+        | Effect::Helper(..)
+        | Effect::OperationError
+        | Effect::Subroutine => false,
+    }
+}
+
 /// Removes pure instructions whose values nothing uses, following chains:
 /// removing a use may make its operands dead in turn.
 pub fn remove_dead_values(function: &mut Function) {
@@ -547,6 +620,17 @@ pub(super) mod tests {
         let (program, diagnostics) = compile_source(&SourceFile::new("t.il", text));
         let program = program.unwrap_or_else(|| panic!("{diagnostics:?}"));
         crate::lower_and_optimize(&program).to_string()
+    }
+
+    #[test]
+    fn equal_computations_nearby_share_one_value() {
+        // Both rungs invert M1 (loaded once, forwarded): one NOT serves both.
+        let text = ir("LD X0\nANI M1\nOUT Y0\nLD X2\nANI M1\nOUT Y1\n");
+        assert_eq!(text.matches(" = not ").count(), 1, "{text}");
+        // A word compared with itself is decided.
+        let text = ir("LD= D0 D0\nOUT Y0\nLD< D0 D0\nOUT Y1\n");
+        assert!(!text.contains("cmp"), "{text}");
+        assert!(text.contains("const.bit 1") && text.contains("const.bit 0"), "{text}");
     }
 
     #[test]
