@@ -121,7 +121,7 @@ pub fn is_system_sm(n: u32) -> bool {
 }
 
 /// Operation-error codes written to D8067 (seed: application instructions).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(u16)]
 pub enum OperationError {
     /// 4084H: an input value is outside the range the instruction accepts

@@ -223,7 +223,7 @@ pub enum UnaryOp {
 
 /// One element of the image, or of the runtime's state in it, that
 /// `Inst::Load` reads and `Inst::Store` writes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Cell {
     Bit {
         area: BitArea,
@@ -297,7 +297,7 @@ impl Cell {
     }
 }
 
-#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Inst {
     Const {
         ty: Type,

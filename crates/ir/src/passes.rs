@@ -18,7 +18,7 @@ use ladder_front::isa::CompareOp;
 use ladder_runtime::helpers::{Param, Writes};
 use ladder_runtime::special::{M_ALWAYS_OFF, M_ALWAYS_ON, M_OPERATION_ERROR, SM_ALWAYS_OFF, SM_ALWAYS_ON};
 use ladder_runtime::{BitArea, Place};
-use std::collections::HashMap;
+use std::collections::{HashMap, VecDeque};
 
 /// Runs every pass on every function of the program. The relays the
 /// runtime holds constant are found over the whole program (a subroutine
@@ -530,7 +530,9 @@ pub fn share_pure_values(function: &mut Function) {
     let mut replaced: HashMap<Value, Value> = HashMap::new();
     for block in reverse_postorder(function) {
         let block = &mut function.blocks[block.0 as usize];
-        let mut seen: HashMap<Inst, (Value, usize)> = HashMap::new();
+        // The pure computations of the last `SHARE_DISTANCE` instructions,
+        // oldest first: (position, value, computation).
+        let mut recent: VecDeque<(usize, Value, Inst)> = VecDeque::new();
         for (position, (result, inst)) in block.insts.iter_mut().enumerate() {
             // Definitions come first in this order, so one step suffices.
             inst.for_each_operand_mut(|v| {
@@ -538,17 +540,18 @@ pub fn share_pure_values(function: &mut Function) {
                     *v = other;
                 }
             });
+            while recent.front().is_some_and(|&(at, _, _)| position - at > SHARE_DISTANCE) {
+                recent.pop_front();
+            }
             let Some(result) = *result else { continue };
             if !shareable(inst) {
                 continue;
             }
-            match seen.get(inst) {
-                Some(&(earlier, at)) if position - at <= SHARE_DISTANCE => {
+            match recent.iter().find(|(_, _, earlier)| earlier == inst) {
+                Some(&(_, earlier, _)) => {
                     replaced.insert(result, earlier);
                 }
-                Some(_) | None => {
-                    seen.insert(inst.clone(), (result, position));
-                }
+                None => recent.push_back((position, result, inst.clone())),
             }
         }
     }
