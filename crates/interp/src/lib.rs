@@ -1,8 +1,9 @@
 //! The reference interpreter: the executable specification of docs/language.md.
 //!
 //! It runs the checked instruction list directly, one instruction at a time,
-//! with an explicit logic stack. It is written for clarity, not speed; the
-//! native engines are tested against it.
+//! with an explicit logic stack (`ladder_front::logic`, shared with the IR
+//! lowering, which holds IR values where this holds bits). It is written for
+//! clarity, not speed; the native engines are tested against it.
 
 #![deny(clippy::wildcard_enum_match_arm)]
 

@@ -1,13 +1,16 @@
 //! The SSA intermediate representation between the checked program and
 //! machine code. It makes the PLC's hidden state explicit:
 //!
-//! - device reads and writes are typed loads and stores of the device image;
+//! - device reads and writes are loads and stores of the image's cells
+//!   (`Cell`: a bit, a word, an edge slot, a timer's bookkeeping, ...), each
+//!   cell saying where it lies and how the image holds it;
 //! - every edge instruction's previous-scan slot is a named load and store;
 //! - an STL block is a gated region: run while its state is ON, reset once
 //!   (OUT coils off, timers cleared, slots cleared) when found OFF after running,
 //!   skipped otherwise, with the block's "last ran active" flag loaded and stored;
 //! - timer and counter updates are explicit operations;
-//! - the logic stack (ANB/ORB/MPS) lives in SSA values, never in memory.
+//! - the logic stack (ANB/ORB/MPS, `ladder_front::logic`) lives in SSA
+//!   values, never in memory.
 //!
 //! A function is a list of blocks; each block holds instructions and ends in a
 //! terminator. A value is defined once and used in blocks its definition
