@@ -34,26 +34,25 @@ impl Ranges {
     pub fn record(&mut self, result: Value, inst: &Inst, types: &[Type], constants: &HashMap<Value, i64>) {
         let ty = types[result.0 as usize];
         let of = |v: &Value| self.of(*v, types[v.0 as usize], constants);
-        let range = match inst {
-            Inst::Extend { value, signed, .. } => of(value).map(|(low, high)| {
+        // Only extensions, additions and subtractions narrow a range; any
+        // other instruction (a new one too) gets what its type allows,
+        // which is always true of it.
+        let range = if let Inst::Extend { value, signed, .. } = inst {
+            of(value).map(|(low, high)| {
                 if *signed || low >= 0 {
                     (low, high)
                 } else {
                     // Zero-extended: the operand's bits read as unsigned.
                     (0, unsigned_max(types[value.0 as usize]))
                 }
-            }),
-            Inst::Binary { op, a, b } => match (op, of(a), of(b)) {
-                (BinOp::Add, Some((a_low, a_high)), Some((b_low, b_high))) => {
-                    a_low.checked_add(b_low).zip(a_high.checked_add(b_high))
-                }
-                (BinOp::Sub, Some((a_low, a_high)), Some((b_low, b_high))) => {
-                    a_low.checked_sub(b_high).zip(a_high.checked_sub(b_low))
-                }
-                (
-                    BinOp::Add
-                    | BinOp::Sub
-                    | BinOp::Mul
+            })
+        } else if let Inst::Binary { op, a, b } = inst {
+            of(a)
+                .zip(of(b))
+                .and_then(|((a_low, a_high), (b_low, b_high))| match op {
+                    BinOp::Add => a_low.checked_add(b_low).zip(a_high.checked_add(b_high)),
+                    BinOp::Sub => a_low.checked_sub(b_high).zip(a_high.checked_sub(b_low)),
+                    BinOp::Mul
                     | BinOp::Div
                     | BinOp::Rem
                     | BinOp::And
@@ -61,37 +60,10 @@ impl Ranges {
                     | BinOp::Xor
                     | BinOp::Shl
                     | BinOp::Shr
-                    | BinOp::UShr,
-                    _,
-                    _,
-                ) => None,
-            },
-            // Anything else: what its type allows.
-            Inst::Const { .. }
-            | Inst::Load { .. }
-            | Inst::Store { .. }
-            | Inst::FillBits { .. }
-            | Inst::ClearWords { .. }
-            | Inst::LoadElapsed
-            | Inst::GetLocal { .. }
-            | Inst::SetLocal { .. }
-            | Inst::LoadLoopCount { .. }
-            | Inst::StoreLoopCount { .. }
-            | Inst::CallSubroutine { .. }
-            | Inst::Not { .. }
-            | Inst::And { .. }
-            | Inst::Or { .. }
-            | Inst::Unary { .. }
-            | Inst::Compare { .. }
-            | Inst::Truncate { .. }
-            | Inst::Select { .. }
-            | Inst::Float { .. }
-            | Inst::FloatUnary { .. }
-            | Inst::FloatCompare { .. }
-            | Inst::Bitcast { .. }
-            | Inst::Convert { .. }
-            | Inst::RecordError { .. }
-            | Inst::Call { .. } => None,
+                    | BinOp::UShr => None,
+                })
+        } else {
+            None
         };
         // Kept only where narrower than the type (a wrapped result is not).
         if let (Some((low, high)), Some((type_low, type_high))) = (range, type_range(ty)) {
