@@ -16,6 +16,8 @@ pub struct Server {
     pub address: SocketAddr,
     /// The HTTP address, when started with `--http`.
     pub web: Option<SocketAddr>,
+    /// The OPC UA address, when started with `--opcua`.
+    pub opcua: Option<SocketAddr>,
     /// The MELSEC address (TCP and UDP), when started with `--melsec`.
     pub melsec: Option<SocketAddr>,
     /// The directory of the program file (plc.il).
@@ -80,8 +82,9 @@ impl Server {
                 "http listening on "
             })
         });
-        // The MELSEC listener binds after HTTP (and OPC UA, which prints no
-        // line).
+        // Then OPC UA and MELSEC, in the order the server binds them. A
+        // listener is bound when its line is printed.
+        let opcua = extra.contains(&"--opcua").then(|| find("opcua listening on "));
         let melsec = extra.contains(&"--melsec").then(|| find("melsec listening on "));
         // A serial line is open (and served) once it is announced.
         if extra.contains(&"--modbus-rtu") {
@@ -91,6 +94,7 @@ impl Server {
             child,
             address,
             web,
+            opcua,
             melsec,
             dir,
             said,

@@ -86,25 +86,16 @@ fn client(test: &str, server: &Server, user: Option<(&str, &str)>) -> Option<ser
 /// The OPC UA port: chosen by the test (the helper reads Modbus and HTTP
 /// lines only), free when the server started.
 fn opcua_address(server: &Server) -> std::net::SocketAddr {
-    std::fs::read_to_string(server.dir.path().join("opcua.address"))
-        .unwrap()
-        .parse()
-        .unwrap()
+    server.opcua.expect("started with --opcua")
 }
 
 fn start(extra: &[&str]) -> Server {
-    // A free port now; the server binds it a moment later.
-    let free = std::net::TcpListener::bind("127.0.0.1:0")
-        .unwrap()
-        .local_addr()
-        .unwrap();
-    let address = free.to_string();
-    let mut args = vec!["--http", "127.0.0.1:0", "--opcua", &address, "--opcua-devices"];
+    // Port 0: the server binds a free port and says which before it serves
+    // (a port picked free here could be taken by another test meanwhile).
+    let mut args = vec!["--http", "127.0.0.1:0", "--opcua", "127.0.0.1:0", "--opcua-devices"];
     args.push("X0..X7,Y0..Y7,T0,TN0,C0,D0..D9,D10:32,D20:float,D30");
     args.extend_from_slice(extra);
-    let server = Server::start_program(PROGRAM, &args);
-    std::fs::write(server.dir.path().join("opcua.address"), &address).unwrap();
-    server
+    Server::start_program(PROGRAM, &args)
 }
 
 #[test]

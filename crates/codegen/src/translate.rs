@@ -182,8 +182,8 @@ pub fn translate(
                 defined.push(*result);
                 continue;
             }
-            let fuse =
-                result.and_then(|result| extending_load(func, inst, result, block.insts.get(position + 1), &uses));
+            let fuse = result
+                .and_then(|result| cells::extending_load(func, inst, result, block.insts.get(position + 1), &uses));
             t.extending_load = fuse;
             let wide_load = wide_loads
                 .as_ref()
@@ -239,25 +239,6 @@ pub fn translate(
     for value in defined {
         values[value.0 as usize] = None;
     }
-}
-
-/// The extension a load of a number makes itself (`sload16` and the
-/// like, one instruction instead of two: Cranelift does not fold a load
-/// into an extension to 64 bits): when the load's one use is the
-/// extension right after it. The type and signedness to extend to.
-fn extending_load(
-    func: &ir::Function,
-    inst: &Inst,
-    result: ir::Value,
-    next: Option<&(Option<ir::Value>, Inst)>,
-    uses: &[u32],
-) -> Option<(types::Type, bool)> {
-    let number = matches!(func.value_type(result), Type::I16 | Type::I32);
-    let load = matches!(inst.effect(), ir::Effect::Load(_)) || matches!(inst, Inst::LoadElapsed);
-    let Some((_, Inst::Extend { value, to, signed })) = next else {
-        return None;
-    };
-    (number && load && *value == result && uses[result.0 as usize] == 1).then_some((cl_type(*to), *signed))
 }
 
 /// The NOTs among blocks `range` of `func` whose one use is an operand of
@@ -559,21 +540,6 @@ impl Translator<'_, '_> {
 
     fn store_at(&mut self, value: Value, (address, offset): (Value, i32)) {
         self.builder.ins().store(flags(), value, address, offset);
-    }
-
-    /// A load; of a number whose extension comes next (`extending_load`),
-    /// the extending load, which takes `extending_load` for done.
-    fn load_at(&mut self, ty: types::Type, (address, offset): (Value, i32)) -> Value {
-        let ins = self.builder.ins();
-        let extended = match (self.extending_load, ty) {
-            (Some((to, true)), types::I16) => ins.sload16(to, flags(), address, offset),
-            (Some((to, false)), types::I16) => ins.uload16(to, flags(), address, offset),
-            (Some((types::I64, true)), types::I32) => ins.sload32(flags(), address, offset),
-            (Some((types::I64, false)), types::I32) => ins.uload32(flags(), address, offset),
-            _ => return ins.load(ty, flags(), address, offset),
-        };
-        self.extending_load = None;
-        extended
     }
 
     /// `count` elements of `size` bytes from an address set to `value`.

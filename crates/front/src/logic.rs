@@ -25,8 +25,9 @@ impl<T: Copy> LogicStack<T> {
         }
     }
 
-    /// Empties the stack: at a new rung, and where a jump or a state block
-    /// lands (no rung spans those places).
+    /// Empties the stack: at a new rung (`RungLogic::load`), and in the
+    /// lowering also where a jump or a state block lands (no checked rung
+    /// spans those places).
     pub fn clear(&mut self) {
         self.blocks.clear();
         self.branches.clear();
@@ -46,8 +47,7 @@ pub trait RungLogic {
     /// with previous-scan slot `slot` last ran (MEP/MEF, P forms).
     fn transition(&mut self, slot: u32, value: Self::Value, falling: bool) -> Self::Value;
     /// OFF, what a read of an empty stack gives. The checker refuses a
-    /// program that reads one (E0010, E0011); a program built without the
-    /// checker reads OFF on every engine.
+    /// program that reads one (E0010, E0011).
     fn off(&mut self) -> Self::Value;
     /// Whether `contact` passes, evaluated (and its edge slot updated) even
     /// where no power reaches it.

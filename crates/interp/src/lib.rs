@@ -114,8 +114,10 @@ impl Run<'_> {
         }
     }
 
-    /// CALL: the subroutine runs with a logic stack of its own; the rung
-    /// around the CALL continues afterwards with its own.
+    /// CALL: the subroutine runs with a logic stack of its own, empty and
+    /// OFF as the lowering starts a function (a checked subroutine starts
+    /// every rung with a load, so nothing reads that OFF); the rung around
+    /// the CALL continues afterwards with its own.
     fn call(&mut self, subroutine: usize) {
         let entry = self.program.subroutines[subroutine].entry;
         let around = std::mem::replace(&mut self.logic, LogicStack::new(false));

@@ -3,9 +3,12 @@
 //! - constant folding, including the always-ON/OFF relays (SM0, M8000, M8001,
 //!   ...) when the program never writes them: `LD M8000` costs nothing; a
 //!   run-time index that folds to a device of its area becomes a fixed one
-//!   (addressed directly, and all a compact image needs to hold);
+//!   (addressed directly, and all a compact image needs to hold); a
+//!   comparison its operands' ranges decide (`ranges.rs`) becomes a
+//!   constant;
 //! - branch folding and removal of unreachable blocks;
 //! - merging a block into its only predecessor;
+//! - equal pure computations close together in a block share one value;
 //! - removal of pure instructions whose values are never used;
 //! - memory forwarding across rungs (`memory.rs`).
 
@@ -394,8 +397,9 @@ fn fix_index(inst: &mut Inst, constants: &HashMap<Value, i64>) {
     });
 }
 
-/// Folds instructions with constant operands to constants, and instructions
-/// that compute an existing value (`x AND 1`, `x + 0`) to that value.
+/// Folds instructions with constant operands to constants, comparisons
+/// the operands' ranges decide too, and instructions that compute an
+/// existing value (`x AND 1`, `x + 0`) to that value.
 pub fn fold_constants(function: &mut Function, relays: &Relays) {
     let mut constants: HashMap<Value, i64> = HashMap::new();
     let mut replaced: HashMap<Value, Value> = HashMap::new();
@@ -565,9 +569,11 @@ pub fn share_pure_values(function: &mut Function) {
 }
 
 /// A computation whose value depends on its operands alone, other than a
-/// constant.
+/// constant or a NOT: code generation makes a constant where it is used,
+/// and folds a NOT with one use into the AND or OR that uses it (x86-64's
+/// ANDN), which a shared NOT would lose.
 fn shareable(inst: &Inst) -> bool {
-    if let Inst::Const { .. } = inst {
+    if let Inst::Const { .. } | Inst::Not { .. } = inst {
         return false;
     }
     match inst.effect() {
@@ -627,9 +633,13 @@ pub(super) mod tests {
 
     #[test]
     fn equal_computations_nearby_share_one_value() {
-        // Both rungs invert M1 (loaded once, forwarded): one NOT serves both.
+        // ADD's result D1 (forwarded) is sign-extended for its flags, for
+        // MUL and for the comparison: once.
+        let text = ir("LD SM0\nADD D0 K3 D1\nMUL D1 K2 D2\nLD> D1 K1000\nOUT Y0\n");
+        assert_eq!(text.matches(" = sext.i64 ").count(), 2, "D0 and D1 once each:\n{text}");
+        // A NOT is left to fold into its AND (ANDN): both rungs have one.
         let text = ir("LD X0\nANI M1\nOUT Y0\nLD X2\nANI M1\nOUT Y1\n");
-        assert_eq!(text.matches(" = not ").count(), 1, "{text}");
+        assert_eq!(text.matches(" = not ").count(), 2, "{text}");
         // A word compared with itself is decided.
         let text = ir("LD= D0 D0\nOUT Y0\nLD< D0 D0\nOUT Y1\n");
         assert!(!text.contains("cmp"), "{text}");

@@ -35,8 +35,10 @@ impl Ranges {
         let ty = types[result.0 as usize];
         let of = |v: &Value| self.of(*v, types[v.0 as usize], constants);
         // Only extensions, additions and subtractions narrow a range; any
-        // other instruction (a new one too) gets what its type allows,
-        // which is always true of it.
+        // other instruction gets what its type allows, which is always true
+        // of it. This is the one place where a new instruction is meant to
+        // fall to a default (it is sound without a range), hence no
+        // exhaustive match.
         let range = if let Inst::Extend { value, signed, .. } = inst {
             of(value).map(|(low, high)| {
                 if *signed || low >= 0 {

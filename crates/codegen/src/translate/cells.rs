@@ -1,11 +1,12 @@
 //! Loads and stores of the IR's cells: where each kind of cell lies in the
 //! image and how its value is held there (a byte per bit, a force byte, 16 or
-//! 32 bits: `Cell::held`).
+//! 32 bits: `Cell::held`); and a load that makes the extension after it
+//! itself (`extending_load`).
 
-use super::Translator;
+use super::{cl_type, flags, Translator};
 use cranelift_codegen::ir::condcodes::IntCC;
 use cranelift_codegen::ir::{types, InstBuilder, MemFlagsData, Value};
-use ladder_ir::{Cell, Held};
+use ladder_ir::{self as ir, Cell, Held, Inst, Type};
 
 impl Translator<'_, '_> {
     /// The address of a cell's first byte, as (pointer, constant offset).
@@ -42,4 +43,38 @@ impl Translator<'_, '_> {
         };
         self.store_at(stored, at);
     }
+
+    /// A load; of a number whose extension comes next (`extending_load`),
+    /// the extending load, which takes `extending_load` for done.
+    pub(super) fn load_at(&mut self, ty: types::Type, (address, offset): (Value, i32)) -> Value {
+        let ins = self.builder.ins();
+        let extended = match (self.extending_load, ty) {
+            (Some((to, true)), types::I16) => ins.sload16(to, flags(), address, offset),
+            (Some((to, false)), types::I16) => ins.uload16(to, flags(), address, offset),
+            (Some((types::I64, true)), types::I32) => ins.sload32(flags(), address, offset),
+            (Some((types::I64, false)), types::I32) => ins.uload32(flags(), address, offset),
+            _ => return ins.load(ty, flags(), address, offset),
+        };
+        self.extending_load = None;
+        extended
+    }
+}
+
+/// The extension a load of a number makes itself (`sload16` and the
+/// like, one instruction instead of two: Cranelift does not fold a load
+/// into an extension to 64 bits): when the load's one use is the
+/// extension right after it. The type and signedness to extend to.
+pub(super) fn extending_load(
+    func: &ir::Function,
+    inst: &Inst,
+    result: ir::Value,
+    next: Option<&(Option<ir::Value>, Inst)>,
+    uses: &[u32],
+) -> Option<(types::Type, bool)> {
+    let number = matches!(func.value_type(result), Type::I16 | Type::I32);
+    let load = matches!(inst.effect(), ir::Effect::Load(_)) || matches!(inst, Inst::LoadElapsed);
+    let Some((_, Inst::Extend { value, to, signed })) = next else {
+        return None;
+    };
+    (number && load && *value == result && uses[result.0 as usize] == 1).then_some((cl_type(*to), *signed))
 }

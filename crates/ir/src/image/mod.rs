@@ -252,7 +252,7 @@ impl Footprint {
                 target,
                 count,
                 transfer_from,
-                ..
+                written_out: _,
             } => {
                 self.bit(target, *count);
                 if let Some(state) = transfer_from {

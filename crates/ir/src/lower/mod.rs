@@ -15,9 +15,7 @@ use crate::{Builder, Cell, Function, Inst, Local, Program, Terminator, Type, Val
 use ladder_front::isa::app::Runs;
 use ladder_front::isa::Sense;
 use ladder_front::logic::{LogicStack, RungLogic};
-use ladder_front::program::{
-    BitRef, CheckedProgram, Contact, Instruction, Line, LineReads, Op, Output, ResetTarget, StlBlock,
-};
+use ladder_front::program::{BitRef, CheckedProgram, Contact, Instruction, Line, Op, Output, ResetTarget, StlBlock};
 use ladder_runtime::helpers::Helper;
 use ladder_runtime::{BitArea, OperationError, Width};
 use std::collections::BTreeMap;
@@ -113,11 +111,22 @@ impl<'p> Lowering<'p> {
             let target = match &instruction.op {
                 Op::Jump { target, .. } => Some(*target),
                 // An STL block that does not run is skipped to its end.
-                Op::Line(line) => match line.reads() {
-                    LineReads::State(block) => Some(self.program.stl_blocks[block].end + 1),
-                    LineReads::Word(_) | LineReads::Nothing => None,
-                },
-                Op::Load { .. } | Op::And(_) | Op::Or(_) | Op::Logic(_) | Op::Output(_) | Op::Call { .. } => None,
+                Op::Line(Line::StlBegin { block }) => Some(self.program.stl_blocks[*block].end + 1),
+                Op::Line(
+                    Line::Label { .. }
+                    | Line::MasterControlReset { .. }
+                    | Line::StlEnd
+                    | Line::MainEnd
+                    | Line::SubroutineReturn
+                    | Line::LoopStart { .. }
+                    | Line::LoopEnd { .. },
+                )
+                | Op::Load { .. }
+                | Op::And(_)
+                | Op::Or(_)
+                | Op::Logic(_)
+                | Op::Output(_)
+                | Op::Call { .. } => None,
             };
             if let Some(target) = target {
                 if !self.targets.contains_key(&target) {
