@@ -167,6 +167,10 @@ pub fn serve(
         .enable_all()
         .build()
         .map_err(|e| format!("cannot start the server runtime: {e}"))?;
+    // Ctrl-C and SIGTERM are taken before any listener is announced: a
+    // client may stop the server as soon as it knows the address, and a
+    // signal that came before its handler would kill the process.
+    let signals = runtime.block_on(async { StopSignals::register() });
     // The listeners first: a port in use is an error before anything runs.
     let listener = listen(&runtime, options.modbus, "Modbus", "modbus")?;
     let tls = options
@@ -312,7 +316,7 @@ pub fn serve(
         if let Some(opcua) = opcua {
             tokio::spawn(opcua);
         }
-        wait_for_stop(&served).await;
+        wait_for_stop(&served, signals).await;
     });
     shared.stop();
     scanner.join().map_err(|_| "the scan thread failed".to_string())?;
@@ -492,26 +496,59 @@ pub(crate) fn announce(line: &str) {
     let _ = out.flush();
 }
 
-/// Ctrl-C, SIGTERM, or the scan thread stopping on its own.
-async fn wait_for_stop(shared: &Shared) {
+/// The signals that stop the server, registered once.
+struct StopSignals {
     #[cfg(unix)]
-    let terminate = async {
-        match tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate()) {
-            Ok(mut signal) => {
-                signal.recv().await;
+    terminate: Option<tokio::signal::unix::Signal>,
+    #[cfg(unix)]
+    interrupt: Option<tokio::signal::unix::Signal>,
+}
+
+impl StopSignals {
+    /// Registers the handlers (inside the runtime). Where one cannot be
+    /// registered, that signal keeps its default action.
+    fn register() -> StopSignals {
+        #[cfg(unix)]
+        {
+            use tokio::signal::unix::{signal, SignalKind};
+            StopSignals {
+                terminate: signal(SignalKind::terminate()).ok(),
+                interrupt: signal(SignalKind::interrupt()).ok(),
             }
-            Err(_) => std::future::pending::<()>().await,
         }
+        #[cfg(not(unix))]
+        StopSignals {}
+    }
+}
+
+/// Ctrl-C, SIGTERM, or the scan thread stopping on its own.
+async fn wait_for_stop(shared: &Shared, signals: StopSignals) {
+    #[cfg(unix)]
+    let (terminate, interrupt) = {
+        let wait = |signal: Option<tokio::signal::unix::Signal>| async move {
+            match signal {
+                Some(mut signal) => {
+                    signal.recv().await;
+                }
+                None => std::future::pending::<()>().await,
+            }
+        };
+        (wait(signals.terminate), wait(signals.interrupt))
     };
     #[cfg(not(unix))]
-    let terminate = std::future::pending::<()>();
+    let (terminate, interrupt) = {
+        let StopSignals {} = signals;
+        (std::future::pending::<()>(), async {
+            let _ = tokio::signal::ctrl_c().await;
+        })
+    };
     let stopped = async {
         while !shared.stopping() {
             tokio::time::sleep(Duration::from_millis(50)).await;
         }
     };
     tokio::select! {
-        _ = tokio::signal::ctrl_c() => {}
+        () = interrupt => {}
         () = terminate => {}
         () = stopped => {}
     }
