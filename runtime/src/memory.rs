@@ -240,8 +240,7 @@ impl Memory {
         }
     }
 
-    /// FNV-1a over the image's 64-bit little-endian words: how test drivers
-    /// (and hosts) compare whole images cheaply.
+    /// `image::digest` of the image.
     pub fn digest(&self) -> u64 {
         self.view().digest()
     }

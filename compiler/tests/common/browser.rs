@@ -157,7 +157,28 @@ fn http_get(address: &str, path: &str) -> Result<String, String> {
         "GET {path} HTTP/1.1\r\nHost: {address}\r\nConnection: close\r\n\r\n"
     )
     .map_err(|e| e.to_string())?;
-    let mut response = String::new();
-    let _ = stream.read_to_string(&mut response);
-    Ok(response.split_once("\r\n\r\n").map_or("", |(_, b)| b).to_string())
+    // Chromium keeps the connection open despite `Connection: close`:
+    // reading to the end would wait for the read timeout (10 s per browser
+    // started). The body is as long as its header says.
+    let mut reader = BufReader::new(stream);
+    let mut length = 0;
+    loop {
+        let mut line = String::new();
+        reader.read_line(&mut line).map_err(|e| e.to_string())?;
+        let line = line.trim_end();
+        if line.is_empty() {
+            break;
+        }
+        if let Some((name, value)) = line.split_once(':') {
+            if name.eq_ignore_ascii_case("content-length") {
+                length = value
+                    .trim()
+                    .parse()
+                    .map_err(|_| format!("a Content-Length of {value}"))?;
+            }
+        }
+    }
+    let mut body = vec![0; length];
+    reader.read_exact(&mut body).map_err(|e| e.to_string())?;
+    String::from_utf8(body).map_err(|e| e.to_string())
 }

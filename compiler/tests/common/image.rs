@@ -7,24 +7,15 @@ use ladder_runtime::layout::{Layout, FULL, HEADER_SIZE, SEGMENTS};
 use ladder_runtime::Memory;
 use std::mem::offset_of;
 
-/// FNV-1a over the image's 64-bit little-endian words after its header
-/// (the last one padded with zeros; the C driver computes the same). Each
-/// step is a bijection of the hash for a given word, so two images that
-/// differ in one word always hash differently. The header is left out: a
-/// compact image's names its layout table by address.
+/// The runtime's digest of the full image (`ladder_runtime::image::digest`;
+/// the C driver computes the same).
 pub fn digest(mem: &Memory) -> u64 {
-    digest_bytes(bytemuck::bytes_of(mem))
+    mem.digest()
 }
 
 /// `digest` of an image's bytes, whatever its layout.
 pub fn digest_bytes(bytes: &[u8]) -> u64 {
-    bytes[HEADER_SIZE..]
-        .chunks(8)
-        .fold(0xcbf2_9ce4_8422_2325u64, |hash, chunk| {
-            let mut word = [0u8; 8];
-            word[..chunk.len()].copy_from_slice(chunk);
-            (hash ^ u64::from_le_bytes(word)).wrapping_mul(0x0000_0100_0000_01b3)
-        })
+    ladder_runtime::image::digest(bytes)
 }
 
 /// The bytes of an image with `layout` holding what `mem` holds (header
