@@ -19,7 +19,7 @@ use ladder_front::isa::CompareOp;
 use ladder_ir::{self as ir, BinOp, Conversion, FloatOp, FloatUnaryOp, Index, Inst, Terminator, Type, UnaryOp};
 use ladder_runtime::helpers::Helper;
 use ladder_runtime::layout::{Array, Layout, Scalar};
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 
 mod cells;
 
@@ -160,7 +160,7 @@ pub fn translate(
         value_types: &func.value_types,
         wide_bits,
         folded_nots,
-        negations: HashMap::new(),
+        negations: FxHashMap::default(),
         extending_load: None,
     };
     let mut defined = Vec::new();
@@ -245,8 +245,8 @@ pub fn translate(
 /// an AND or an OR there (one per AND or OR), with the value each inverts:
 /// the AND or OR takes its operand inverted (`Translator::and_not`), and
 /// the NOT is not made on its own.
-fn folded_nots(func: &ir::Function, range: std::ops::Range<usize>, uses: &[u32]) -> HashMap<ir::Value, ir::Value> {
-    let mut nots = HashMap::new();
+fn folded_nots(func: &ir::Function, range: std::ops::Range<usize>, uses: &[u32]) -> FxHashMap<ir::Value, ir::Value> {
+    let mut nots = FxHashMap::default();
     for block in &func.blocks[range.clone()] {
         for (result, inst) in &block.insts {
             if let (Some(result), Inst::Not { value }) = (result, inst) {
@@ -256,7 +256,7 @@ fn folded_nots(func: &ir::Function, range: std::ops::Range<usize>, uses: &[u32])
             }
         }
     }
-    let mut folded = HashMap::new();
+    let mut folded = FxHashMap::default();
     for block in &func.blocks[range] {
         for (_, inst) in &block.insts {
             if let Inst::And { a, b } | Inst::Or { a, b } = inst {
@@ -347,10 +347,10 @@ struct Translator<'a, 'b> {
     wide_bits: bool,
     /// NOTs whose one use is an AND or an OR, with what they invert
     /// (`folded_nots`).
-    folded_nots: HashMap<ir::Value, ir::Value>,
+    folded_nots: FxHashMap<ir::Value, ir::Value>,
     /// Bits made as `x ^ 1`, with their `x`: a later AND-NOT of one takes
     /// `x` instead, and the XOR goes if nothing else uses it.
-    negations: HashMap<Value, Value>,
+    negations: FxHashMap<Value, Value>,
     /// The type and signedness the number being loaded is extended to
     /// next (`extending_load`); `load_at` takes it.
     extending_load: Option<(types::Type, bool)>,

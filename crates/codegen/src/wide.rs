@@ -25,7 +25,7 @@
 use ladder_ir::{Effect, Function, Index, Inst, Space, Span};
 use ladder_runtime::helpers::Helper;
 use ladder_runtime::layout::{Array, Layout};
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 
 /// How far back (in IR instructions, about one machine instruction each) a
 /// store to one of the four bytes keeps a load narrow. Measured on the
@@ -181,7 +181,7 @@ pub fn wide_bit_loads(layout: &Layout, function: &Function, range: std::ops::Ran
     // Where each image byte was last stored, and the last call; the
     // function's entry counts as a call (the caller, or the runtime's
     // begin-scan, stored just before it).
-    let mut stored_at: HashMap<u32, usize> = HashMap::new();
+    let mut stored_at: FxHashMap<u32, usize> = FxHashMap::default();
     let mut wide_stores: Vec<(u32, u32, usize)> = Vec::new();
     let mut last_call = 0usize;
     let mut position = 0usize;

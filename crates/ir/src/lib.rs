@@ -471,9 +471,11 @@ impl Inst {
         self.effect().is_removable()
     }
 
-    /// Values the instruction reads.
-    pub fn operands(&self) -> Vec<Value> {
-        let mut operands = Vec::new();
+    /// Values the instruction reads: inline for up to four (every
+    /// instruction but a call with more arguments), since the passes ask
+    /// for every instruction of the program.
+    pub fn operands(&self) -> smallvec::SmallVec<[Value; 4]> {
+        let mut operands = smallvec::SmallVec::new();
         self.clone().for_each_operand_mut(|v| operands.push(*v));
         operands
     }
@@ -647,7 +649,7 @@ impl Function {
     }
 
     /// The value of every constant.
-    pub fn constants(&self) -> std::collections::HashMap<Value, i64> {
+    pub fn constants(&self) -> rustc_hash::FxHashMap<Value, i64> {
         self.blocks
             .iter()
             .flat_map(|b| b.insts.iter())

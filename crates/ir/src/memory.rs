@@ -28,7 +28,7 @@ use ladder_runtime::device::{FIRST_WIDE_COUNTER, WIDE_COUNTER_COUNT};
 use ladder_runtime::helpers::{Helper, Param, Writes};
 use ladder_runtime::special::{D_ERROR_CODE, D_ERROR_LINE, M_OPERATION_ERROR};
 use ladder_runtime::{BitArea, WordArea};
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 
 /// One memory location the IR can name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -149,7 +149,7 @@ const LONGEST_CARRY: u64 = 1024;
 struct Known {
     /// The value each place holds, and when it was last used (position in
     /// the whole function, in block order).
-    values: HashMap<Place, (Value, u64)>,
+    values: FxHashMap<Place, (Value, u64)>,
 }
 
 impl Known {
@@ -195,7 +195,7 @@ impl Known {
 /// in the block.
 #[derive(Default)]
 struct Waiting {
-    stores: HashMap<Place, usize>,
+    stores: FxHashMap<Place, usize>,
 }
 
 impl Waiting {
@@ -235,7 +235,7 @@ pub fn forward_memory(function: &mut Function) {
         .iter()
         .map(|b| b.terminator.successors().len())
         .collect();
-    let mut replaced: HashMap<Value, Value> = HashMap::new();
+    let mut replaced: FxHashMap<Value, Value> = FxHashMap::default();
     let mut now = 0u64;
     let positions: usize = function.blocks.iter().map(|b| b.insts.len()).sum();
     let mut carried = Pressure::new(positions + 1);
@@ -354,7 +354,7 @@ fn access(inst: &Inst) -> Access {
 fn optimise_block(
     block: &mut Block,
     known: &mut Known,
-    replaced: &mut HashMap<Value, Value>,
+    replaced: &mut FxHashMap<Value, Value>,
     now: &mut u64,
     carried: &mut Pressure,
 ) {
@@ -363,7 +363,7 @@ fn optimise_block(
     // Blocks come in reverse postorder, so every use of a replaced load is
     // met after the replacement; a replacement is never itself replaced (it
     // is a kept load or an operand already resolved), so one step suffices.
-    let resolve = |v: &mut Value, replaced: &HashMap<Value, Value>| {
+    let resolve = |v: &mut Value, replaced: &FxHashMap<Value, Value>| {
         if let Some(&other) = replaced.get(v) {
             *v = other;
         }

@@ -21,7 +21,8 @@ use ladder_front::isa::CompareOp;
 use ladder_runtime::helpers::{Param, Writes};
 use ladder_runtime::special::{M_ALWAYS_OFF, M_ALWAYS_ON, M_OPERATION_ERROR, SM_ALWAYS_OFF, SM_ALWAYS_ON};
 use ladder_runtime::{BitArea, Place};
-use std::collections::{HashMap, VecDeque};
+use rustc_hash::FxHashMap;
+use std::collections::VecDeque;
 
 /// Runs every pass on every function of the program. The relays the
 /// runtime holds constant are found over the whole program (a subroutine
@@ -108,12 +109,12 @@ pub(super) fn reverse_postorder(function: &Function) -> Vec<BlockId> {
 }
 
 /// Relays with a value known for the whole program run.
-type Relays = HashMap<(BitArea, u32), bool>;
+type Relays = FxHashMap<(BitArea, u32), bool>;
 
 /// The relays the runtime holds constant during the program, and their value,
 /// unless some function of the program may write them.
 fn constant_relays<'f>(functions: impl Iterator<Item = &'f Function>) -> Relays {
-    let mut known: HashMap<(BitArea, u32), bool> = HashMap::new();
+    let mut known: FxHashMap<(BitArea, u32), bool> = FxHashMap::default();
     known.insert((BitArea::Sm, SM_ALWAYS_ON), true);
     known.insert((BitArea::Sm, SM_ALWAYS_OFF), false);
     for n in M_ALWAYS_ON {
@@ -140,7 +141,7 @@ fn constant_relays<'f>(functions: impl Iterator<Item = &'f Function>) -> Relays 
 
 /// The bit devices an instruction may write: (area, first, count), with no
 /// first when the index is dynamic (the whole area may be written).
-fn written_bits(inst: &Inst, constants: &HashMap<Value, i64>) -> Vec<(BitArea, Option<u32>, u32)> {
+fn written_bits(inst: &Inst, constants: &FxHashMap<Value, i64>) -> Vec<(BitArea, Option<u32>, u32)> {
     let fixed = |index: Index| match index {
         Index::Fixed(n) => Some(n),
         Index::Dynamic(_) => None,
@@ -266,9 +267,9 @@ fn fold(
     inst: &Inst,
     ty: Type,
     types: &[Type],
-    constants: &HashMap<Value, i64>,
-    extended_from: &HashMap<Value, Value>,
-    relays: &HashMap<(BitArea, u32), bool>,
+    constants: &FxHashMap<Value, i64>,
+    extended_from: &FxHashMap<Value, Value>,
+    relays: &FxHashMap<(BitArea, u32), bool>,
     ranges: &Ranges,
 ) -> Folded {
     let known = |v: &Value| constants.get(v).copied();
@@ -371,7 +372,7 @@ fn left_identity(op: BinOp) -> Option<i64> {
 /// generation addresses both the same way, while outside it clamps a
 /// run-time index differently from a fixed one (a negative index clamps to
 /// the last device), so those stay as they are.
-fn fix_index(inst: &mut Inst, constants: &HashMap<Value, i64>) {
+fn fix_index(inst: &mut Inst, constants: &FxHashMap<Value, i64>) {
     let span = match inst.effect() {
         Effect::Load(span) | Effect::Store(span, _) | Effect::Fill(span) => span,
         Effect::Pure
@@ -401,10 +402,10 @@ fn fix_index(inst: &mut Inst, constants: &HashMap<Value, i64>) {
 /// the operands' ranges decide too, and instructions that compute an
 /// existing value (`x AND 1`, `x + 0`) to that value.
 pub fn fold_constants(function: &mut Function, relays: &Relays) {
-    let mut constants: HashMap<Value, i64> = HashMap::new();
-    let mut replaced: HashMap<Value, Value> = HashMap::new();
+    let mut constants: FxHashMap<Value, i64> = FxHashMap::default();
+    let mut replaced: FxHashMap<Value, Value> = FxHashMap::default();
     // Value defined by an Extend -> the value it extended.
-    let mut extended_from: HashMap<Value, Value> = HashMap::new();
+    let mut extended_from: FxHashMap<Value, Value> = FxHashMap::default();
     let mut ranges = Ranges::default();
     let types = function.value_types.clone();
     for block in reverse_postorder(function) {
@@ -531,7 +532,7 @@ const SHARE_DISTANCE: usize = 32;
 /// generation makes them where they are used). The duplicates are left to
 /// `remove_dead_values`.
 pub fn share_pure_values(function: &mut Function) {
-    let mut replaced: HashMap<Value, Value> = HashMap::new();
+    let mut replaced: FxHashMap<Value, Value> = FxHashMap::default();
     for block in reverse_postorder(function) {
         let block = &mut function.blocks[block.0 as usize];
         // The pure computations of the last `SHARE_DISTANCE` instructions,

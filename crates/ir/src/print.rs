@@ -78,7 +78,7 @@ fn unop(op: UnaryOp) -> &'static str {
 
 /// Constant values by the value that holds them, so that helper calls show
 /// their constant arguments inline.
-type Constants = std::collections::HashMap<super::Value, i64>;
+type Constants = rustc_hash::FxHashMap<super::Value, i64>;
 
 /// A cell as loads and stores print it: its type and where it is.
 fn cell_text(cell: &Cell) -> String {

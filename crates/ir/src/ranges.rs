@@ -12,18 +12,18 @@
 
 use super::{BinOp, Inst, Type, Value};
 use ladder_front::isa::CompareOp;
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 
 /// The least and greatest value, both included.
 type Range = (i64, i64);
 
 /// The ranges found so far, for values narrower than their type.
 #[derive(Default)]
-pub struct Ranges(HashMap<Value, Range>);
+pub struct Ranges(FxHashMap<Value, Range>);
 
 impl Ranges {
     /// The range of `value` of type `ty`, a constant's being its value.
-    fn of(&self, value: Value, ty: Type, constants: &HashMap<Value, i64>) -> Option<Range> {
+    fn of(&self, value: Value, ty: Type, constants: &FxHashMap<Value, i64>) -> Option<Range> {
         if let Some(&c) = constants.get(&value) {
             return Some((c, c));
         }
@@ -31,7 +31,7 @@ impl Ranges {
     }
 
     /// Records the range of `result`, defined by `inst` (after folding).
-    pub fn record(&mut self, result: Value, inst: &Inst, types: &[Type], constants: &HashMap<Value, i64>) {
+    pub fn record(&mut self, result: Value, inst: &Inst, types: &[Type], constants: &FxHashMap<Value, i64>) {
         let ty = types[result.0 as usize];
         let of = |v: &Value| self.of(*v, types[v.0 as usize], constants);
         // Only extensions, additions and subtractions narrow a range; any
@@ -83,7 +83,7 @@ impl Ranges {
         a: Value,
         b: Value,
         types: &[Type],
-        constants: &HashMap<Value, i64>,
+        constants: &FxHashMap<Value, i64>,
     ) -> Option<bool> {
         let (a_low, a_high) = self.of(a, types[a.0 as usize], constants)?;
         let (b_low, b_high) = self.of(b, types[b.0 as usize], constants)?;

@@ -4,7 +4,7 @@
 
 use crate::diagnostics::{Code, Diagnostic, Diagnostics};
 use crate::source::Span;
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 
 /// Loops nest up to this many levels.
 pub const LOOP_DEPTH: usize = 5;
@@ -84,10 +84,10 @@ pub struct PendingJump {
 pub struct BlockTracker {
     open_block: Option<OpenBlock>,
     blocks_started: usize,
-    state_blocks: HashMap<u32, Span>,
+    state_blocks: FxHashMap<u32, Span>,
     mc_open: Vec<(u8, usize, Span)>,
     regions_started: usize,
-    labels: HashMap<u32, Label>,
+    labels: FxHashMap<u32, Label>,
     jumps: Vec<PendingJump>,
     loops: Vec<OpenLoop>,
     loops_started: usize,

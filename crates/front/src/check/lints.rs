@@ -6,7 +6,7 @@ use crate::program::{BitRef, Op, Output};
 use crate::source::Span;
 use ladder_runtime::special::{is_system_m, is_system_sm};
 use ladder_runtime::BitArea;
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 
 /// What a coil drives, for spotting the same coil twice.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -18,7 +18,7 @@ enum CoilKey {
 
 #[derive(Default)]
 pub struct Lints {
-    first_coil: HashMap<CoilKey, Span>,
+    first_coil: FxHashMap<CoilKey, Span>,
     findings: Vec<Diagnostic>,
     /// The first instruction, and whether any writes a device.
     first: Option<Span>,

@@ -25,7 +25,7 @@ use ladder_runtime::device::{EDGE_SLOT_COUNT, SORT_INSTANCES, STATE_INSTANCES};
 use ladder_runtime::{BitArea, Width, WordArea};
 use operands::{Coil, Resolved};
 use rung::RungTracker;
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 
 /// Parses and checks a source file. The program is returned only when there
 /// are no errors; the diagnostics may hold warnings either way.
@@ -121,7 +121,7 @@ struct Checker {
     stl_blocks: Vec<StlBlock>,
     parts: parts::Parts,
     /// Block id (from the tracker) to index in `stl_blocks`.
-    emitted_blocks: HashMap<usize, usize>,
+    emitted_blocks: FxHashMap<usize, usize>,
     next_slot: u32,
     next_job: u32,
     next_instance: u32,

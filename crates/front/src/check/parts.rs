@@ -8,7 +8,7 @@ use crate::program::{Contact, Line, Op, StlBlock, Subroutine};
 use crate::source::Span;
 use crate::syntax;
 use ladder_runtime::Width;
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 
 /// Subroutine calls nest up to this many levels (the main program's CALL
 /// is level 1).
@@ -32,7 +32,7 @@ pub struct Parts {
     pub main_end: Option<usize>,
     pub subroutines: Vec<Subroutine>,
     /// Subroutine id by label number.
-    by_label: HashMap<u32, usize>,
+    by_label: FxHashMap<u32, usize>,
     /// The subroutine being read and its label's span.
     open: Option<(usize, Span)>,
     /// Spans of subroutine labels, by id.
