@@ -108,10 +108,12 @@ fn run_on_qemu(elf: &Path) -> String {
             "-serial",
             "none",
         ])
-        // Virtual time by instructions, and an idle CPU (the host's `wfi`
-        // between scans) skips ahead to SysTick's next interrupt: 300 scans
-        // of 100 ms take as long as their instructions, not 30 s.
-        .args(["-icount", "shift=auto,sleep=off"])
+        // Virtual time by instructions (2^5 ns each: about the board's
+        // 25 MHz), and an idle CPU (the firmware's `wfi` between scans)
+        // skips ahead to SysTick's next interrupt: 300 scans of 100 ms take
+        // as long as their instructions, not 30 s. Each scan is told its
+        // period (SCAN_MS), so the outputs do not depend on time.
+        .args(["-icount", "shift=5,sleep=off"])
         .args(["-semihosting-config", "enable=on,target=native", "-kernel"])
         .arg(elf)
         .output()

@@ -159,25 +159,36 @@ fn http_get(address: &str, path: &str) -> Result<String, String> {
     .map_err(|e| e.to_string())?;
     // Chromium keeps the connection open despite `Connection: close`:
     // reading to the end would wait for the read timeout (10 s per browser
-    // started). The body is as long as its header says.
+    // started). The body is as long as its header says; the DevTools server
+    // always says it.
     let mut reader = BufReader::new(stream);
-    let mut length = 0;
+    let mut status = String::new();
+    reader.read_line(&mut status).map_err(|e| e.to_string())?;
+    if status.split_whitespace().nth(1) != Some("200") {
+        return Err(format!("DevTools answered {path} with `{}`", status.trim_end()));
+    }
+    let mut length = None;
     loop {
         let mut line = String::new();
-        reader.read_line(&mut line).map_err(|e| e.to_string())?;
+        if reader.read_line(&mut line).map_err(|e| e.to_string())? == 0 {
+            return Err(format!("DevTools closed the answer to {path} within its headers"));
+        }
         let line = line.trim_end();
         if line.is_empty() {
             break;
         }
         if let Some((name, value)) = line.split_once(':') {
             if name.eq_ignore_ascii_case("content-length") {
-                length = value
-                    .trim()
-                    .parse()
-                    .map_err(|_| format!("a Content-Length of {value}"))?;
+                length = Some(
+                    value
+                        .trim()
+                        .parse()
+                        .map_err(|_| format!("a Content-Length of {value}"))?,
+                );
             }
         }
     }
+    let length = length.ok_or_else(|| format!("DevTools answered {path} without a Content-Length"))?;
     let mut body = vec![0; length];
     reader.read_exact(&mut body).map_err(|e| e.to_string())?;
     String::from_utf8(body).map_err(|e| e.to_string())

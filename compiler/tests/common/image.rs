@@ -7,8 +7,9 @@ use ladder_runtime::layout::{Layout, FULL, HEADER_SIZE, SEGMENTS};
 use ladder_runtime::Memory;
 use std::mem::offset_of;
 
-/// The runtime's digest of the full image (`ladder_runtime::image::digest`;
-/// the C driver computes the same).
+/// The runtime's digest of the image after its header
+/// (`ladder_runtime::image::digest`; `testsuite/differential/driver.c`
+/// computes the same).
 pub fn digest(mem: &Memory) -> u64 {
     mem.digest()
 }

@@ -10,30 +10,35 @@ pub const RUNTIME_HEADER: &str = include_str!("../../../../runtime/include/ladde
 /// System libraries the Rust runtime library needs on Linux.
 pub const NATIVE_LIBS: &[&str] = &["-lgcc_s", "-lutil", "-lrt", "-lpthread", "-lm", "-ldl", "-lc"];
 
-/// The C compiler: `$CC`, else `cc`, if it runs. Decided once per process
-/// (a scenario run starts an engine per scenario; each asked again).
+/// The C compiler: `$CC`, else `cc`, if it runs. Found once per process (a
+/// scenario run starts an engine per scenario, and each asked again); a
+/// failure is not kept, so a compiler installed meanwhile is found.
 pub fn c_compiler() -> Result<String, String> {
-    static FOUND: std::sync::OnceLock<Result<String, String>> = std::sync::OnceLock::new();
-    FOUND
-        .get_or_init(|| {
-            let compiler = std::env::var("CC").unwrap_or_else(|_| "cc".to_string());
-            match Command::new(&compiler).arg("--version").output() {
-                Ok(output) if output.status.success() => Ok(compiler),
-                _ => Err(format!("no C compiler found (tried `{compiler}`; set CC)")),
-            }
-        })
-        .clone()
+    static FOUND: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    if let Some(compiler) = FOUND.get() {
+        return Ok(compiler.clone());
+    }
+    let compiler = std::env::var("CC").unwrap_or_else(|_| "cc".to_string());
+    match Command::new(&compiler).arg("--version").output() {
+        Ok(output) if output.status.success() => Ok(FOUND.get_or_init(|| compiler).clone()),
+        _ => Err(format!("no C compiler found (tried `{compiler}`; set CC)")),
+    }
 }
 
 /// The runtime static library: `$LADDERC_RUNTIME_LIB`, else the newest
 /// next to this executable as cargo builds it (`libladder_runtime.a` or
 /// `deps/libladder_runtime-*.a`: `cargo test` rebuilds only the latter, so
 /// an older `libladder_runtime.a` from a `cargo build` must not win).
-/// Decided once per process: cargo's `deps` folder holds thousands of files,
-/// and a scenario run asks once per scenario and engine.
+/// Found once per process: cargo's `deps` folder holds thousands of files,
+/// and a scenario run asks once per scenario and engine (a failure is not
+/// kept, so a library built meanwhile is found).
 pub fn runtime_library() -> Result<PathBuf, String> {
-    static FOUND: std::sync::OnceLock<Result<PathBuf, String>> = std::sync::OnceLock::new();
-    FOUND.get_or_init(find_runtime_library).clone()
+    static FOUND: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
+    if let Some(path) = FOUND.get() {
+        return Ok(path.clone());
+    }
+    let path = find_runtime_library()?;
+    Ok(FOUND.get_or_init(|| path).clone())
 }
 
 fn find_runtime_library() -> Result<PathBuf, String> {
