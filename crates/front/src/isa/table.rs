@@ -4,7 +4,7 @@
 use super::app::AppOp;
 use super::bits::{comparison_contacts, BitSpec, BIT_INSTRUCTIONS};
 use ladder_runtime::Width;
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 use std::sync::OnceLock;
 
 /// What a mnemonic names.
@@ -22,8 +22,8 @@ pub struct AppForm {
     pub pulse: bool,
 }
 
-fn build() -> HashMap<String, Mnemonic> {
-    let mut table = HashMap::new();
+fn build() -> FxHashMap<String, Mnemonic> {
+    let mut table = FxHashMap::default();
     let mut add = |name: &str, mnemonic: Mnemonic| {
         let previous = table.insert(name.to_string(), mnemonic);
         debug_assert!(previous.is_none(), "mnemonic listed twice: {name}");
@@ -43,14 +43,19 @@ fn build() -> HashMap<String, Mnemonic> {
     table
 }
 
-fn table() -> &'static HashMap<String, Mnemonic> {
-    static TABLE: OnceLock<HashMap<String, Mnemonic>> = OnceLock::new();
+fn table() -> &'static FxHashMap<String, Mnemonic> {
+    static TABLE: OnceLock<FxHashMap<String, Mnemonic>> = OnceLock::new();
     TABLE.get_or_init(build)
 }
 
 /// Finds the instruction for a mnemonic, case-insensitively.
 pub fn lookup(mnemonic: &str) -> Option<Mnemonic> {
-    table().get(&mnemonic.to_ascii_uppercase()).copied()
+    // The parser hands mnemonics over in capitals already: no copy then.
+    if mnemonic.bytes().any(|b| b.is_ascii_lowercase()) {
+        table().get(&mnemonic.to_ascii_uppercase()).copied()
+    } else {
+        table().get(mnemonic).copied()
+    }
 }
 
 /// Every mnemonic, sorted: for suggestions and documentation checks.
