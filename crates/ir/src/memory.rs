@@ -22,7 +22,8 @@
 //! The interpreter has no such pass: it is the specification the
 //! differential test holds this against.
 
-use super::{Block, BlockId, Effect, Function, Index, Inst, Space, Terminator, Value};
+use super::{Block, BlockId, Effect, Function, Index, Inst, Space, Value};
+use crate::passes::Replacements;
 use crate::Bookkeeping;
 use ladder_runtime::device::{FIRST_WIDE_COUNTER, WIDE_COUNTER_COUNT};
 use ladder_runtime::helpers::{Helper, Param, Writes};
@@ -235,7 +236,7 @@ pub fn forward_memory(function: &mut Function) {
         .iter()
         .map(|b| b.terminator.successors().len())
         .collect();
-    let mut replaced: FxHashMap<Value, Value> = FxHashMap::default();
+    let mut replaced = Replacements::default();
     let mut now = 0u64;
     let positions: usize = function.blocks.iter().map(|b| b.insts.len()).sum();
     let mut carried = Pressure::new(positions + 1);
@@ -354,23 +355,15 @@ fn access(inst: &Inst) -> Access {
 fn optimise_block(
     block: &mut Block,
     known: &mut Known,
-    replaced: &mut FxHashMap<Value, Value>,
+    replaced: &mut Replacements,
     now: &mut u64,
     carried: &mut Pressure,
 ) {
     let mut waiting = Waiting::default();
     let mut remove = vec![false; block.insts.len()];
-    // Blocks come in reverse postorder, so every use of a replaced load is
-    // met after the replacement; a replacement is never itself replaced (it
-    // is a kept load or an operand already resolved), so one step suffices.
-    let resolve = |v: &mut Value, replaced: &FxHashMap<Value, Value>| {
-        if let Some(&other) = replaced.get(v) {
-            *v = other;
-        }
-    };
     for (position, (result, inst)) in block.insts.iter_mut().enumerate() {
         *now += 1;
-        inst.for_each_operand_mut(|v| resolve(v, replaced));
+        replaced.in_operands(inst);
         match access(inst) {
             Access::Load(place) => {
                 let Some(result) = *result else { continue };
@@ -424,9 +417,7 @@ fn optimise_block(
             Access::None => {}
         }
     }
-    if let Terminator::Branch { condition, .. } = &mut block.terminator {
-        resolve(condition, replaced);
-    }
+    replaced.in_condition(&mut block.terminator);
     if remove.iter().any(|&r| r) {
         let mut position = 0;
         block.insts.retain(|_| {

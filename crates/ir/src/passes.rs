@@ -398,12 +398,51 @@ fn fix_index(inst: &mut Inst, constants: &FxHashMap<Value, i64>) {
     });
 }
 
+/// Values that stand for others (`v20` used as `v8`), as a pass finds them.
+/// Passes walk blocks in reverse postorder, so a value is replaced before
+/// any use of it is met, and a replacement is never itself replaced (it is
+/// an earlier value, already resolved): one step resolves a use.
+#[derive(Default)]
+pub(super) struct Replacements(FxHashMap<Value, Value>);
+
+impl Replacements {
+    /// From now on, uses of `value` read `by`.
+    pub(super) fn insert(&mut self, value: Value, by: Value) {
+        self.0.insert(value, by);
+    }
+
+    fn resolve(&self, value: &mut Value) {
+        if let Some(&by) = self.0.get(value) {
+            *value = by;
+        }
+    }
+
+    /// Rewrites the values `inst` reads.
+    pub(super) fn in_operands(&self, inst: &mut Inst) {
+        inst.for_each_operand_mut(|v| self.resolve(v));
+    }
+
+    /// Rewrites the condition of a branch.
+    pub(super) fn in_condition(&self, terminator: &mut Terminator) {
+        if let Terminator::Branch { condition, .. } = terminator {
+            self.resolve(condition);
+        }
+    }
+
+    /// Rewrites the condition of every branch of `function`.
+    fn in_conditions(&self, function: &mut Function) {
+        for block in &mut function.blocks {
+            self.in_condition(&mut block.terminator);
+        }
+    }
+}
+
 /// Folds instructions with constant operands to constants, comparisons
 /// the operands' ranges decide too, and instructions that compute an
 /// existing value (`x AND 1`, `x + 0`) to that value.
 pub fn fold_constants(function: &mut Function, relays: &Relays) {
     let mut constants: FxHashMap<Value, i64> = FxHashMap::default();
-    let mut replaced: FxHashMap<Value, Value> = FxHashMap::default();
+    let mut replaced = Replacements::default();
     // Value defined by an Extend -> the value it extended.
     let mut extended_from: FxHashMap<Value, Value> = FxHashMap::default();
     let mut ranges = Ranges::default();
@@ -411,12 +450,7 @@ pub fn fold_constants(function: &mut Function, relays: &Relays) {
     for block in reverse_postorder(function) {
         let block = &mut function.blocks[block.0 as usize];
         for (result, inst) in block.insts.iter_mut() {
-            inst.for_each_operand_mut(|v| {
-                // Definitions come first in this order, so one step suffices.
-                if let Some(&other) = replaced.get(v) {
-                    *v = other;
-                }
-            });
+            replaced.in_operands(inst);
             fix_index(inst, &constants);
             let Some(result) = *result else { continue };
             let ty = types[result.0 as usize];
@@ -436,13 +470,7 @@ pub fn fold_constants(function: &mut Function, relays: &Relays) {
             }
         }
     }
-    for block in &mut function.blocks {
-        if let Terminator::Branch { condition, .. } = &mut block.terminator {
-            if let Some(&other) = replaced.get(condition) {
-                *condition = other;
-            }
-        }
-    }
+    replaced.in_conditions(function);
 }
 
 /// A branch on a constant becomes a jump.
@@ -532,19 +560,14 @@ const SHARE_DISTANCE: usize = 32;
 /// generation makes them where they are used). The duplicates are left to
 /// `remove_dead_values`.
 pub fn share_pure_values(function: &mut Function) {
-    let mut replaced: FxHashMap<Value, Value> = FxHashMap::default();
+    let mut replaced = Replacements::default();
     for block in reverse_postorder(function) {
         let block = &mut function.blocks[block.0 as usize];
         // The pure computations of the last `SHARE_DISTANCE` instructions,
         // oldest first: (position, value, computation).
         let mut recent: VecDeque<(usize, Value, Inst)> = VecDeque::new();
         for (position, (result, inst)) in block.insts.iter_mut().enumerate() {
-            // Definitions come first in this order, so one step suffices.
-            inst.for_each_operand_mut(|v| {
-                if let Some(&other) = replaced.get(v) {
-                    *v = other;
-                }
-            });
+            replaced.in_operands(inst);
             while recent.front().is_some_and(|&(at, _, _)| position - at > SHARE_DISTANCE) {
                 recent.pop_front();
             }
@@ -560,13 +583,7 @@ pub fn share_pure_values(function: &mut Function) {
             }
         }
     }
-    for block in &mut function.blocks {
-        if let Terminator::Branch { condition, .. } = &mut block.terminator {
-            if let Some(&other) = replaced.get(condition) {
-                *condition = other;
-            }
-        }
-    }
+    replaced.in_conditions(function);
 }
 
 /// A computation whose value depends on its operands alone, other than a
