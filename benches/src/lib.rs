@@ -1,5 +1,7 @@
 //! Programs for the benchmarks in `benches/`.
 
+pub mod paired;
+
 use std::fmt::Write;
 
 /// A plant-sized program: `units` copies of a machine section (start/stop
