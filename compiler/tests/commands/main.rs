@@ -22,6 +22,7 @@ mod c_route;
 mod cli;
 mod cli_rough_edges;
 mod code_map;
+mod code_size;
 mod compact_image;
 mod cross_targets;
 mod emulated_controllers;

@@ -4,6 +4,7 @@
 
 mod divide;
 mod jit;
+mod near;
 mod object;
 mod translate;
 mod wide;

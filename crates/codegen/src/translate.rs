@@ -139,6 +139,20 @@ pub fn translate(
             builder.def_var(count, value);
         }
     }
+    // A subtraction, not an addition: Cranelift folds a constant added to
+    // the image pointer into each address made from the sum, which would
+    // make every displacement four bytes again.
+    let bases = if wide_bits {
+        super::near::window_centres(layout, func, range.clone())
+    } else {
+        Vec::new()
+    }
+    .into_iter()
+    .map(|centre| {
+        let minus_centre = builder.ins().iconst(pointer, -i64::from(centre));
+        (centre, builder.ins().isub(mem, minus_centre))
+    })
+    .collect();
     builder.ins().jump(blocks[0], &[]);
     let target = |block: ir::BlockId| {
         let index = block.0 as usize;
@@ -162,6 +176,7 @@ pub fn translate(
         folded_nots,
         negations: FxHashMap::default(),
         extending_load: None,
+        bases,
     };
     let mut defined = Vec::new();
     for number in range.clone() {
@@ -210,10 +225,14 @@ pub fn translate(
                 then,
                 otherwise,
             } => {
-                let condition = t.clean(*condition, get(*condition));
-                t.builder
-                    .ins()
-                    .brif(condition, target(*then), &[], target(*otherwise), &[]);
+                // On a bit `not` made, branch on what it inverts, the
+                // other way round.
+                let (value, then, otherwise) = match t.negations.get(&get(*condition)) {
+                    Some(&original) => (original, otherwise, then),
+                    None => (get(*condition), then, otherwise),
+                };
+                let value = t.clean(*condition, value);
+                t.builder.ins().brif(value, target(*then), &[], target(*otherwise), &[]);
             }
             Terminator::Return => {
                 t.builder.ins().jump(exit, &[]);
@@ -236,8 +255,32 @@ pub fn translate(
     }
     t.builder.ins().return_(&[]);
     t.builder.seal_all_blocks();
+    remove_unused_negations(t.builder.func, t.negations.keys().copied());
     for value in defined {
         values[value.0 as usize] = None;
+    }
+}
+
+/// Removes the XORs `not` made that nothing uses (an AND, an OR or a
+/// branch took what they invert instead). Cranelift would not emit them,
+/// but it counts their use of their operand, and it never takes a value
+/// used twice, nor the loads that value was computed from, as a memory
+/// operand.
+fn remove_unused_negations(func: &mut cranelift_codegen::ir::Function, negations: impl Iterator<Item = Value>) {
+    let mut used = cranelift_codegen::entity::EntitySet::with_capacity(func.dfg.num_values());
+    for block in func.layout.blocks() {
+        for inst in func.layout.block_insts(block) {
+            for value in func.dfg.inst_values(inst) {
+                used.insert(func.dfg.resolve_aliases(value));
+            }
+        }
+    }
+    for negation in negations {
+        if let (false, cranelift_codegen::ir::ValueDef::Result(inst, _)) =
+            (used.contains(negation), func.dfg.value_def(negation))
+        {
+            func.layout.remove_inst(inst);
+        }
     }
 }
 
@@ -348,12 +391,23 @@ struct Translator<'a, 'b> {
     /// NOTs whose one use is an AND or an OR, with what they invert
     /// (`folded_nots`).
     folded_nots: FxHashMap<ir::Value, ir::Value>,
-    /// Bits made as `x ^ 1`, with their `x`: a later AND-NOT of one takes
-    /// `x` instead, and the XOR goes if nothing else uses it.
+    /// Bits made as `x ^ 1`, with their `x`: a later AND or OR of one
+    /// takes `x` instead (`polarity`), and the XOR goes if nothing else
+    /// uses it.
     negations: FxHashMap<Value, Value>,
     /// The type and signedness the number being loaded is extended to
     /// next (`extending_load`); `load_at` takes it.
     extending_load: Option<(types::Type, bool)>,
+    /// Pointers into the image, with the offset each points at, that
+    /// accesses near them address from (`near.rs`; x86-64 only).
+    bases: Vec<(u32, Value)>,
+}
+
+/// An operand of a bit operation: a bit, or the inverse of one.
+#[derive(Clone, Copy)]
+enum Bit {
+    Plain(Value),
+    Inverse(Value),
 }
 
 impl Translator<'_, '_> {
@@ -427,20 +481,61 @@ impl Translator<'_, '_> {
         inverse
     }
 
-    /// `a AND NOT c` (`andn` on x86 with BMI1): the low byte stays 0 or 1
-    /// (c's bits 1-7 inverted meet a's zeros). Of a `c` made by a NOT, the
-    /// AND of what it inverted.
-    fn and_not(&mut self, a: Value, c: Value) -> Value {
-        match self.negations.get(&c) {
-            Some(&original) => {
-                let (a, original) = self.alike(a, original);
-                self.builder.ins().band(a, original)
+    /// An operand of an AND or an OR as a bit and whether the operand is
+    /// its inverse: a NOT the translation left out (`folded_nots`) or a bit
+    /// `not` made stands for what it inverts.
+    fn polarity(&self, operand: &ir::Value, get: &impl Fn(&ir::Value) -> Value) -> Bit {
+        if let Some(inverted) = self.folded_nots.get(operand) {
+            return Bit::Inverse(get(inverted));
+        }
+        let value = get(operand);
+        match self.negations.get(&value) {
+            Some(&original) => Bit::Inverse(original),
+            None => Bit::Plain(value),
+        }
+    }
+
+    /// a AND b. An inverted operand is taken by `andn` (x86 with BMI1;
+    /// `bic` on AArch64), two by De Morgan: NOT a AND NOT b = NOT (a OR
+    /// b), whose NOT the next AND or OR takes the same way, so a rung's
+    /// inversions cost one XOR where its value is stored, if any.
+    fn and(&mut self, a: Bit, b: Bit) -> Value {
+        match (a, b) {
+            (Bit::Plain(a), Bit::Plain(b)) => {
+                let (a, b) = self.alike(a, b);
+                self.builder.ins().band(a, b)
             }
-            None => {
-                let (a, c) = self.alike(a, c);
-                self.builder.ins().band_not(a, c)
+            (Bit::Plain(a), Bit::Inverse(c)) | (Bit::Inverse(c), Bit::Plain(a)) => self.and_not(a, c),
+            (Bit::Inverse(a), Bit::Inverse(b)) => {
+                let (a, b) = self.alike(a, b);
+                let either = self.builder.ins().bor(a, b);
+                self.not(either)
             }
         }
+    }
+
+    /// a OR b by De Morgan when an operand is inverted: a OR NOT c = NOT
+    /// (c AND NOT a), NOT a OR NOT b = NOT (a AND b).
+    fn or(&mut self, a: Bit, b: Bit) -> Value {
+        let inverse = match (a, b) {
+            (Bit::Plain(a), Bit::Plain(b)) => {
+                let (a, b) = self.alike(a, b);
+                return self.builder.ins().bor(a, b);
+            }
+            (Bit::Plain(a), Bit::Inverse(c)) | (Bit::Inverse(c), Bit::Plain(a)) => self.and_not(c, a),
+            (Bit::Inverse(a), Bit::Inverse(b)) => {
+                let (a, b) = self.alike(a, b);
+                self.builder.ins().band(a, b)
+            }
+        };
+        self.not(inverse)
+    }
+
+    /// `a AND NOT c` (`andn` on x86 with BMI1): the low byte stays 0 or 1
+    /// (c's bits 1-7 inverted meet a's zeros).
+    fn and_not(&mut self, a: Value, c: Value) -> Value {
+        let (a, c) = self.alike(a, c);
+        self.builder.ins().band_not(a, c)
     }
 
     /// A bit of bookkeeping (edge slot, block flag) loaded as this
@@ -455,6 +550,18 @@ impl Translator<'_, '_> {
 
     fn iconst(&mut self, ty: types::Type, value: i64) -> Value {
         self.builder.ins().iconst(ty, value)
+    }
+
+    /// The address of image offset `offset`: from the base register whose
+    /// window holds it, else from the image pointer.
+    fn near(&self, offset: u32) -> (Value, i32) {
+        let reach = super::near::REACH;
+        for &(centre, base) in &self.bases {
+            if offset + reach >= centre && offset < centre + reach {
+                return (base, offset as i32 - centre as i32);
+            }
+        }
+        (self.mem, offset as i32)
     }
 
     /// Where an access goes that the image's layout lacks. The layout of a
@@ -475,7 +582,7 @@ impl Translator<'_, '_> {
             Index::Fixed(n) => {
                 let n = n.clamp(first, first + len - 1);
                 match self.layout.offset(array, n) {
-                    Some(offset) => (self.mem, offset as i32),
+                    Some(offset) => self.near(offset as u32),
                     None => self.missing(),
                 }
             }
@@ -636,31 +743,14 @@ impl Translator<'_, '_> {
                 return None;
             }
             Inst::Not { value } => self.not(get(value)),
-            // a AND NOT c: `andn` with BMI1 (the NOT is not made).
-            Inst::And { a, b } => match (self.folded_nots.get(a), self.folded_nots.get(b)) {
-                (_, Some(inverted)) => self.and_not(get(a), get(inverted)),
-                (Some(inverted), None) => self.and_not(get(b), get(inverted)),
-                (None, None) => {
-                    let (a, b) = self.alike(get(a), get(b));
-                    self.builder.ins().band(a, b)
-                }
-            },
-            // a OR NOT c = NOT (c AND NOT a): `andn` and one XOR, instead of
-            // materialising NOT c (a constant and an XOR) and an OR.
-            Inst::Or { a, b } => match (self.folded_nots.get(a), self.folded_nots.get(b)) {
-                (_, Some(inverted)) => {
-                    let inverse = self.and_not(get(inverted), get(a));
-                    self.not(inverse)
-                }
-                (Some(inverted), None) => {
-                    let inverse = self.and_not(get(inverted), get(b));
-                    self.not(inverse)
-                }
-                (None, None) => {
-                    let (a, b) = self.alike(get(a), get(b));
-                    self.builder.ins().bor(a, b)
-                }
-            },
+            Inst::And { a, b } => {
+                let (a, b) = (self.polarity(a, &get), self.polarity(b, &get));
+                self.and(a, b)
+            }
+            Inst::Or { a, b } => {
+                let (a, b) = (self.polarity(a, &get), self.polarity(b, &get));
+                self.or(a, b)
+            }
             Inst::Binary { op, a, b } => {
                 // Arithmetic on bits (not made by the lowering today) on
                 // their clean bytes; a bit result stays an `i8` (`wide`).
