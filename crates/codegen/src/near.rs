@@ -13,8 +13,9 @@
 //! of the time, for the same instructions.
 //!
 //! So a function gets up to `BASES` pointers into the image, each the
-//! middle of a 256-byte window: greedily, the window with the most accesses
-//! at fixed offsets that no window chosen before covers (the image pointer
+//! middle of a 256-byte window starting at a multiple of 64: greedily, the
+//! window with the most accesses at fixed offsets that no window chosen
+//! before covers (the image pointer
 //! covers offsets 0-127 already), while a window has at least
 //! `MIN_ACCESSES`. Each base register holds its pointer for the whole
 //! function, and every one more leaves the program's values one register
@@ -25,6 +26,7 @@
 
 use ladder_ir::{Effect, Function, Index, Span};
 use ladder_runtime::layout::Layout;
+use rustc_hash::FxHashMap;
 
 /// Base registers a function may hold besides the image pointer.
 pub const BASES: usize = 4;
@@ -48,13 +50,16 @@ fn fixed_offset(layout: &Layout, span: Span) -> Option<u32> {
     layout.offset(array, n).map(|at| at as u32)
 }
 
+/// Windows start at multiples of this many bytes: accesses are counted by
+/// granule, not sorted one by one.
+const GRANULE: u32 = 64;
+
 /// The middles of the windows blocks `range` of `function` address from
 /// base registers, most accesses first.
 pub fn window_centres(layout: &Layout, function: &Function, range: std::ops::Range<usize>) -> Vec<u32> {
-    let mut offsets: Vec<u32> = function.blocks[range]
-        .iter()
-        .flat_map(|block| &block.insts)
-        .filter_map(|(_, inst)| match inst.effect() {
+    let mut per_granule: FxHashMap<u32, usize> = FxHashMap::default();
+    for (_, inst) in function.blocks[range].iter().flat_map(|block| &block.insts) {
+        let offset = match inst.effect() {
             Effect::Load(span) | Effect::Store(span, _) => fixed_offset(layout, span),
             Effect::Pure
             | Effect::Fill(_)
@@ -63,39 +68,45 @@ pub fn window_centres(layout: &Layout, function: &Function, range: std::ops::Ran
             | Effect::Subroutine
             | Effect::ReadsLocal
             | Effect::WritesLocal => None,
-        })
-        .filter(|&at| at >= NEAR_IMAGE)
-        .collect();
-    offsets.sort_unstable();
+        };
+        if let Some(at) = offset.filter(|&at| at >= NEAR_IMAGE) {
+            *per_granule.entry(at / GRANULE).or_default() += 1;
+        }
+    }
+    let mut granules: Vec<(u32, usize)> = per_granule.into_iter().collect();
+    granules.sort_unstable();
     let mut centres = Vec::new();
     while centres.len() < BASES {
-        let Some((start, count)) = densest_window(&offsets) else {
+        let Some((start, end, count)) = densest_window(&granules) else {
             break;
         };
         if count < MIN_ACCESSES {
             break;
         }
-        let first = offsets[start];
-        centres.push(first + REACH);
-        offsets.drain(start..start + count);
+        centres.push(granules[start].0 * GRANULE + REACH);
+        for granule in &mut granules[start..end] {
+            granule.1 = 0;
+        }
     }
     centres
 }
 
-/// Of sorted `offsets`, the 2 × `REACH` bytes from one of them that hold
-/// the most: its index in `offsets` and how many.
-fn densest_window(offsets: &[u32]) -> Option<(usize, usize)> {
-    let mut best: Option<(usize, usize)> = None;
-    let mut end = 0;
-    for (start, &first) in offsets.iter().enumerate() {
-        end = end.max(start);
-        while end < offsets.len() && offsets[end] < first + 2 * REACH {
+/// Of `granules` (sorted, with their accesses), the window of 2 × `REACH`
+/// bytes from one of them that holds the most accesses: the granules'
+/// indices `start..end` and the accesses.
+fn densest_window(granules: &[(u32, usize)]) -> Option<(usize, usize, usize)> {
+    const SPAN: u32 = 2 * REACH / GRANULE;
+    let mut best: Option<(usize, usize, usize)> = None;
+    let (mut end, mut count) = (0, 0);
+    for (start, &(first, _)) in granules.iter().enumerate() {
+        while end < granules.len() && granules[end].0 < first + SPAN {
+            count += granules[end].1;
             end += 1;
         }
-        let count = end - start;
-        if best.is_none_or(|(_, most)| count > most) {
-            best = Some((start, count));
+        if best.is_none_or(|(_, _, most)| count > most) {
+            best = Some((start, end, count));
         }
+        count -= granules[start].1;
     }
     best
 }
