@@ -2,8 +2,8 @@
 //! the instruction decoders and is bound by the bytes of its code
 //! (`crates/codegen/src/near.rs`), so devices are addressed from base
 //! registers near them (one-byte displacements instead of four), and a
-//! rung's inversions are carried along by De Morgan and cost one XOR at
-//! most (`crates/codegen/src/translate.rs`).
+//! rung's inversions are carried along by De Morgan, made only where an
+//! inverted value leaves the logic (`crates/codegen/src/translate.rs`).
 
 use crate::common::tools::{ladderc, scratch};
 use object::{Object, ObjectSection, ObjectSymbol};
@@ -12,8 +12,8 @@ use std::fmt::Write as _;
 const RUNGS: usize = 100;
 
 /// `RUNGS` rungs of eight instructions, each with three inversions, on
-/// relays M1000-M1205 (one image window of a few hundred bytes, far from
-/// the image's start).
+/// relays M1000-M1205 and M1500-M1699 (two areas of a few hundred bytes,
+/// far from the image's start).
 fn program() -> String {
     let mut text = String::new();
     for rung in 0..RUNGS {
@@ -74,10 +74,13 @@ fn bit_logic_is_short_on_x86_64() {
         "{} bytes of code for {instructions} instructions",
         body.len()
     );
-    // `xor r32, 1` (83 /6 ib, with or without REX.B): one a rung at most.
+    // `xor r32, 1` (83 /6 ib, with or without REX.B): these rungs store
+    // no inverted value, so none is made (about two a rung when every
+    // inversion was made where it occurs); the count is of byte patterns,
+    // which other instructions' bytes could form by chance, hence not 0.
     let xors = body
         .windows(3)
         .filter(|w| w[0] == 0x83 && (0xf0..=0xf7).contains(&w[1]) && w[2] == 1)
         .count();
-    assert!(xors <= RUNGS, "{xors} XORs by 1 in {RUNGS} rungs");
+    assert!(xors <= 5, "{xors} XORs by 1 in {RUNGS} rungs");
 }

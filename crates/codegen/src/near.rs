@@ -44,7 +44,10 @@ pub const REACH: u32 = 128;
 /// The image offset of an access at a fixed place, as the translation
 /// addresses it.
 fn fixed_offset(layout: &Layout, span: Span) -> Option<u32> {
-    let Index::Fixed(n) = span.start else { return None };
+    let n = match span.start {
+        Index::Fixed(n) => n,
+        Index::Dynamic(_) => return None,
+    };
     let array = span.space.array();
     let n = n.clamp(array.first(), array.end() - 1);
     layout.offset(array, n).map(|at| at as u32)

@@ -141,7 +141,9 @@ pub fn translate(
     }
     // A subtraction, not an addition: Cranelift folds a constant added to
     // the image pointer into each address made from the sum, which would
-    // make every displacement four bytes again.
+    // make every displacement four bytes again. This holds at `opt_level`
+    // none (`lib.rs`); its optimiser would turn the subtraction back into
+    // that addition (`tests/commands/code_size.rs` would see it).
     let bases = if wide_bits {
         super::near::window_centres(layout, func, range.clone())
     } else {
@@ -486,7 +488,12 @@ impl Translator<'_, '_> {
     /// `not` made stands for what it inverts.
     fn polarity(&self, operand: &ir::Value, get: &impl Fn(&ir::Value) -> Value) -> Bit {
         if let Some(inverted) = self.folded_nots.get(operand) {
-            return Bit::Inverse(get(inverted));
+            // A NOT of a bit `not` made: what that inverted, as it is.
+            let value = get(inverted);
+            return match self.negations.get(&value) {
+                Some(&original) => Bit::Plain(original),
+                None => Bit::Inverse(value),
+            };
         }
         let value = get(operand);
         match self.negations.get(&value) {
@@ -497,8 +504,9 @@ impl Translator<'_, '_> {
 
     /// a AND b. An inverted operand is taken by `andn` (x86 with BMI1;
     /// `bic` on AArch64), two by De Morgan: NOT a AND NOT b = NOT (a OR
-    /// b), whose NOT the next AND or OR takes the same way, so a rung's
-    /// inversions cost one XOR where its value is stored, if any.
+    /// b), whose NOT the next AND or OR takes the same way, so an XOR is
+    /// made only for an inverted value that leaves the logic (a store, a
+    /// comparison, a helper's argument).
     fn and(&mut self, a: Bit, b: Bit) -> Value {
         match (a, b) {
             (Bit::Plain(a), Bit::Plain(b)) => {
