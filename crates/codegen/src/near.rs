@@ -9,15 +9,14 @@
 //! not from the micro-op cache, at a number of bytes per cycle: its speed
 //! follows the bytes of its code more than the count of its instructions.
 //! Measured on the benchmarks' 11k bit logic: with four windows addressed
-//! this way its body went from 62.5 KB to 47.9 KB and its scan took 0.77
+//! this way its body went from 62.5 KB to 48.1 KB and its scan took 0.77
 //! of the time, for the same instructions.
 //!
 //! So a function gets up to `BASES` pointers into the image, each the
 //! middle of a 256-byte window starting at a multiple of 64: greedily, the
 //! window with the most accesses at fixed offsets that no window chosen
-//! before covers (the image pointer
-//! covers offsets 0-127 already), while a window has at least
-//! `MIN_ACCESSES`. Each base register holds its pointer for the whole
+//! before covers (the image pointer covers offsets 0-127 already), while a
+//! window has at least `MIN_ACCESSES`. Each base register holds its pointer for the whole
 //! function, and every one more leaves the program's values one register
 //! fewer: against four, six and eight bases made the bit logic 3 % and 5 %
 //! faster but the mixed plant, whose devices lie far apart, 6 % and 3 %
