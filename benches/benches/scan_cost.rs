@@ -109,6 +109,16 @@ impl Route {
         // SAFETY: `mem` is an image `init` initialised, used by one caller.
         unsafe { (self.scan)(mem, elapsed_ms) }
     }
+
+    /// Scans of `mem` as the benches time them: X0 toggles between scans.
+    fn scanner<'a>(&'a self, mem: &'a mut Memory) -> impl FnMut() + 'a {
+        let mut scans = 0u32;
+        move || {
+            scans = scans.wrapping_add(1);
+            mem.input_image[0] = (scans & 1) as u8;
+            self.scan(black_box(&mut *mem), 10);
+        }
+    }
 }
 
 fn checked(name: &str, text: &str) -> CheckedProgram {
@@ -200,12 +210,7 @@ fn scan_cost(c: &mut Criterion) {
         Err(why) => return skip(why),
     };
     let mut two_mem = two.image();
-    let mut two_scans = 0u32;
-    let mut scan_two = || {
-        two_scans = two_scans.wrapping_add(1);
-        two_mem.input_image[0] = (two_scans & 1) as u8;
-        two.scan(black_box(&mut two_mem), 10);
-    };
+    let mut scan_two = two.scanner(&mut two_mem);
     group.bench_function(BenchmarkId::new("cranelift", "two_instructions"), |b| {
         b.iter(&mut scan_two)
     });
@@ -242,12 +247,7 @@ fn scan_cost(c: &mut Criterion) {
     };
     assert_eq!(&mem.y[..256], naive_y, "Y differs between ladderc and the naive C");
     assert_eq!(&mem.m[..relays], naive_m, "M differs between ladderc and the naive C");
-    let mut logic_scans = 0u32;
-    let mut scan_logic = || {
-        logic_scans = logic_scans.wrapping_add(1);
-        mem.input_image[0] = (logic_scans & 1) as u8;
-        object.scan(black_box(&mut mem), 10);
-    };
+    let mut scan_logic = object.scanner(&mut mem);
     let mut naive_scans = 0u32;
     let mut scan_naive = || {
         naive_scans = naive_scans.wrapping_add(1);
@@ -284,18 +284,8 @@ fn scan_cost(c: &mut Criterion) {
         bytemuck::bytes_of(&*object_mem) == bytemuck::bytes_of(&*c_mem),
         "plant_200: the C route left another image than Cranelift"
     );
-    let mut plant_scans = 0u32;
-    let mut scan_plant = || {
-        plant_scans = plant_scans.wrapping_add(1);
-        object_mem.input_image[0] = (plant_scans & 1) as u8;
-        plant_object.scan(black_box(&mut object_mem), 10);
-    };
-    let mut c_scans = 0u32;
-    let mut scan_c_route = || {
-        c_scans = c_scans.wrapping_add(1);
-        c_mem.input_image[0] = (c_scans & 1) as u8;
-        c.scan(black_box(&mut c_mem), 10);
-    };
+    let mut scan_plant = plant_object.scanner(&mut object_mem);
+    let mut scan_c_route = c.scanner(&mut c_mem);
     group.bench_function(BenchmarkId::new("cranelift", "plant_200"), |b| b.iter(&mut scan_plant));
     group.bench_function(BenchmarkId::new("c_route_gcc_O2", "plant_200"), |b| {
         b.iter(&mut scan_c_route)

@@ -356,9 +356,9 @@ impl<B: AsRef<[u8]>> Image<'_, B> {
 
 /// FNV-1a over an image's 64-bit little-endian words after its header (the
 /// last one padded with zeros): how test drivers and hosts compare images
-/// (all but their header) cheaply, whatever their layout. Each step is a bijection of the
-/// hash for a given word, so two images that differ in one word always hash
-/// differently. The header is left out: a compact image's names its layout
+/// (all but their header) cheaply, whatever their layout. Each step is a
+/// bijection of the hash for a given word, so two images that differ in
+/// one word always hash differently. The header is left out: a compact image's names its layout
 /// table by address. Here, in the optimised runtime, because test builds
 /// hash every image of every scan of every engine.
 pub fn digest(bytes: &[u8]) -> u64 {

@@ -43,13 +43,10 @@ pub const REACH: u32 = 128;
 /// The image offset of an access at a fixed place, as the translation
 /// addresses it.
 fn fixed_offset(layout: &Layout, span: Span) -> Option<u32> {
-    let n = match span.start {
-        Index::Fixed(n) => n,
-        Index::Dynamic(_) => return None,
-    };
-    let array = span.space.array();
-    let n = n.clamp(array.first(), array.end() - 1);
-    layout.offset(array, n).map(|at| at as u32)
+    match span.start {
+        Index::Fixed(n) => super::wide::fixed_offset(layout, span.space.array(), n),
+        Index::Dynamic(_) => None,
+    }
 }
 
 /// Windows start at multiples of this many bytes: accesses are counted by

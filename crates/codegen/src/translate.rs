@@ -109,7 +109,6 @@ pub fn translate(
 ) {
     let wide_loads = wide_bits.then(|| super::wide::wide_bit_loads(layout, func, range.clone()));
     let uses = func.use_counts();
-    let folded_nots = folded_nots(func, range.clone(), &uses);
     let bit_type = if wide_bits { types::I32 } else { types::I8 };
     let entry = builder.create_block();
     let blocks: Vec<_> = range.clone().map(|_| builder.create_block()).collect();
@@ -175,7 +174,6 @@ pub fn translate(
         loop_counts,
         value_types: &func.value_types,
         wide_bits,
-        folded_nots,
         negations: FxHashMap::default(),
         extending_load: None,
         bases,
@@ -191,9 +189,6 @@ pub fn translate(
         // The value a load made already extended, for the next instruction.
         let mut extended: Option<Value> = None;
         for (position, (result, inst)) in block.insts.iter().enumerate() {
-            if result.is_some_and(|result| t.folded_nots.contains_key(&result)) {
-                continue;
-            }
             if let (Some(result), Some(value)) = (result, extended.take()) {
                 values[result.0 as usize] = Some(value);
                 defined.push(*result);
@@ -286,34 +281,6 @@ fn remove_unused_negations(func: &mut cranelift_codegen::ir::Function, negations
     }
 }
 
-/// The NOTs among blocks `range` of `func` whose one use is an operand of
-/// an AND or an OR there (one per AND or OR), with the value each inverts:
-/// the AND or OR takes its operand inverted (`Translator::and_not`), and
-/// the NOT is not made on its own.
-fn folded_nots(func: &ir::Function, range: std::ops::Range<usize>, uses: &[u32]) -> FxHashMap<ir::Value, ir::Value> {
-    let mut nots = FxHashMap::default();
-    for block in &func.blocks[range.clone()] {
-        for (result, inst) in &block.insts {
-            if let (Some(result), Inst::Not { value }) = (result, inst) {
-                if uses[result.0 as usize] == 1 {
-                    nots.insert(*result, *value);
-                }
-            }
-        }
-    }
-    let mut folded = FxHashMap::default();
-    for block in &func.blocks[range] {
-        for (_, inst) in &block.insts {
-            if let Inst::And { a, b } | Inst::Or { a, b } = inst {
-                if let Some(not) = [*b, *a].into_iter().find(|operand| nots.contains_key(operand)) {
-                    folded.insert(not, nots[&not]);
-                }
-            }
-        }
-    }
-    folded
-}
-
 /// Splits the blocks of `func` into ranges of about `size` IR instructions
 /// that can be compiled as separate functions called one after another:
 /// a cut before block k needs no control flow across it other than falling
@@ -390,9 +357,6 @@ struct Translator<'a, 'b> {
     value_types: &'a [Type],
     /// Bits are wide `i32` values (see the module).
     wide_bits: bool,
-    /// NOTs whose one use is an AND or an OR, with what they invert
-    /// (`folded_nots`).
-    folded_nots: FxHashMap<ir::Value, ir::Value>,
     /// Bits made as `x ^ 1`, with their `x`: a later AND or OR of one
     /// takes `x` instead (`polarity`), and the XOR goes if nothing else
     /// uses it.
@@ -483,22 +447,12 @@ impl Translator<'_, '_> {
         inverse
     }
 
-    /// An operand of an AND or an OR as a bit and whether the operand is
-    /// its inverse: a NOT the translation left out (`folded_nots`) or a bit
-    /// `not` made stands for what it inverts.
-    fn polarity(&self, operand: &ir::Value, get: &impl Fn(&ir::Value) -> Value) -> Bit {
-        if let Some(inverted) = self.folded_nots.get(operand) {
-            // A NOT of a bit `not` made: what that inverted, as it is.
-            let value = get(inverted);
-            return match self.negations.get(&value) {
-                Some(&original) => Bit::Plain(original),
-                None => Bit::Inverse(value),
-            };
-        }
-        let value = get(operand);
-        match self.negations.get(&value) {
+    /// An operand of an AND or an OR: a bit `not` made stands for what it
+    /// inverts (and its XOR goes when nothing else uses it).
+    fn polarity(&self, operand: Value) -> Bit {
+        match self.negations.get(&operand) {
             Some(&original) => Bit::Inverse(original),
-            None => Bit::Plain(value),
+            None => Bit::Plain(operand),
         }
     }
 
@@ -752,11 +706,11 @@ impl Translator<'_, '_> {
             }
             Inst::Not { value } => self.not(get(value)),
             Inst::And { a, b } => {
-                let (a, b) = (self.polarity(a, &get), self.polarity(b, &get));
+                let (a, b) = (self.polarity(get(a)), self.polarity(get(b)));
                 self.and(a, b)
             }
             Inst::Or { a, b } => {
-                let (a, b) = (self.polarity(a, &get), self.polarity(b, &get));
+                let (a, b) = (self.polarity(get(a)), self.polarity(get(b)));
                 self.or(a, b)
             }
             Inst::Binary { op, a, b } => {

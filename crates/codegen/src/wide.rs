@@ -121,17 +121,22 @@ fn whole(layout: &Layout, array: Array) -> Writes {
     }
 }
 
+/// The image offset of element `n` of `array` as the translation addresses
+/// it (a number past the array clamped into it), if the layout holds it.
+pub fn fixed_offset(layout: &Layout, array: Array, n: u32) -> Option<u32> {
+    layout
+        .offset(array, n.clamp(array.first(), array.end() - 1))
+        .map(|at| at as u32)
+}
+
 /// The bytes of element `n` of `array`, `size` bytes from its start, or the
 /// whole array for a run-time index.
 fn element(layout: &Layout, array: Array, index: Index) -> Writes {
     match index {
-        Index::Fixed(n) => {
-            let n = n.clamp(array.first(), array.end() - 1);
-            match layout.offset(array, n) {
-                Some(at) => Writes::Bytes(at as u32, (at + array.size()) as u32),
-                None => Writes::Nothing,
-            }
-        }
+        Index::Fixed(n) => match fixed_offset(layout, array, n) {
+            Some(at) => Writes::Bytes(at, at + array.size() as u32),
+            None => Writes::Nothing,
+        },
         Index::Dynamic(_) => whole(layout, array),
     }
 }
@@ -157,7 +162,7 @@ fn wide_candidate(layout: &Layout, span: Span) -> Option<u32> {
             return None
         }
     };
-    let at = layout.offset(array, n.clamp(array.first(), array.end() - 1))? as u32;
+    let at = fixed_offset(layout, array, n)?;
     (at.checked_add(WIDE_LOAD_BYTES)? <= layout.size).then_some(at)
 }
 
