@@ -19,6 +19,7 @@
 #![deny(clippy::wildcard_enum_match_arm)]
 
 mod builder;
+mod cfg;
 mod effect;
 pub mod image;
 pub mod lower;
@@ -26,9 +27,12 @@ mod memory;
 pub mod passes;
 mod print;
 mod ranges;
+mod replacements;
+mod verify;
 
 pub use builder::Builder;
 pub use effect::{Effect, Space, Span};
+pub use verify::{verify, verify_function, Problem, VerifyError};
 
 /// The optimised IR of a checked program: lowered once, then the passes;
 /// what every back end compiles. Timers and 16-bit counters inline.
@@ -39,6 +43,13 @@ pub fn lower_and_optimize(program: &ladder_front::program::CheckedProgram) -> Pr
 /// `lower_and_optimize` with the timer and counter coils as `coils` says.
 pub fn lower_and_optimize_with(program: &ladder_front::program::CheckedProgram, coils: Coils) -> Program {
     let mut ir = lower::lower(program, coils);
+    if cfg!(debug_assertions) {
+        let subroutines = ir.subroutines.len();
+        passes::assert_well_formed(&ir.main, "main", subroutines, "lower");
+        for (number, subroutine) in ir.subroutines.iter().enumerate() {
+            passes::assert_well_formed(subroutine, &format!("sub{number}"), subroutines, "lower");
+        }
+    }
     passes::optimize(&mut ir);
     ir
 }
@@ -94,6 +105,22 @@ impl Type {
             Type::I16 => 16,
             Type::I32 | Type::F32 => 32,
             Type::I64 | Type::F64 => 64,
+        }
+    }
+
+    /// `value` as a constant of this type holds it: integers wrapped to
+    /// their bits and sign-extended, a bit 0 or 1, a float's bits as an
+    /// unsigned number of its width. Constant folding writes every
+    /// constant so, and the verifier holds the lowering to it.
+    pub fn wrap(self, value: i64) -> i64 {
+        match self {
+            Type::Bit => value & 1,
+            Type::I16 => i64::from(value as i16),
+            Type::I32 => i64::from(value as i32),
+            Type::I64 => value,
+            // Float constants hold their bits.
+            Type::F32 => i64::from(value as u32),
+            Type::F64 => value,
         }
     }
 }

@@ -23,7 +23,8 @@
 //! differential test holds this against.
 
 use super::{Block, BlockId, Effect, Function, Index, Inst, Space, Value};
-use crate::passes::Replacements;
+use crate::cfg::reverse_postorder;
+use crate::replacements::Replacements;
 use crate::Bookkeeping;
 use ladder_runtime::device::{FIRST_WIDE_COUNTER, WIDE_COUNTER_COUNT};
 use ladder_runtime::helpers::{Helper, Param, Writes};
@@ -218,7 +219,7 @@ impl Waiting {
 /// Runs the pass; uses of a removed load read the value it was known to
 /// hold.
 pub fn forward_memory(function: &mut Function) {
-    let order = super::passes::reverse_postorder(function);
+    let order = reverse_postorder(function);
     let mut predecessors: Vec<Vec<BlockId>> = vec![Vec::new(); function.blocks.len()];
     for &block in &order {
         for successor in function.block(block).terminator.successors() {

@@ -12,7 +12,9 @@
 //! - removal of pure instructions whose values are never used;
 //! - memory forwarding across rungs (`memory.rs`).
 
+use super::cfg::reverse_postorder;
 use super::ranges::Ranges;
+use super::replacements::Replacements;
 use super::{
     BinOp, Block, BlockId, Cell, Effect, Function, Index, Inst, OperandMut, Program, Space, Terminator, Type, UnaryOp,
     Value,
@@ -26,30 +28,68 @@ use std::collections::VecDeque;
 
 /// Runs every pass on every function of the program. The relays the
 /// runtime holds constant are found over the whole program (a subroutine
-/// may write one), before any pass removes a write.
+/// may write one), before any pass removes a write. In debug builds (and
+/// so in every test) the verifier checks each function after every pass.
 pub fn optimize(program: &mut Program) {
     let relays = constant_relays(std::iter::once(&program.main).chain(&program.subroutines));
-    for function in std::iter::once(&mut program.main).chain(&mut program.subroutines) {
-        optimize_function(function, &relays);
+    let subroutines = program.subroutines.len();
+    let names = std::iter::once("main".to_string()).chain((0..subroutines).map(|n| format!("sub{n}")));
+    for (function, name) in std::iter::once(&mut program.main)
+        .chain(&mut program.subroutines)
+        .zip(names)
+    {
+        let mut passes = Passes {
+            function,
+            name: &name,
+            subroutines,
+        };
+        passes.optimize(&relays);
     }
 }
 
-/// Forwarding memory works best on merged blocks; what it forwards, and the
-/// computations shared after it, may fold further.
-fn optimize_function(function: &mut Function, relays: &Relays) {
-    simplify_control(function, relays);
-    super::memory::forward_memory(function);
-    share_pure_values(function);
-    simplify_control(function, relays);
-    remove_dead_values(function);
+/// One function on its way through the passes.
+struct Passes<'f> {
+    function: &'f mut Function,
+    name: &'f str,
+    subroutines: usize,
 }
 
-fn simplify_control(function: &mut Function, relays: &Relays) {
-    fold_constants(function, relays);
-    fold_branches(function);
-    remove_unreachable(function);
-    thread_jumps(function);
-    merge_blocks(function);
+impl Passes<'_> {
+    /// Forwarding memory works best on merged blocks; what it forwards, and
+    /// the computations shared after it, may fold further.
+    fn optimize(&mut self, relays: &Relays) {
+        self.simplify_control(relays);
+        self.run("forward_memory", super::memory::forward_memory);
+        self.run("share_pure_values", share_pure_values);
+        self.simplify_control(relays);
+        self.run("remove_dead_values", remove_dead_values);
+    }
+
+    fn simplify_control(&mut self, relays: &Relays) {
+        self.run("fold_constants", |function| fold_constants(function, relays));
+        self.run("fold_branches", fold_branches);
+        self.run("remove_unreachable", remove_unreachable);
+        self.run("thread_jumps", thread_jumps);
+        self.run("merge_blocks", merge_blocks);
+    }
+
+    fn run(&mut self, pass: &str, run: impl FnOnce(&mut Function)) {
+        run(self.function);
+        if cfg!(debug_assertions) {
+            assert_well_formed(self.function, self.name, self.subroutines, pass);
+        }
+    }
+}
+
+/// Panics with the verifier's report when `function` is not well formed
+/// after `stage`: a compiler bug, caught where it is made (debug builds).
+pub(crate) fn assert_well_formed(function: &Function, name: &str, subroutines: usize, stage: &str) {
+    if let Err(error) = super::verify_function(function, name, subroutines) {
+        // A large function's text would bury the report.
+        let text = function.to_string();
+        let listing = if text.len() <= 8_000 { text } else { String::new() };
+        panic!("the IR is not well formed after `{stage}`:\n{error}\n{listing}");
+    }
 }
 
 /// Sends jumps and branches that land on an empty block that only jumps on
@@ -81,31 +121,6 @@ pub fn thread_jumps(function: &mut Function) {
     }
     fold_branches(function);
     remove_unreachable(function);
-}
-
-/// Blocks in reverse postorder from the entry: every definition comes before
-/// its uses in this order.
-pub(super) fn reverse_postorder(function: &Function) -> Vec<BlockId> {
-    let mut visited = vec![false; function.blocks.len()];
-    let mut order = Vec::new();
-    let mut stack = vec![(BlockId(0), false)];
-    while let Some((block, done)) = stack.pop() {
-        if done {
-            order.push(block);
-            continue;
-        }
-        if std::mem::replace(&mut visited[block.0 as usize], true) {
-            continue;
-        }
-        stack.push((block, true));
-        for successor in function.block(block).terminator.successors().into_iter().rev() {
-            if !visited[successor.0 as usize] {
-                stack.push((successor, false));
-            }
-        }
-    }
-    order.reverse();
-    order
 }
 
 /// Relays with a value known for the whole program run.
@@ -187,19 +202,6 @@ fn written_bits(inst: &Inst, constants: &FxHashMap<Value, i64>) -> Vec<(BitArea,
     }
 }
 
-/// Wraps `value` to the bits of `ty`, sign-extended (Bits are 0/1).
-fn wrap(ty: Type, value: i64) -> i64 {
-    match ty {
-        Type::Bit => value & 1,
-        Type::I16 => i64::from(value as i16),
-        Type::I32 => i64::from(value as i32),
-        Type::I64 => value,
-        // Float constants hold their bits.
-        Type::F32 => i64::from(value as u32),
-        Type::F64 => value,
-    }
-}
-
 fn fold_binary(op: BinOp, ty: Type, a: i64, b: i64) -> Option<i64> {
     let value = match op {
         BinOp::Add => a.wrapping_add(b),
@@ -215,7 +217,7 @@ fn fold_binary(op: BinOp, ty: Type, a: i64, b: i64) -> Option<i64> {
         BinOp::Shr => a.wrapping_shr(b as u32),
         BinOp::UShr => (unsigned(ty, a)).wrapping_shr(b as u32) as i64,
     };
-    Some(wrap(ty, value))
+    Some(ty.wrap(value))
 }
 
 /// The bits of `value` at `ty`, as an unsigned number.
@@ -309,7 +311,7 @@ fn fold(
             }))
         }
         Inst::Truncate { value, to } => match (known(value), extended_from.get(value)) {
-            (Some(v), _) => Folded::Constant(wrap(*to, v)),
+            (Some(v), _) => Folded::Constant(to.wrap(v)),
             // trunc(ext(x)) back to x's own type is x.
             (None, Some(&inner)) if types[inner.0 as usize] == *to => Folded::Same(inner),
             _ => Folded::Nothing,
@@ -398,45 +400,6 @@ fn fix_index(inst: &mut Inst, constants: &FxHashMap<Value, i64>) {
     });
 }
 
-/// Values that stand for others (`v20` used as `v8`), as a pass finds them.
-/// Passes walk blocks in reverse postorder, so a value is replaced before
-/// any use of it is met, and a replacement is never itself replaced (it is
-/// an earlier value, already resolved): one step resolves a use.
-#[derive(Default)]
-pub(super) struct Replacements(FxHashMap<Value, Value>);
-
-impl Replacements {
-    /// From now on, uses of `value` read `by`.
-    pub(super) fn insert(&mut self, value: Value, by: Value) {
-        self.0.insert(value, by);
-    }
-
-    fn resolve(&self, value: &mut Value) {
-        if let Some(&by) = self.0.get(value) {
-            *value = by;
-        }
-    }
-
-    /// Rewrites the values `inst` reads.
-    pub(super) fn in_operands(&self, inst: &mut Inst) {
-        inst.for_each_operand_mut(|v| self.resolve(v));
-    }
-
-    /// Rewrites the condition of a branch.
-    pub(super) fn in_condition(&self, terminator: &mut Terminator) {
-        if let Terminator::Branch { condition, .. } = terminator {
-            self.resolve(condition);
-        }
-    }
-
-    /// Rewrites the condition of every branch of `function`.
-    fn in_conditions(&self, function: &mut Function) {
-        for block in &mut function.blocks {
-            self.in_condition(&mut block.terminator);
-        }
-    }
-}
-
 /// Folds instructions with constant operands to constants, comparisons
 /// the operands' ranges decide too, and instructions that compute an
 /// existing value (`x AND 1`, `x + 0`) to that value.
@@ -459,7 +422,7 @@ pub fn fold_constants(function: &mut Function, relays: &Relays) {
             }
             match fold(inst, ty, &types, &constants, &extended_from, relays, &ranges) {
                 Folded::Constant(value) => {
-                    let value = wrap(ty, value);
+                    let value = ty.wrap(value);
                     constants.insert(result, value);
                     *inst = Inst::Const { ty, value };
                 }

@@ -158,6 +158,12 @@ fn inst(func: &Function, constants: &Constants, inst: &Inst) -> String {
     }
 }
 
+/// One instruction as the text form prints it (constant arguments of a
+/// helper call shown by their value name), for the verifier's messages.
+pub(crate) fn inst_text(func: &Function, instruction: &Inst) -> String {
+    inst(func, &Constants::default(), instruction)
+}
+
 impl Display for super::Program {
     fn fmt(&self, f: &mut Formatter<'_>) -> fmt::Result {
         write!(f, "{}", self.main)?;

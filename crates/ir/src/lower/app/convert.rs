@@ -2,7 +2,7 @@
 
 use super::Step;
 use crate::lower::operand::{Operand, Units};
-use crate::{BinOp, Inst, Type, UnaryOp, Value};
+use crate::{BinOp, Index, Inst, Type, UnaryOp, Value};
 use ladder_front::isa::CompareOp;
 use ladder_front::program::{Element, WordRef};
 use ladder_runtime::helpers::Helper;
@@ -118,6 +118,22 @@ pub fn decode(step: &mut Step, s: &Element, n: &WordRef, d: &Element) {
             let mut value = constant(step, 0);
             for k in 0..8u32 {
                 let unit = step.l.nth(&source, k, Width::Single);
+                // A bit past its area's end is at or past N here (a run of
+                // N bits past the end is error 4085H, caught above): it is
+                // masked off, so it is not read.
+                let past_the_end = match unit {
+                    Operand::Bit(area, Index::Fixed(n)) => n >= area.count(),
+                    Operand::WordBit(area, Index::Fixed(n)) => n / 16 >= area.count(),
+                    Operand::Bit(_, Index::Dynamic(_))
+                    | Operand::WordBit(_, Index::Dynamic(_))
+                    | Operand::Constant(_)
+                    | Operand::Word(..)
+                    | Operand::WideCounter(_)
+                    | Operand::Digits(..) => false,
+                };
+                if past_the_end {
+                    continue;
+                }
                 let bit = step.read_at(&unit, Width::Single);
                 let shift = constant(step, i64::from(k));
                 let placed = step.b().binary(BinOp::Shl, bit, shift);
