@@ -41,7 +41,7 @@ fn c_library(
         layout: None,
         ..Default::default()
     };
-    let built = ladder_engine::pipeline::c_source(checked, &options, image);
+    let built = ladder_engine::pipeline::Lowered::new(checked).c_source(&options, image);
     let source = built
         .output
         .replace("static void bench_body(uint8_t *m)", "void bench_body(uint8_t *m)");
@@ -92,7 +92,7 @@ fn c_backend(c: &mut Criterion) {
     for (name, text) in programs {
         let (checked, diagnostics) = compile_source(&SourceFile::new(format!("{name}.il"), text.as_str()));
         let checked = checked.unwrap_or_else(|| panic!("{diagnostics:?}"));
-        let jit = ladder_engine::pipeline::jit(&checked).expect("compiles");
+        let jit = ladder_engine::pipeline::Lowered::new(&checked).jit().expect("compiles");
         let (library, compact) = match (
             c_library(name, &checked, &ImageRequest::full()),
             c_library(name, &checked, &ImageRequest::compact(Vec::new())),

@@ -58,14 +58,14 @@ static ALLOCATOR: Counting = Counting;
 fn build(text: &str) -> usize {
     let (program, diagnostics) = compile_source(&SourceFile::new("bench.il", text));
     let program = program.unwrap_or_else(|| panic!("{:?}", diagnostics.first()));
-    ladder_engine::pipeline::object(
-        &program,
-        &ObjectOptions::default(),
-        &ladder_engine::pipeline::ImageRequest::full(),
-    )
-    .expect("compiles")
-    .output
-    .len()
+    ladder_engine::pipeline::Lowered::new(&program)
+        .object(
+            &ObjectOptions::default(),
+            &ladder_engine::pipeline::ImageRequest::full(),
+        )
+        .expect("compiles")
+        .output
+        .len()
 }
 
 fn peak_heap_per_instruction() {

@@ -64,7 +64,7 @@ fn scan_time(c: &mut Criterion) {
     let mut group = c.benchmark_group("scan");
     for (name, program) in programs() {
         let interpreter = Interpreter::new(&program);
-        let jit = ladder_engine::pipeline::jit(&program).expect("compiles");
+        let jit = ladder_engine::pipeline::Lowered::new(&program).jit().expect("compiles");
         let mut mem = Memory::new_boxed();
         let mut scan = 0u32;
         group.bench_function(BenchmarkId::new("interp", &name), |b| {
@@ -103,7 +103,7 @@ fn helper_instructions(c: &mut Criterion) {
     for (name, text) in programs {
         let program = checked(name, text);
         let interpreter = Interpreter::new(&program);
-        let jit = ladder_engine::pipeline::jit(&program).expect("compiles");
+        let jit = ladder_engine::pipeline::Lowered::new(&program).jit().expect("compiles");
         let mut mem = Memory::new_boxed();
         for (i, word) in mem.d.iter_mut().take(600).enumerate() {
             *word = (i as i16).wrapping_mul(7919);
@@ -126,10 +126,14 @@ fn compile_time(c: &mut Criterion) {
     group.sample_size(10);
     group.bench_function("check", |b| b.iter(|| checked("plant", black_box(&text))));
     group.bench_function("lower_and_optimise", |b| {
-        b.iter(|| ladder_engine::pipeline::ir(black_box(&program)))
+        b.iter(|| ladder_engine::pipeline::Lowered::new(black_box(&program)).ir)
     });
     group.bench_function("jit", |b| {
-        b.iter(|| ladder_engine::pipeline::jit(black_box(&program)).expect("compiles"))
+        b.iter(|| {
+            ladder_engine::pipeline::Lowered::new(black_box(&program))
+                .jit()
+                .expect("compiles")
+        })
     });
     group.finish();
 }

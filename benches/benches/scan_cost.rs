@@ -132,7 +132,8 @@ fn cranelift(name: &str, program: &CheckedProgram) -> Result<Route, String> {
         prefix: PREFIX.to_string(),
         ..ObjectOptions::default()
     };
-    let object = ladder_engine::pipeline::object(program, &options, &ImageRequest::full())
+    let object = ladder_engine::pipeline::Lowered::new(program)
+        .object(&options, &ImageRequest::full())
         .map_err(|e| e.to_string())?
         .output;
     let path = folder().join(format!("{name}_cranelift.o"));
@@ -152,7 +153,9 @@ fn c_route(name: &str, program: &CheckedProgram) -> Result<Route, String> {
         layout: None,
         ..Default::default()
     };
-    let source = ladder_engine::pipeline::c_source(program, &options, &ImageRequest::full()).output;
+    let source = ladder_engine::pipeline::Lowered::new(program)
+        .c_source(&options, &ImageRequest::full())
+        .output;
     let path = folder().join(format!("{name}_c_route.c"));
     std::fs::write(&path, source).map_err(|e| e.to_string())?;
     Ok(Route::load(&shared_library(&format!("{name}_c_route"), &[path], true)?))

@@ -87,13 +87,16 @@ pub fn pipeline(data: &[u8]) {
         ..Default::default()
     };
     // Both images: the full one, and a compact one laid out from the program.
+    let lowered = ladder_engine::pipeline::Lowered::new(&program);
     for image in [
         ladder_engine::pipeline::ImageRequest::full(),
         ladder_engine::pipeline::ImageRequest::compact(Vec::new()),
     ] {
-        ladder_engine::pipeline::object(&program, &options, &image).expect("a checked program compiles to an object");
+        lowered
+            .object(&options, &image)
+            .expect("a checked program compiles to an object");
     }
-    let jit = ladder_engine::pipeline::jit(&program).expect("a checked program compiles to native code");
+    let jit = lowered.jit().expect("a checked program compiles to native code");
     let interpreter = Interpreter::new(&program);
     let mut expected = Memory::new_boxed();
     let mut actual = Memory::new_boxed();

@@ -45,7 +45,8 @@ fn a_program_cut_into_parts_keeps_master_control_across_them() {
         .collect();
     let text = format!("LD X0\nMC N0 M0\n{rungs}MCR N0\nLD X1\nMC N0 M1\n{rungs}MCR N0\n");
     let program = differential::compile(&text);
-    let object = ladder_engine::pipeline::object(&program, &Default::default(), &Default::default())
+    let object = ladder_engine::pipeline::Lowered::new(&program)
+        .object(&Default::default(), &Default::default())
         .expect("compiles")
         .output;
     let parts = String::from_utf8_lossy(&object).matches(".part").count();

@@ -34,12 +34,12 @@ const LAYERS: &[(&str, &[&str], &[&str])] = &[
     ),
     (
         "ladder-codegen",
-        &["ladder-runtime", "ladder-front", "ladder-ir"],
+        &["ladder-runtime", "ladder-ir"],
         &["tokio", "axum", "rustls", "async-opcua", "hyper"],
     ),
     (
         "ladder-cback",
-        &["ladder-runtime", "ladder-front", "ladder-ir"],
+        &["ladder-runtime", "ladder-ir"],
         &["cranelift", "tokio", "axum", "rustls", "async-opcua", "hyper"],
     ),
     (

@@ -8,7 +8,7 @@
 use super::image::{self, Difference};
 use super::stimulus::{self, Step};
 use ladder_codegen::ObjectOptions;
-use ladder_engine::pipeline::ImageRequest;
+use ladder_engine::pipeline::{ImageRequest, Lowered};
 use ladder_front::check::compile_source;
 use ladder_front::diagnostics::render_all;
 use ladder_front::program::CheckedProgram;
@@ -71,16 +71,16 @@ pub fn compile(text: &str) -> CheckedProgram {
 /// engine: those its program and its host's devices use, as a compiled
 /// program's scan keeps them (whole images are compared, so the in-process
 /// engines keep the same).
-pub fn machine(case: &Case, program: &CheckedProgram) -> ladder_runtime::MachineUse {
-    ladder_ir::image::machine_use(program, &ladder_engine::pipeline::ir(program), &host_devices(case))
+pub fn machine(case: &Case, lowered: &Lowered) -> ladder_runtime::MachineUse {
+    ladder_ir::image::machine_use(lowered.checked, &lowered.ir, &host_devices(case))
 }
 
 /// Runs `case` on the interpreter and the JIT, comparing whole images after
 /// every scan; returns the interpreter's image digests.
-pub fn in_process(case: &Case, program: &CheckedProgram) -> Result<Vec<u64>, Divergence> {
-    let jit = ladder_engine::pipeline::jit(program).expect("generated programs compile to native code");
-    let interpreter = Interpreter::new(program);
-    let machine = machine(case, program);
+pub fn in_process(case: &Case, lowered: &Lowered) -> Result<Vec<u64>, Divergence> {
+    let jit = lowered.jit().expect("generated programs compile to native code");
+    let interpreter = Interpreter::new(lowered.checked);
+    let machine = machine(case, lowered);
     let mut expected = Memory::new_boxed();
     let mut actual = Memory::new_boxed();
     let mut digests = Vec::with_capacity(case.steps.len());
@@ -102,9 +102,9 @@ pub fn in_process(case: &Case, program: &CheckedProgram) -> Result<Vec<u64>, Div
 }
 
 /// The interpreter's image after `scans` scans of `case`.
-pub fn interpreter_image(case: &Case, program: &CheckedProgram, scans: usize) -> Box<Memory> {
-    let interpreter = Interpreter::new(program);
-    let machine = machine(case, program);
+pub fn interpreter_image(case: &Case, lowered: &Lowered, scans: usize) -> Box<Memory> {
+    let interpreter = Interpreter::new(lowered.checked);
+    let machine = machine(case, lowered);
     let mut mem = Memory::new_boxed();
     for step in &case.steps[..scans] {
         stimulus::apply(&mut mem, step);
@@ -158,19 +158,18 @@ pub fn host_devices(case: &Case) -> Vec<ladder_front::host_device::HostDevice> {
 }
 
 /// The compact layout of `program` for `case`'s host.
-pub fn compact_layout(case: &Case, program: &CheckedProgram) -> ladder_runtime::layout::Layout {
-    let ir = ladder_engine::pipeline::ir(program);
+pub fn compact_layout(case: &Case, lowered: &Lowered) -> ladder_runtime::layout::Layout {
     ImageRequest::compact(host_devices(case))
-        .layout(program, &ir)
+        .layout(lowered.checked, &lowered.ir)
         .expect("a compact layout")
 }
 
 /// The interpreter's digests of `case` as a compact image of `program`
 /// would hold them.
-pub fn compact_digests(case: &Case, program: &CheckedProgram) -> Vec<u64> {
-    let layout = compact_layout(case, program);
-    let interpreter = Interpreter::new(program);
-    let machine = machine(case, program);
+pub fn compact_digests(case: &Case, lowered: &Lowered) -> Vec<u64> {
+    let layout = compact_layout(case, lowered);
+    let interpreter = Interpreter::new(lowered.checked);
+    let machine = machine(case, lowered);
     let mut mem = Memory::new_boxed();
     case.steps
         .iter()
@@ -218,11 +217,11 @@ impl AotHost {
     }
 
     /// Builds one driver for the programs of `cases` in `work`.
-    fn link(&self, cases: &[(&Case, &CheckedProgram)], work: &Path) -> Result<PathBuf, String> {
+    fn link(&self, cases: &[(&Case, &Lowered)], work: &Path) -> Result<PathBuf, String> {
         let mut sources = vec![super::tools::workspace().join("testsuite/differential/driver.c")];
         let mut list = String::from("#define PROGRAMS");
         let mut c_sources = Vec::new();
-        for (i, (case, program)) in cases.iter().enumerate() {
+        for (i, (case, lowered)) in cases.iter().enumerate() {
             let prefix = format!("p{i}_");
             match self.route {
                 Route::Object => {
@@ -233,9 +232,7 @@ impl AotHost {
                         ..Default::default()
                     };
                     let image = ImageRequest::full_with(host_devices(case));
-                    let object = ladder_engine::pipeline::object(program, &options, &image)
-                        .map_err(|e| e.to_string())?
-                        .output;
+                    let object = lowered.object(&options, &image).map_err(|e| e.to_string())?.output;
                     let path = work.join(format!("p{i}.o"));
                     std::fs::write(&path, object).map_err(|e| e.to_string())?;
                     sources.push(path);
@@ -256,9 +253,14 @@ impl AotHost {
                         }
                     };
                     let path = work.join(format!("p{i}.c"));
-                    let source = ladder_engine::pipeline::Lowered::with_coils(program, coils)
-                        .c_source(&options, &image)
-                        .output;
+                    let source = match coils {
+                        ladder_ir::Coils::Inline => lowered.c_source(&options, &image).output,
+                        ladder_ir::Coils::Calls => {
+                            Lowered::with_coils(lowered.checked, coils)
+                                .c_source(&options, &image)
+                                .output
+                        }
+                    };
                     std::fs::write(&path, source).map_err(|e| e.to_string())?;
                     c_sources.push(path);
                     sources.push(work.join(format!("p{i}.o")));
@@ -326,7 +328,7 @@ impl AotHost {
     }
 
     /// Image digests after every scan of every case, per case.
-    pub fn digests(&self, cases: &[(&Case, &CheckedProgram)]) -> Result<Vec<Vec<u64>>, String> {
+    pub fn digests(&self, cases: &[(&Case, &Lowered)]) -> Result<Vec<Vec<u64>>, String> {
         let work = tempfile::tempdir().map_err(|e| e.to_string())?;
         let host = self.link(cases, work.path())?;
         let mut script = String::new();
@@ -354,9 +356,9 @@ impl AotHost {
 
     /// The compiled program's whole image after `scans` scans of `case`
     /// (a compact one expanded: what it does not hold is 0).
-    pub fn image(&self, case: &Case, program: &CheckedProgram, scans: usize) -> Result<Box<Memory>, String> {
+    pub fn image(&self, case: &Case, lowered: &Lowered, scans: usize) -> Result<Box<Memory>, String> {
         let work = tempfile::tempdir().map_err(|e| e.to_string())?;
-        let host = self.link(&[(case, program)], work.path())?;
+        let host = self.link(&[(case, lowered)], work.path())?;
         let mut script = String::from("P 0\n");
         for step in &case.steps[..scans] {
             stimulus::driver_commands(step, &mut script);
@@ -368,7 +370,7 @@ impl AotHost {
             .map(|i| u8::from_str_radix(&hex[2 * i..2 * i + 2], 16).map_err(|e| e.to_string()))
             .collect::<Result<Vec<u8>, String>>()?;
         match self.route {
-            Route::CompactC => Ok(image::expand(&bytes, &compact_layout(case, program))),
+            Route::CompactC => Ok(image::expand(&bytes, &compact_layout(case, lowered))),
             Route::Object | Route::C => {
                 let mut mem = Memory::new_boxed();
                 let full = bytemuck::bytes_of_mut(&mut *mem);
@@ -383,20 +385,20 @@ impl AotHost {
 
     /// The interpreter's digests this engine must print for `case`:
     /// `full` for the full image, else those of its compact image.
-    fn expected(&self, case: &Case, program: &CheckedProgram, full: &[u64]) -> Vec<u64> {
+    fn expected(&self, case: &Case, lowered: &Lowered, full: &[u64]) -> Vec<u64> {
         match self.route {
             Route::Object | Route::C => full.to_vec(),
-            Route::CompactC => compact_digests(case, program),
+            Route::CompactC => compact_digests(case, lowered),
         }
     }
 
     /// The interpreter's image as this engine holds it.
-    fn expected_image(&self, case: &Case, program: &CheckedProgram, scans: usize) -> Box<Memory> {
-        let mem = interpreter_image(case, program, scans);
+    fn expected_image(&self, case: &Case, lowered: &Lowered, scans: usize) -> Box<Memory> {
+        let mem = interpreter_image(case, lowered, scans);
         match self.route {
             Route::Object | Route::C => mem,
             Route::CompactC => {
-                let layout = compact_layout(case, program);
+                let layout = compact_layout(case, lowered);
                 image::expand(&image::project(&mem, &layout), &layout)
             }
         }
@@ -412,9 +414,9 @@ impl AotHost {
     }
 
     /// Where this engine leaves the interpreter on `case`, if it does.
-    pub fn diverges(&self, case: &Case, program: &CheckedProgram, expected: &[u64]) -> Result<Option<usize>, String> {
-        let digests = self.digests(&[(case, program)])?;
-        Ok(first_difference(&self.expected(case, program, expected), &digests[0]))
+    pub fn diverges(&self, case: &Case, lowered: &Lowered, expected: &[u64]) -> Result<Option<usize>, String> {
+        let digests = self.digests(&[(case, lowered)])?;
+        Ok(first_difference(&self.expected(case, lowered, expected), &digests[0]))
     }
 }
 
@@ -425,16 +427,17 @@ pub fn first_difference(expected: &[u64], actual: &[u64]) -> Option<usize> {
 /// Any engine's divergence on `case` (in-process engines first).
 pub fn divergence(case: &Case, hosts: &[AotHost]) -> Option<Divergence> {
     let program = compile(&case.program);
-    let expected = match in_process(case, &program) {
+    let lowered = Lowered::new(&program);
+    let expected = match in_process(case, &lowered) {
         Ok(digests) => digests,
         Err(divergence) => return Some(divergence),
     };
     hosts.iter().find_map(|host| {
         let scan = host
-            .diverges(case, &program, &expected)
+            .diverges(case, &lowered, &expected)
             .unwrap_or_else(|e| panic!("{}: {e}", host.engine()))?;
-        let differences = match host.image(case, &program, scan + 1) {
-            Ok(actual) => image::differences(&host.expected_image(case, &program, scan + 1), &actual),
+        let differences = match host.image(case, &lowered, scan + 1) {
+            Ok(actual) => image::differences(&host.expected_image(case, &lowered, scan + 1), &actual),
             Err(_) => Vec::new(),
         };
         Some(Divergence {
@@ -535,26 +538,31 @@ where
         let size = batch.min(count - done);
         let mut trees = Vec::with_capacity(size);
         let mut programs = Vec::with_capacity(size);
-        let mut expected = Vec::with_capacity(size);
         for _ in 0..size {
             let tree = strategy.new_tree(&mut runner).expect("a case");
             let case = tree.current();
             let program = compile(&case.program);
-            match in_process(&case, &program) {
+            programs.push((case, program));
+            trees.push(tree);
+        }
+        // Each program lowered once, for the JIT and every engine outside
+        // the process.
+        let lowered: Vec<Lowered> = programs.iter().map(|(_, program)| Lowered::new(program)).collect();
+        let mut expected = Vec::with_capacity(size);
+        for (i, ((case, _), lowered)) in programs.iter().zip(&lowered).enumerate() {
+            match in_process(case, lowered) {
                 Ok(digests) => expected.push(digests),
-                Err(_) => fail(name, seed, tree, hosts),
+                Err(_) => fail(name, seed, trees.swap_remove(i), hosts),
             }
             totals.programs += 1;
             totals.scans += case.steps.len();
-            programs.push((case, program));
-            trees.push(tree);
         }
         // The compact image on every other batch: it checks the layout,
         // which the other routes' runs of the same code make no likelier
         // to go wrong, and costs another C build per batch.
         let compact_batch = (done / batch).is_multiple_of(2);
         for host in hosts.iter().filter(|h| h.route != Route::CompactC || compact_batch) {
-            let cases: Vec<(&Case, &CheckedProgram)> = programs.iter().map(|(c, p)| (c, p)).collect();
+            let cases: Vec<(&Case, &Lowered)> = programs.iter().map(|(case, _)| case).zip(&lowered).collect();
             let digests = host
                 .digests(&cases)
                 .unwrap_or_else(|e| panic!("{}: {e}", host.engine()));
@@ -564,8 +572,8 @@ where
                 Route::CompactC => totals.compact_programs += cases.len(),
             }
             let diverged = |i: usize| {
-                let (case, program) = cases[i];
-                first_difference(&host.expected(case, program, &expected[i]), &digests[i]).is_some()
+                let (case, lowered) = cases[i];
+                first_difference(&host.expected(case, lowered, &expected[i]), &digests[i]).is_some()
             };
             if let Some(i) = (0..size).find(|&i| diverged(i)) {
                 fail(name, seed, trees.swap_remove(i), hosts);

@@ -114,7 +114,7 @@ fn a_divergence_becomes_a_scenario() {
         ],
     };
     let program = differential::compile(&case.program);
-    let expected = differential::interpreter_image(&case, &program, 2);
+    let expected = differential::interpreter_image(&case, &ladder_engine::pipeline::Lowered::new(&program), 2);
     let mut wrong = expected.clone();
     wrong.y[0] = 0;
     let divergence = differential::Divergence {
@@ -186,7 +186,7 @@ fn an_empty_logic_stack_reads_off_on_every_engine() {
         program.instructions.remove(1);
         program.main_end -= 1;
         let interpreter = ladder_interp::Interpreter::new(&program);
-        let jit = ladder_engine::pipeline::jit(&program).expect("compiles");
+        let jit = ladder_engine::pipeline::Lowered::new(&program).jit().expect("compiles");
         let (mut expected, mut actual) = (ladder_runtime::Memory::new_boxed(), ladder_runtime::Memory::new_boxed());
         for mem in [&mut expected, &mut actual] {
             mem.input_image[..3].fill(1);

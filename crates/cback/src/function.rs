@@ -1,6 +1,6 @@
 //! One IR function as a C function `static void NAME(uint8_t *m)`.
 
-use ladder_front::isa::CompareOp;
+use ladder_ir::CompareOp;
 use ladder_ir::{
     self as ir, BinOp, Cell, Conversion, FloatOp, FloatUnaryOp, Held, Index, Inst, Terminator, Type, UnaryOp, Value,
 };

@@ -15,7 +15,7 @@ use crate::divide;
 use cranelift_codegen::ir::condcodes::{FloatCC, IntCC};
 use cranelift_codegen::ir::{types, FuncRef, InstBuilder, MemFlagsData, Value};
 use cranelift_frontend::{FunctionBuilder, Variable};
-use ladder_front::isa::CompareOp;
+use ladder_ir::CompareOp;
 use ladder_ir::{self as ir, BinOp, Conversion, FloatOp, FloatUnaryOp, Index, Inst, Terminator, Type, UnaryOp};
 use ladder_runtime::helpers::Helper;
 use ladder_runtime::layout::{Array, Layout, Scalar};

@@ -1,5 +1,7 @@
 //! The stages after the checker, in order: lowering to IR, IR passes, the
-//! image's layout, and code generation.
+//! image's layout, and code generation. A program is lowered once, into a
+//! `Lowered`, and every back end builds from that: there is no other way in,
+//! so "lowered once" cannot be broken by a caller.
 
 use ladder_codegen::{emit_object, CodegenError, JitProgram, ObjectOptions};
 use ladder_front::host_device::HostDevice;
@@ -7,11 +9,6 @@ use ladder_front::program::CheckedProgram;
 use ladder_ir::image::{compact_layout, machine_use, ImageKind};
 use ladder_ir::{Coils, Program};
 use ladder_runtime::layout::Layout;
-
-/// The optimised IR of a checked program (timers and counters inline).
-pub fn ir(program: &CheckedProgram) -> Program {
-    ladder_ir::lower_and_optimize(program)
-}
 
 /// A checked program lowered and optimised once, for every back end that
 /// builds it (the JIT, the object file, the C back end, full or compact):
@@ -71,12 +68,6 @@ impl<'p> Lowered<'p> {
     }
 }
 
-/// The program compiled into this process (which runs it on `Memory`: the
-/// full layout).
-pub fn jit(program: &CheckedProgram) -> Result<JitProgram, CodegenError> {
-    Lowered::new(program).jit()
-}
-
 /// The image a built program gets: the full layout, or a compact one that
 /// also holds the devices the host names. Either way the scan keeps up to
 /// date the parts of the machine (calendar, scan time, special relays, ...)
@@ -130,19 +121,4 @@ impl ImageRequest {
 pub struct Built<T> {
     pub output: T,
     pub layout: Option<Layout>,
-}
-
-/// The program as an object file (`options.layout` is set from `image`).
-pub fn object(
-    program: &CheckedProgram,
-    options: &ObjectOptions,
-    image: &ImageRequest,
-) -> Result<Built<Vec<u8>>, CodegenError> {
-    Lowered::new(program).object(options, image)
-}
-
-/// The program as portable C (the C back end, from the same optimised IR;
-/// `options.layout` is set from `image`).
-pub fn c_source(program: &CheckedProgram, options: &ladder_cback::COptions, image: &ImageRequest) -> Built<String> {
-    Lowered::new(program).c_source(options, image)
 }

@@ -1,7 +1,7 @@
 //! Building a function block by block.
 
 use super::{BinOp, Block, BlockId, Cell, Function, Index, Inst, Local, Terminator, Type, Value};
-use ladder_front::isa::CompareOp;
+use crate::CompareOp;
 use ladder_runtime::helpers::Helper;
 
 /// Appends instructions to the current block of a function being built.

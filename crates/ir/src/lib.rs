@@ -66,7 +66,6 @@ pub enum Coils {
     Calls,
 }
 
-use ladder_front::isa::CompareOp;
 use ladder_runtime::helpers::Helper;
 use ladder_runtime::{BitArea, OperationError, WordArea};
 
@@ -205,6 +204,58 @@ pub enum BinOp {
     Shr,
     /// Logical shift right.
     UShr,
+}
+
+/// A comparison, as the IR's `Compare` (signed) and `FloatCompare`
+/// (ordered) make it. The IR owns it so that the back ends need nothing of
+/// the front end; the lowering converts the instruction set's.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum CompareOp {
+    Eq,
+    Ne,
+    Gt,
+    Lt,
+    Ge,
+    Le,
+}
+
+impl CompareOp {
+    pub fn holds<T: Ord>(self, left: T, right: T) -> bool {
+        match self {
+            CompareOp::Eq => left == right,
+            CompareOp::Ne => left != right,
+            CompareOp::Gt => left > right,
+            CompareOp::Lt => left < right,
+            CompareOp::Ge => left >= right,
+            CompareOp::Le => left <= right,
+        }
+    }
+
+    /// As the text form prints it (the instruction list's own symbols).
+    pub fn symbol(self) -> &'static str {
+        match self {
+            CompareOp::Eq => "=",
+            CompareOp::Ne => "<>",
+            CompareOp::Gt => ">",
+            CompareOp::Lt => "<",
+            CompareOp::Ge => ">=",
+            CompareOp::Le => "<=",
+        }
+    }
+}
+
+impl From<ladder_front::isa::CompareOp> for CompareOp {
+    fn from(op: ladder_front::isa::CompareOp) -> CompareOp {
+        use ladder_front::isa::CompareOp as Isa;
+        match op {
+            Isa::Eq => CompareOp::Eq,
+            Isa::Ne => CompareOp::Ne,
+            Isa::Gt => CompareOp::Gt,
+            Isa::Lt => CompareOp::Lt,
+            Isa::Ge => CompareOp::Ge,
+            Isa::Le => CompareOp::Le,
+        }
+    }
 }
 
 /// Float operations of two operands (both F32 or both F64), IEEE-754

@@ -19,7 +19,7 @@ use super::{
     BinOp, Block, BlockId, Cell, Effect, Function, Index, Inst, OperandMut, Program, Space, Terminator, Type, UnaryOp,
     Value,
 };
-use ladder_front::isa::CompareOp;
+use crate::CompareOp;
 use ladder_runtime::helpers::{Param, Writes};
 use ladder_runtime::special::{M_ALWAYS_OFF, M_ALWAYS_ON, M_OPERATION_ERROR, SM_ALWAYS_OFF, SM_ALWAYS_ON};
 use ladder_runtime::{BitArea, Place};

@@ -11,7 +11,7 @@
 //! compares them; floats have no range here.
 
 use super::{BinOp, Inst, Type, Value};
-use ladder_front::isa::CompareOp;
+use crate::CompareOp;
 use rustc_hash::FxHashMap;
 
 /// The least and greatest value, both included.

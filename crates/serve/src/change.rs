@@ -115,7 +115,11 @@ impl Loaded {
     /// Does nothing for the interpreter (`native` false).
     pub fn precompile(mut self, native: bool) -> Result<Loaded, String> {
         if native {
-            self.native = Some(ladder_engine::pipeline::jit(&self.program).map_err(|e| e.to_string())?);
+            self.native = Some(
+                ladder_engine::pipeline::Lowered::new(&self.program)
+                    .jit()
+                    .map_err(|e| e.to_string())?,
+            );
         }
         Ok(self)
     }

@@ -4,8 +4,8 @@
 
 use super::operand::Operand;
 use super::Lowering;
+use crate::CompareOp;
 use crate::{BinOp, Cell, Index, Inst, Type, Value};
-use ladder_front::isa::CompareOp;
 use ladder_front::program::{Address, BitRef, IndexRegister, WordRef};
 use ladder_runtime::device::{COUNTER_COUNT, FIRST_WIDE_COUNTER};
 use ladder_runtime::{OperationError, Width};

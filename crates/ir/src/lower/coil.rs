@@ -10,8 +10,8 @@
 //! timer ANS drives (its number may be indexed) still call the runtime.
 
 use crate::builder::Builder;
+use crate::CompareOp;
 use crate::{BinOp, BlockId, Bookkeeping, Cell, Index, Inst, Terminator, Type, Value};
-use ladder_front::isa::CompareOp;
 use ladder_runtime::device::{TimerClass, FIRST_WIDE_COUNTER, TIMER_COUNT};
 use ladder_runtime::{BitArea, WordArea};
 

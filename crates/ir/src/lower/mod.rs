@@ -166,7 +166,7 @@ impl<'p> Lowering<'p> {
         let count = self.compare_operand(count, Width::Single, line);
         let count = self.b.truncate(count, Type::I32);
         let one = self.b.constant(Type::I32, 1);
-        let below_one = self.b.compare(ladder_front::isa::CompareOp::Lt, count, one);
+        let below_one = self.b.compare(crate::CompareOp::Lt, count, one);
         let count = self.b.select(below_one, one, count);
         let level = self.loops.len() as u8;
         self.loop_levels = self.loop_levels.max(level + 1);
@@ -189,7 +189,7 @@ impl<'p> Lowering<'p> {
         let left = self.b.binary(crate::BinOp::Sub, left, one);
         self.b.effect(Inst::StoreLoopCount { level, value: left });
         let zero = self.b.constant(Type::I32, 0);
-        let more = self.b.compare(ladder_front::isa::CompareOp::Gt, left, zero);
+        let more = self.b.compare(crate::CompareOp::Gt, left, zero);
         let ask = self.b.create_block();
         let exit = self.b.create_block();
         self.b.terminate(Terminator::Branch {
@@ -200,7 +200,7 @@ impl<'p> Lowering<'p> {
         self.b.switch_to(ask);
         let line = self.b.number(line);
         let allowed = self.b.call(Helper::LoopRepeat, vec![line]).unwrap_or(zero);
-        let repeat = self.b.compare(ladder_front::isa::CompareOp::Ne, allowed, zero);
+        let repeat = self.b.compare(crate::CompareOp::Ne, allowed, zero);
         self.b.terminate(Terminator::Branch {
             condition: repeat,
             then: body,
@@ -326,7 +326,7 @@ impl<'p> Lowering<'p> {
             Contact::Compare { op, width, left, right } => {
                 let left = self.compare_operand(left, width, line);
                 let right = self.compare_operand(right, width, line);
-                self.b.compare(op, left, right)
+                self.b.compare(op.into(), left, right)
             }
         }
     }

@@ -3,8 +3,8 @@
 //! reading and writing operands at a width.
 
 use super::Lowering;
+use crate::CompareOp;
 use crate::{BinOp, Cell, Index, Type, Value};
-use ladder_front::isa::CompareOp;
 use ladder_front::program::WordRef;
 use ladder_runtime::device::{COUNTER_COUNT, FIRST_WIDE_COUNTER};
 use ladder_runtime::place::PlaceKind;

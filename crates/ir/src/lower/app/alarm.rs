@@ -2,8 +2,8 @@
 
 use super::{Execution, Step};
 use crate::lower::operand::{Operand, Units};
+use crate::CompareOp;
 use crate::{Index, Type};
-use ladder_front::isa::CompareOp;
 use ladder_front::program::{Address, BitRef, WordRef};
 use ladder_runtime::device::TIMER_COUNT;
 use ladder_runtime::helpers::Helper;

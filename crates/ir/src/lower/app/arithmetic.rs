@@ -1,8 +1,8 @@
 //! Arithmetic: ADD, SUB, MUL, DIV, INC, DEC, NEG, SQR.
 
 use super::Step;
+use crate::CompareOp;
 use crate::{BinOp, Type, UnaryOp, Value};
-use ladder_front::isa::CompareOp;
 use ladder_runtime::{OperationError, Width};
 
 /// The wrapped result of an exact I64 and the flags zero, borrow, carry.

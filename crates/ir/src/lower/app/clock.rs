@@ -4,8 +4,8 @@
 
 use super::Step;
 use crate::lower::operand::Units;
+use crate::CompareOp;
 use crate::{BinOp, Cell, Index, Type, Value};
-use ladder_front::isa::CompareOp;
 use ladder_front::program::{BitRef, WordRef};
 use ladder_runtime::calendar::D_CLOCK_FIRST;
 use ladder_runtime::compiled::clock::{TIME_OK, TIME_WRAPPED, TIME_ZERO};

@@ -1,8 +1,8 @@
 //! Comparisons: CMP, ZCP.
 
 use super::Step;
+use crate::CompareOp;
 use crate::Value;
-use ladder_front::isa::CompareOp;
 
 /// S1 > S2, S1 = S2, S1 < S2.
 pub fn cmp(step: &mut Step, [a, b]: [Value; 2]) -> [Value; 3] {

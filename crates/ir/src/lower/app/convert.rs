@@ -2,8 +2,8 @@
 
 use super::Step;
 use crate::lower::operand::{Operand, Units};
+use crate::CompareOp;
 use crate::{BinOp, Index, Inst, Type, UnaryOp, Value};
-use ladder_front::isa::CompareOp;
 use ladder_front::program::{Element, WordRef};
 use ladder_runtime::helpers::Helper;
 use ladder_runtime::{OperationError, Width};

@@ -6,8 +6,8 @@
 
 use super::Step;
 use crate::lower::operand::{Operand, Units};
+use crate::CompareOp;
 use crate::{BinOp, Conversion, FloatOp, FloatUnaryOp, Type, Value};
-use ladder_front::isa::CompareOp;
 use ladder_front::program::{BitRef, WordRef};
 use ladder_runtime::helpers::Helper;
 use ladder_runtime::real::RealFunction;

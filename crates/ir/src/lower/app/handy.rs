@@ -4,8 +4,8 @@
 
 use super::{Execution, Step};
 use crate::lower::operand::Units;
+use crate::CompareOp;
 use crate::{BinOp, Index, Type, Value};
-use ladder_front::isa::CompareOp;
 use ladder_front::program::{Address, BitRef, CounterRef, WordRef};
 use ladder_runtime::compiled::handy::CharacterOp;
 use ladder_runtime::helpers::{width_arg, Helper};

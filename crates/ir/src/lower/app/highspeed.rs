@@ -4,8 +4,8 @@
 
 use super::{Execution, Step};
 use crate::lower::operand::{Operand, Units};
+use crate::CompareOp;
 use crate::{Index, Type, Value};
-use ladder_front::isa::CompareOp;
 use ladder_front::program::PulseOperands;
 use ladder_front::program::{BitRef, CounterRef, WordRef};
 use ladder_runtime::helpers::{width_arg, Helper};

@@ -2,8 +2,8 @@
 
 use super::Step;
 use crate::lower::operand::Units;
+use crate::CompareOp;
 use crate::{BinOp, Inst, Type, UnaryOp, Value};
-use ladder_front::isa::CompareOp;
 use ladder_front::program::BitRef;
 use ladder_runtime::Width;
 

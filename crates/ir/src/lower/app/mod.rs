@@ -27,8 +27,9 @@ mod zone;
 
 use super::operand::{Operand, Units};
 use super::Lowering;
+use crate::CompareOp;
 use crate::{BinOp, BlockId, Builder, Index, Inst, Terminator, Type, Value};
-use ladder_front::isa::{AppArgs, CompareOp};
+use ladder_front::isa::AppArgs;
 use ladder_front::program::{Address, AppInstruction, BitRef, WordRef};
 use ladder_runtime::special::SpecialBit;
 use ladder_runtime::{OperationError, Width};

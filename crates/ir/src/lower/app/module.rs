@@ -3,8 +3,8 @@
 
 use super::Step;
 use crate::lower::operand::{Operand, Units};
+use crate::CompareOp;
 use crate::{BinOp, Index, Type};
-use ladder_front::isa::CompareOp;
 use ladder_front::program::WordRef;
 use ladder_runtime::device::{BUFFER_UNITS, BUFFER_WORDS_PER_UNIT};
 use ladder_runtime::helpers::{width_arg, Helper};

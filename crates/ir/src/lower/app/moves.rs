@@ -2,8 +2,8 @@
 
 use super::Step;
 use crate::lower::operand::Units;
+use crate::CompareOp;
 use crate::{Type, Value};
-use ladder_front::isa::CompareOp;
 use ladder_front::program::{BitRef, DigitGroup, WordRef};
 use ladder_runtime::device::MAX_BLOCK_UNITS;
 use ladder_runtime::helpers::{self, Helper};

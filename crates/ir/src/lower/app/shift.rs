@@ -2,8 +2,8 @@
 
 use super::Step;
 use crate::lower::operand::Units;
+use crate::CompareOp;
 use crate::{BinOp, Index, Type};
-use ladder_front::isa::CompareOp;
 use ladder_front::program::{BitRef, WordRef};
 use ladder_runtime::device::MAX_SHIFT_BITS;
 use ladder_runtime::helpers::Helper;

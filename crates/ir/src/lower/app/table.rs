@@ -3,8 +3,8 @@
 
 use super::{Execution, Step};
 use crate::lower::operand::{Operand, Units};
+use crate::CompareOp;
 use crate::{BinOp, Type, Value};
-use ladder_front::isa::CompareOp;
 use ladder_front::program::WordRef;
 use ladder_runtime::compiled::TableOp;
 use ladder_runtime::device::{COUNTER_COUNT, FIRST_WIDE_COUNTER};
