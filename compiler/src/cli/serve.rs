@@ -170,97 +170,15 @@ enum ServeEngine {
 }
 
 pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
-    for (flag, address) in [
-        ("--modbus", args.modbus),
-        ("--http", args.http),
-        ("--opcua", args.opcua),
-        ("--melsec", args.melsec),
-    ] {
-        if let Some(address) = address {
-            if !address.ip().is_loopback() && !args.allow_remote {
-                say_err!("error: {flag} {address} is not a loopback address; add --allow-remote to serve the network");
-                return status::UNUSABLE;
-            }
-        }
-    }
-    if !(1..=60_000).contains(&args.scan_ms) {
-        say_err!("error: --scan-ms is 1 to 60000");
-        return status::UNUSABLE;
-    }
-    let ranges = match args.latch.as_deref().map(ladder_serve::retain::parse_latch_list) {
-        None => ladder_serve::retain::fx3u_defaults(),
-        Some(Ok(ranges)) => ranges,
-        Some(Err(message)) => {
-            say_err!("error: --latch: {message}");
-            return status::UNUSABLE;
-        }
-    };
-    if args.opcua_devices.is_some() && args.opcua.is_none() {
-        say_err!("error: --opcua-devices names what --opcua ADDRESS publishes; add --opcua");
-        return status::UNUSABLE;
-    }
-    if !(10..=3_600_000).contains(&args.retain_ms) {
-        say_err!("error: --retain-ms is 10 to 3600000");
-        return status::UNUSABLE;
-    }
-    let modbus_rtu = match args
-        .modbus_rtu
-        .as_deref()
-        .map(ladder_modbus::rtu::parse_port)
-        .transpose()
-    {
-        Ok(line) => line,
+    let options = match options(args) {
+        Ok(options) => options,
         Err(message) => {
-            say_err!("error: --modbus-rtu: {message}");
+            say_err!("error: {message}");
             return status::UNUSABLE;
         }
-    };
-    if !(1..=247).contains(&args.modbus_unit) {
-        say_err!("error: --modbus-unit is 1 to 247 (0 is the broadcast address)");
-        return status::UNUSABLE;
-    }
-    let modbus_rtu = modbus_rtu.map(|(path, format)| ladder_serve::modbus_rtu::Line {
-        path,
-        format,
-        unit: args.modbus_unit,
-    });
-    let mut modbus_write_from = Vec::new();
-    for text in &args.modbus_write_from {
-        let parsed = text
-            .trim()
-            .parse::<ipnet::IpNet>()
-            .or_else(|_| text.trim().parse::<std::net::IpAddr>().map(ipnet::IpNet::from));
-        match parsed {
-            Ok(net) => modbus_write_from.push(net),
-            Err(_) => {
-                say_err!("error: --modbus-write-from: `{text}` is not an address or a network like 192.168.1.0/24");
-                return status::UNUSABLE;
-            }
-        }
-    }
-    let opcua_devices = match args
-        .opcua
-        .map(|_| ladder_serve::opcua_devices(args.opcua_devices.as_deref()))
-        .transpose()
-    {
-        Ok(devices) => devices.unwrap_or_default(),
-        Err(message) => {
-            say_err!("error: --opcua-devices: {message}");
-            return status::UNUSABLE;
-        }
-    };
-    let token = match &args.token_file {
-        Some(path) => match ladder_serve::access::read_token_file(path) {
-            Ok(token) => Some(token),
-            Err(message) => {
-                say_err!("error: {message}");
-                return status::UNUSABLE;
-            }
-        },
-        None => None,
     };
     if let Some(address) = args.http {
-        if !address.ip().is_loopback() && token.is_none() && !args.read_only {
+        if !address.ip().is_loopback() && options.access.token.is_none() && !args.read_only {
             say_err!("note: no --token-file: HTTP writes are taken from loopback only");
         }
     }
@@ -279,7 +197,58 @@ pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
     let Some(program) = program else {
         return status::FAILED;
     };
-    let options = ServeOptions {
+    match serve(program, &source, &options) {
+        Ok(stats) => {
+            say_err!(
+                "{} scans: scan time min {:.1} µs, average {:.1} µs, max {:.1} µs; start jitter up to {:.2} ms; {} overruns",
+                stats.scans,
+                stats.min.unwrap_or_default().as_secs_f64() * 1e6,
+                stats.average().as_secs_f64() * 1e6,
+                stats.max.as_secs_f64() * 1e6,
+                stats.jitter.as_secs_f64() * 1e3,
+                stats.overruns
+            );
+            status::OK
+        }
+        Err(message) => {
+            say_err!("error: {message}");
+            status::UNUSABLE
+        }
+    }
+}
+
+/// The flags checked and made the server's options; `Err` is what the
+/// first wrong flag is told (each is checked in this order, before the
+/// program is read).
+fn options(args: &ServeArgs) -> Result<ServeOptions, String> {
+    check_addresses(args)?;
+    if !(1..=60_000).contains(&args.scan_ms) {
+        return Err("--scan-ms is 1 to 60000".to_string());
+    }
+    let ranges = match args.latch.as_deref() {
+        None => ladder_serve::retain::fx3u_defaults(),
+        Some(list) => ladder_serve::retain::parse_latch_list(list).map_err(|message| format!("--latch: {message}"))?,
+    };
+    if args.opcua_devices.is_some() && args.opcua.is_none() {
+        return Err("--opcua-devices names what --opcua ADDRESS publishes; add --opcua".to_string());
+    }
+    if !(10..=3_600_000).contains(&args.retain_ms) {
+        return Err("--retain-ms is 10 to 3600000".to_string());
+    }
+    let modbus_rtu = serial_line(args)?;
+    let modbus_write_from = write_networks(&args.modbus_write_from)?;
+    let opcua_devices = args
+        .opcua
+        .map(|_| ladder_serve::opcua_devices(args.opcua_devices.as_deref()))
+        .transpose()
+        .map_err(|message| format!("--opcua-devices: {message}"))?
+        .unwrap_or_default();
+    let token = args
+        .token_file
+        .as_deref()
+        .map(ladder_serve::access::read_token_file)
+        .transpose()?;
+    Ok(ServeOptions {
         period: Duration::from_millis(u64::from(args.scan_ms)),
         modbus: args.modbus,
         melsec: args.melsec,
@@ -305,23 +274,7 @@ pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
                 ladder_serve::access::Hosts::of(address, args.tls_cert.is_some(), &args.allowed_host)
             }),
         },
-        limits: ladder_serve::Limits {
-            queued_writes: args.max_queued_writes,
-            modbus: ladder_serve::modbus_tcp::ConnectionLimits {
-                connections: args.max_modbus_connections,
-                idle: Duration::from_secs(args.modbus_idle_s.max(1)),
-            },
-            melsec: ladder_serve::modbus_tcp::ConnectionLimits {
-                connections: args.max_melsec_connections,
-                idle: Duration::from_secs(args.melsec_idle_s.max(1)),
-            },
-            http: ladder_serve::guard::Bounds {
-                connections: args.max_http_connections,
-                idle: Duration::from_secs(args.http_idle_s.max(1)),
-                stall: ladder_serve::guard::STALL,
-            },
-            event_streams: args.max_event_streams,
-        },
+        limits: limits(args),
         tls: args.tls_cert.clone().zip(args.tls_key.clone()),
         opcua: args.opcua,
         opcua_devices,
@@ -329,23 +282,78 @@ pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
             ServeEngine::Interp => EngineKind::Interp,
             ServeEngine::Jit => EngineKind::Jit,
         },
-    };
-    match serve(program, &source, &options) {
-        Ok(stats) => {
-            say_err!(
-                "{} scans: scan time min {:.1} µs, average {:.1} µs, max {:.1} µs; start jitter up to {:.2} ms; {} overruns",
-                stats.scans,
-                stats.min.unwrap_or_default().as_secs_f64() * 1e6,
-                stats.average().as_secs_f64() * 1e6,
-                stats.max.as_secs_f64() * 1e6,
-                stats.jitter.as_secs_f64() * 1e3,
-                stats.overruns
-            );
-            status::OK
+    })
+}
+
+/// Every address served is loopback unless `--allow-remote`.
+fn check_addresses(args: &ServeArgs) -> Result<(), String> {
+    for (flag, address) in [
+        ("--modbus", args.modbus),
+        ("--http", args.http),
+        ("--opcua", args.opcua),
+        ("--melsec", args.melsec),
+    ] {
+        if let Some(address) = address {
+            if !address.ip().is_loopback() && !args.allow_remote {
+                return Err(format!(
+                    "{flag} {address} is not a loopback address; add --allow-remote to serve the network"
+                ));
+            }
         }
-        Err(message) => {
-            say_err!("error: {message}");
-            status::UNUSABLE
-        }
+    }
+    Ok(())
+}
+
+/// `--modbus-rtu` and `--modbus-unit`: the serial line, if any.
+fn serial_line(args: &ServeArgs) -> Result<Option<ladder_serve::modbus_rtu::Line>, String> {
+    let line = args
+        .modbus_rtu
+        .as_deref()
+        .map(ladder_modbus::rtu::parse_port)
+        .transpose()
+        .map_err(|message| format!("--modbus-rtu: {message}"))?;
+    if !(1..=247).contains(&args.modbus_unit) {
+        return Err("--modbus-unit is 1 to 247 (0 is the broadcast address)".to_string());
+    }
+    Ok(line.map(|(path, format)| ladder_serve::modbus_rtu::Line {
+        path,
+        format,
+        unit: args.modbus_unit,
+    }))
+}
+
+/// `--modbus-write-from`: networks, or addresses alone.
+fn write_networks(texts: &[String]) -> Result<Vec<ipnet::IpNet>, String> {
+    texts
+        .iter()
+        .map(|text| {
+            text.trim()
+                .parse::<ipnet::IpNet>()
+                .or_else(|_| text.trim().parse::<std::net::IpAddr>().map(ipnet::IpNet::from))
+                .map_err(|_| {
+                    format!("--modbus-write-from: `{text}` is not an address or a network like 192.168.1.0/24")
+                })
+        })
+        .collect()
+}
+
+/// What the servers hold at most, from the `--max-...` and `...-idle-s` flags.
+fn limits(args: &ServeArgs) -> ladder_serve::Limits {
+    ladder_serve::Limits {
+        queued_writes: args.max_queued_writes,
+        modbus: ladder_serve::modbus_tcp::ConnectionLimits {
+            connections: args.max_modbus_connections,
+            idle: Duration::from_secs(args.modbus_idle_s.max(1)),
+        },
+        melsec: ladder_serve::modbus_tcp::ConnectionLimits {
+            connections: args.max_melsec_connections,
+            idle: Duration::from_secs(args.melsec_idle_s.max(1)),
+        },
+        http: ladder_serve::guard::Bounds {
+            connections: args.max_http_connections,
+            idle: Duration::from_secs(args.http_idle_s.max(1)),
+            stall: ladder_serve::guard::STALL,
+        },
+        event_streams: args.max_event_streams,
     }
 }

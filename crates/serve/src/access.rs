@@ -13,7 +13,7 @@
 //!   `Sec-Fetch-Site`, when sent, `same-origin` or `none`. Clients that are
 //!   not browsers send neither and are judged by what follows. (A program
 //!   upload cannot be a request a browser sends without asking first: its
-//!   content type is checked where it is taken, `http::program`.)
+//!   content type is checked where it is taken, `http::program::upload`.)
 //!
 //! Then, with `--token-file`, every write needs the token as `Authorization:
 //! Bearer TOKEN` (the scheme in any case), from every peer — a process on

@@ -7,7 +7,12 @@
 //! of equal texts); new edge instructions start OFF. Instance states
 //! (pulse outputs, high-speed compares, HOUR, PID, ...) move the same way;
 //! an output driven by an instruction that is gone is released.
+//!
+//! A new program comes as text (an upload over HTTP, `--watch-file`):
+//! `accept` compiles it off the scan thread and refuses one that does not
+//! compile or drives nothing, so the running program goes on.
 
+use ladder_front::diagnostics::{render_all, Code, Diagnostic, Shown};
 use ladder_front::isa::app::Keeps;
 use ladder_front::program::{CheckedProgram, Contact, Logic, Op, Output};
 use ladder_front::source::SourceFile;
@@ -123,6 +128,42 @@ impl Loaded {
         }
         Ok(self)
     }
+}
+
+/// Why a new program is refused; the running one goes on.
+#[derive(Debug)]
+pub enum Refusal {
+    /// It does not compile: its diagnostics, rendered.
+    DoesNotCompile(String),
+    /// It drives nothing (W0004) and was not said to be meant: its
+    /// diagnostics, rendered.
+    DrivesNothing(String),
+    /// The native code generator failed on it: why.
+    Native(String),
+}
+
+/// A new program's text for online change: compiled (in the caller's
+/// thread, not the scan thread), refused when it does not compile or, unless
+/// `allow_empty`, drives nothing, and compiled to native code when `native`
+/// (see `Loaded::precompile`). `name` is the name its diagnostics give.
+pub fn accept(name: impl Into<String>, bytes: &[u8], allow_empty: bool, native: bool) -> Result<Loaded, Refusal> {
+    // Decoded as the command line reads files (a byte-order mark, UTF-16).
+    let source = SourceFile::from_bytes(name, bytes);
+    let (program, diagnostics) = ladder_front::check::compile_source(&source);
+    let shown = || render_all(&source, &diagnostics, Shown::default());
+    match program {
+        Some(_) if !allow_empty && drives_nothing(&diagnostics) => Err(Refusal::DrivesNothing(shown())),
+        Some(program) => Loaded::new(program, &source)
+            .precompile(native)
+            .map_err(Refusal::Native),
+        None => Err(Refusal::DoesNotCompile(shown())),
+    }
+}
+
+/// An empty program, or one that writes no device (W0004): refused for
+/// online change unless the upload says it is meant.
+fn drives_nothing(diagnostics: &[Diagnostic]) -> bool {
+    diagnostics.iter().any(|d| d.code == Code::DrivesNothing)
 }
 
 /// The previous-scan slot an instruction owns, if any.

@@ -51,8 +51,9 @@ fn kind_of(signal: &Signal) -> Kind {
         return Kind::Float;
     }
     match (signal.device.device, signal.device.width) {
-        (Device::Bit(..) | Device::WordBit(..), _) => Kind::Boolean,
-        (Device::WideCounter(_), _) | (_, Width::Double) => Kind::Int32,
+        (Device::Bit(..) | Device::WordBit(..), Width::Single | Width::Double) => Kind::Boolean,
+        (Device::WideCounter(_), Width::Single | Width::Double)
+        | (Device::Word(..) | Device::Digits(..), Width::Double) => Kind::Int32,
         (Device::Word(..) | Device::Digits(..), Width::Single) => Kind::Int16,
     }
 }
@@ -69,6 +70,8 @@ fn variant(kind: Kind, raw: i32) -> Variant {
 /// The raw value a client's variant writes, if it has the variable's type
 /// (integers of another width are taken when they fit).
 fn raw_of(kind: Kind, value: &Variant) -> Option<i32> {
+    // async-opcua's values: any other type (strings, arrays, ...) is no integer.
+    #[allow(clippy::wildcard_enum_match_arm)]
     let integer = match value {
         Variant::Boolean(b) => Some(i64::from(*b)),
         Variant::SByte(v) => Some(i64::from(*v)),
@@ -89,11 +92,18 @@ fn raw_of(kind: Kind, value: &Variant) -> Option<i32> {
         },
         Kind::Int16 => integer.and_then(|n| i16::try_from(n).ok().map(i32::from)),
         Kind::Int32 => integer.and_then(|n| i32::try_from(n).ok()),
-        Kind::Float => match value {
-            Variant::Float(f) => Some(f.to_bits() as i32),
-            Variant::Double(d) => Some((*d as f32).to_bits() as i32),
-            _ => None,
-        },
+        Kind::Float => real_of(value),
+    }
+}
+
+/// A real number's bits: a Float, or a Double rounded to one.
+// async-opcua's values: any other type is no real number.
+#[allow(clippy::wildcard_enum_match_arm)]
+fn real_of(value: &Variant) -> Option<i32> {
+    match value {
+        Variant::Float(f) => Some(f.to_bits() as i32),
+        Variant::Double(d) => Some((*d as f32).to_bits() as i32),
+        _ => None,
     }
 }
 

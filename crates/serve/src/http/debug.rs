@@ -2,8 +2,8 @@
 //! running program and the states of the rungs on screen, the RUN/STOP
 //! switch, pause and step, and breakpoints.
 
-use super::http::{error, App};
-use super::shared::Shared;
+use super::{error, App};
+use crate::shared::Shared;
 use axum::extract::{Query, State};
 use axum::http::{header, StatusCode};
 use axum::response::{IntoResponse, Response};
