@@ -1,6 +1,7 @@
-//! Device areas: what kinds of devices exist, how many of each, and how they
-//! are numbered. The compiler's checker, the interpreter, the native code and
-//! the C API all take their ranges from here.
+//! Device areas: what kinds of devices exist, how many of each, how they
+//! are numbered, and the widths of their values. The compiler's checker,
+//! the interpreter, the native code and the C API all take their ranges
+//! from here.
 
 /// Areas whose elements are single bits (stored one byte per bit, 0 or 1).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -213,6 +214,31 @@ impl WordArea {
     }
 }
 
+/// How many bits a value covers: an instruction's form (16 or 32 bits),
+/// a host access, a counter's value.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Width {
+    /// One bit, or one 16-bit word.
+    Single,
+    /// A 32-bit pair (n+1, n) of words, or a 32-bit device.
+    Double,
+}
+
+impl Width {
+    /// 16-bit words in a value of this width.
+    pub const fn words(self) -> u32 {
+        match self {
+            Width::Single => 1,
+            Width::Double => 2,
+        }
+    }
+
+    /// Bits in a word value of this width.
+    pub const fn bits(self) -> u32 {
+        16 * self.words()
+    }
+}
+
 /// Timer behaviour fixed by its number.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct TimerClass {
@@ -246,11 +272,11 @@ pub const fn is_wide_counter(counter: u32) -> bool {
 }
 
 /// The width of a counter's value and preset: 32 bits from C200 on.
-pub const fn counter_width(counter: u32) -> crate::Width {
+pub const fn counter_width(counter: u32) -> Width {
     if is_wide_counter(counter) {
-        crate::Width::Double
+        Width::Double
     } else {
-        crate::Width::Single
+        Width::Single
     }
 }
 

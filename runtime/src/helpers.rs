@@ -14,8 +14,7 @@
 
 use crate::capi::LadderMemory;
 use crate::compiled::{self, SortJob, TableOp, Zone};
-use crate::device::BitArea;
-use crate::host::Width;
+use crate::device::{BitArea, Width};
 use crate::image::ImageMut;
 use crate::layout::Array;
 use crate::machine::MachineUse;

@@ -6,7 +6,7 @@
 //! `write_composite` work over any `BasicAccess`: the image in this process,
 //! or a compiled program's image in another process.
 
-use crate::device::{BitArea, WordArea, FIRST_WIDE_COUNTER};
+use crate::device::{BitArea, Width, WordArea, FIRST_WIDE_COUNTER};
 use crate::image::{AsImage, Image, ImageMut, ImageRef};
 use crate::layout::Array;
 use crate::memory::{join_words, split_words, Memory};
@@ -22,30 +22,6 @@ pub enum Device {
     Digits(BitArea, u32, u8),
     /// Current value of a 32-bit counter C200–C255 (device number).
     WideCounter(u32),
-}
-
-/// How many bits a host access covers.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Width {
-    /// One bit, or one 16-bit word.
-    Single,
-    /// A 32-bit pair (n+1, n) of words, or a 32-bit device.
-    Double,
-}
-
-impl Width {
-    /// 16-bit words in a value of this width.
-    pub const fn words(self) -> u32 {
-        match self {
-            Width::Single => 1,
-            Width::Double => 2,
-        }
-    }
-
-    /// Bits in a word value of this width.
-    pub const fn bits(self) -> u32 {
-        16 * self.words()
-    }
 }
 
 impl Device {

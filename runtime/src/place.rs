@@ -3,8 +3,7 @@
 //! is in range (with their own offset rules); reading and writing a place is
 //! the same for all of them.
 
-use crate::device::{BitArea, WordArea};
-use crate::host::Width;
+use crate::device::{BitArea, Width, WordArea};
 use crate::image::{AsImage, AsImageMut, ImageMut};
 use crate::layout::Array;
 #[cfg(test)]

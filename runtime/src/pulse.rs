@@ -34,14 +34,13 @@
 //! and DSZR read their operands at every execution. A value changed while
 //! the output runs takes effect at the next drive.
 
-use crate::device::PULSE_OUTPUTS;
+use crate::device::{Width, PULSE_OUTPUTS};
 use crate::image::{Image, ImageMut};
 use crate::layout::{Array, Scalar};
 use crate::memory::InstanceState;
 #[cfg(test)]
 use crate::memory::Memory;
 use crate::place::Place;
-use crate::Width;
 
 pub use crate::special::M_EXECUTION_COMPLETE;
 /// D8340: the current address of Y0 (a pair); Y1-Y3 follow every 10.

@@ -14,6 +14,7 @@
 //! its own and compares the whole image with the interpreter's after every
 //! scan.
 
+pub mod cc;
 mod function;
 mod prelude;
 pub mod targets;

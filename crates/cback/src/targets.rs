@@ -2,8 +2,6 @@
 //! system's cross compiler for them: 32-bit Arm microcontrollers and Linux
 //! controllers, RISC-V microcontrollers.
 
-use std::process::Command;
-
 /// A target of the C route: its triple, the compilers that build for it
 /// (the first one found is used) and their flags.
 pub struct CTarget {
@@ -70,12 +68,10 @@ pub fn c_target(triple: &str) -> Option<&'static CTarget> {
 impl CTarget {
     /// The first of its compilers that runs on this machine.
     pub fn find_compiler(&self) -> Option<&'static str> {
-        self.compilers.iter().copied().find(|compiler| {
-            Command::new(compiler)
-                .arg("--version")
-                .output()
-                .is_ok_and(|output| output.status.success())
-        })
+        self.compilers
+            .iter()
+            .copied()
+            .find(|compiler| crate::cc::runs(compiler))
     }
 
     /// The command line that builds `file` (a C file of the back end).
@@ -89,21 +85,14 @@ impl CTarget {
         let c = work.path().join("program.c");
         let object = work.path().join("program.o");
         std::fs::write(&c, source).map_err(|e| e.to_string())?;
-        let output = Command::new(compiler)
-            .args(["-std=c99", "-O2"])
-            .args(self.flags)
-            .arg("-c")
-            .arg(&c)
-            .arg("-o")
-            .arg(&object)
-            .output()
-            .map_err(|e| format!("cannot run {compiler}: {e}"))?;
-        if !output.status.success() {
-            return Err(format!(
-                "{compiler} failed on the generated C:\n{}",
-                String::from_utf8_lossy(&output.stderr)
-            ));
-        }
+        crate::cc::run(compiler, &format!("{compiler} failed on the generated C"), |cc| {
+            cc.args(["-std=c99", "-O2"])
+                .args(self.flags)
+                .arg("-c")
+                .arg(&c)
+                .arg("-o")
+                .arg(&object);
+        })?;
         std::fs::read(&object).map_err(|e| e.to_string())
     }
 }

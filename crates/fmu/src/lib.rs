@@ -20,7 +20,6 @@ use ladder_engine::pipeline::{self, ImageRequest};
 use ladder_front::program::CheckedProgram;
 use std::io::Write as _;
 use std::path::Path;
-use std::process::Command;
 
 const CORE_C: &str = include_str!("c/core.c");
 const FMI3_C: &str = include_str!("c/fmi3.c");
@@ -171,30 +170,22 @@ pub fn build(program: &CheckedProgram, options: &FmuOptions) -> Result<Vec<u8>, 
 }
 
 fn link(compiler: &str, dir: &Path, runtime: &Path, library: &Path) -> Result<(), String> {
-    let output = Command::new(compiler)
-        .current_dir(dir)
-        .args(["-std=c99", "-O2", "-fPIC", "-shared", "-fvisibility=hidden", "-I", "."])
-        .args(["fmi.c", "program.o"])
-        .arg(runtime)
-        .args([
-            "-Wl,--version-script=exports.map",
-            "-Wl,--exclude-libs,ALL",
-            "-Wl,--no-undefined",
-            "-s",
-        ])
-        .args(toolchain::NATIVE_LIBS)
-        .arg("-o")
-        .arg(library)
-        .output()
-        .map_err(|e| format!("cannot run {compiler}: {e}"))?;
-    if output.status.success() {
-        Ok(())
-    } else {
-        Err(format!(
-            "linking the FMU's library failed ({compiler}):\n{}",
-            String::from_utf8_lossy(&output.stderr)
-        ))
-    }
+    let failed = format!("linking the FMU's library failed ({compiler})");
+    toolchain::cc::run(compiler, &failed, |cc| {
+        cc.current_dir(dir)
+            .args(["-std=c99", "-O2", "-fPIC", "-shared", "-fvisibility=hidden", "-I", "."])
+            .args(["fmi.c", "program.o"])
+            .arg(runtime)
+            .args([
+                "-Wl,--version-script=exports.map",
+                "-Wl,--exclude-libs,ALL",
+                "-Wl,--no-undefined",
+                "-s",
+            ])
+            .args(toolchain::NATIVE_LIBS)
+            .arg("-o")
+            .arg(library);
+    })
 }
 
 /// The `.fmu` file: a zip archive of `files` (name, bytes).

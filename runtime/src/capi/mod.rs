@@ -16,9 +16,9 @@
 //! the program sees the input at the next scan's input refresh, never in the
 //! middle of a scan. Different images are independent.
 
-use crate::device::{index_register_word, BitArea, WordArea, FIRST_WIDE_COUNTER, INDEX_REGISTER_COUNT};
+use crate::device::{index_register_word, BitArea, Width, WordArea, FIRST_WIDE_COUNTER, INDEX_REGISTER_COUNT};
 use crate::force::ForceError;
-use crate::host::{AccessError, Basic, BasicAccess, Device, Width};
+use crate::host::{AccessError, Basic, BasicAccess, Device};
 use crate::image::{ImageMut, ImageRef};
 use crate::layout::{Array, Layout, Scalar, MEMORY_ALIGN, MEMORY_SIZE};
 #[cfg(test)]

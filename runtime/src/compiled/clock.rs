@@ -3,7 +3,7 @@
 //! written apart from them. Places are checked by the caller.
 
 use crate::calendar::{full_year, CalendarTime};
-use crate::host::Width;
+use crate::device::Width;
 use crate::image::ImageMut;
 use crate::layout::Scalar;
 use crate::place::Place;

@@ -3,7 +3,7 @@
 //! interpreter's kernels, written apart from them. Places and counts are
 //! checked by the caller.
 
-use crate::host::Width;
+use crate::device::Width;
 use crate::image::ImageMut;
 use crate::layout::{Array, Scalar};
 use crate::memory::InstanceState;

@@ -1,7 +1,7 @@
 //! SPD in compiled code: the rule of the interpreter's kernel, written
 //! apart from it.
 
-use crate::host::Width;
+use crate::device::Width;
 use crate::image::ImageMut;
 use crate::layout::{Array, Scalar};
 use crate::place::Place;

@@ -16,8 +16,7 @@ mod real;
 
 pub use real::{decimal_to_real, real_function, real_to_decimal};
 
-use crate::device::{BitArea, WordArea, MAX_BLOCK_UNITS, MAX_SHIFT_BITS, MAX_TRANSFER_UNITS, SORT_INSTANCES};
-use crate::host::Width;
+use crate::device::{BitArea, Width, WordArea, MAX_BLOCK_UNITS, MAX_SHIFT_BITS, MAX_TRANSFER_UNITS, SORT_INSTANCES};
 use crate::image::ImageMut;
 use crate::layout::Array;
 use crate::place::Place;

@@ -2,7 +2,7 @@
 //! area, written apart from it, with the same floating-point expressions in
 //! the same order so that every engine agrees bit for bit.
 
-use crate::host::Width;
+use crate::device::Width;
 use crate::image::ImageMut;
 use crate::layout::Scalar;
 use crate::place::Place;

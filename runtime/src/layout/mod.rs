@@ -1,9 +1,10 @@
 //! Where everything lives in a device image.
 //!
-//! An image is a header (`ImageHeader`: which layout it has), the scan's
-//! scalars (elapsed time, scan count, ...; at the same offsets in every
-//! image) and arrays (`Array`): the device areas and the bookkeeping the
-//! scan keeps per timer, counter, state, edge instruction, ... An array is
+//! An image is a header (`ImageHeader`: which layout it has; declared with
+//! `Memory`, whose first field it is), the scan's scalars (elapsed time,
+//! scan count, ...; at the same offsets in every image) and arrays
+//! (`Array`): the device areas and the bookkeeping the scan keeps per
+//! timer, counter, state, edge instruction, ... An array is
 //! cut into segments (`SEGMENTS`) where a program uses parts apart: M0-M7999
 //! and the special relays M8000-M8511, D likewise, the 16-bit and the
 //! 32-bit counters, the buffer memory of each unit.
@@ -16,6 +17,8 @@
 //! its layout (`image.rs`), so both are served by the same code. `array.rs`
 //! declares the arrays, `compact.rs` builds compact layouts.
 
+pub use crate::memory::{ImageHeader, COMPACT_MAGIC, FULL_MAGIC};
+
 use crate::memory::Memory;
 use bytemuck::{Pod, Zeroable};
 use core::mem::offset_of;
@@ -25,7 +28,8 @@ pub const MEMORY_SIZE: usize = size_of::<Memory>();
 /// Alignment of every image in bytes.
 pub const MEMORY_ALIGN: usize = align_of::<Memory>();
 
-/// The version of this file's rules: arrays, segments, header, scalars.
+/// The version of this file's rules: arrays, segments, header (`memory.rs`),
+/// scalars.
 /// Layout tables carry it; the runtime refuses a table of another version.
 pub const LAYOUT_VERSION: u32 = 6;
 
@@ -40,37 +44,6 @@ pub const TAGGED_BEGIN_SCAN: &str = "ladder_rt_begin_scan_v6_668580";
 
 /// The end-scan entry compiled objects call; carries the layout tag.
 pub const TAGGED_END_SCAN: &str = "ladder_rt_end_scan_v6_668580";
-
-/// `ImageHeader::magic` of an image with the full layout ("LDRF").
-pub const FULL_MAGIC: u32 = u32::from_le_bytes(*b"LDRF");
-/// `ImageHeader::magic` of an image with a compact layout ("LDRC").
-pub const COMPACT_MAGIC: u32 = u32::from_le_bytes(*b"LDRC");
-
-/// The first bytes of every image: which layout the rest has. Written by
-/// `ladder_init` or `ladder_init_layout`; an image whose magic is neither
-/// (storage that was never initialised) is refused by every entry point.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Zeroable, Pod)]
-#[repr(C)]
-pub struct ImageHeader {
-    /// `FULL_MAGIC` or `COMPACT_MAGIC`.
-    pub magic: u32,
-    /// Bytes of the image.
-    pub size: u32,
-    /// A compact image's layout table, by address (low and high 32 bits);
-    /// 0 for the full layout.
-    pub layout_low: u32,
-    pub layout_high: u32,
-}
-
-impl ImageHeader {
-    /// The header of a full image.
-    pub const FULL: ImageHeader = ImageHeader {
-        magic: FULL_MAGIC,
-        size: MEMORY_SIZE as u32,
-        layout_low: 0,
-        layout_high: 0,
-    };
-}
 
 /// Bytes of the header.
 pub const HEADER_SIZE: usize = size_of::<ImageHeader>();

@@ -1,6 +1,8 @@
 //! What building a native host needs: a C compiler and the runtime's static
-//! library, found on this machine.
+//! library, found on this machine. The compiler runs through `cc` (the C
+//! back end's), re-exported here for the FMU.
 
+pub use ladder_cback::cc;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -19,9 +21,10 @@ pub fn c_compiler() -> Result<String, String> {
         return Ok(compiler.clone());
     }
     let compiler = std::env::var("CC").unwrap_or_else(|_| "cc".to_string());
-    match Command::new(&compiler).arg("--version").output() {
-        Ok(output) if output.status.success() => Ok(FOUND.get_or_init(|| compiler).clone()),
-        _ => Err(format!("no C compiler found (tried `{compiler}`; set CC)")),
+    if cc::runs(&compiler) {
+        Ok(FOUND.get_or_init(|| compiler).clone())
+    } else {
+        Err(format!("no C compiler found (tried `{compiler}`; set CC)"))
     }
 }
 
@@ -87,26 +90,17 @@ pub fn link_host(
 ) -> Result<(), String> {
     std::fs::write(work.join("ladder_runtime.h"), RUNTIME_HEADER).map_err(|e| e.to_string())?;
     let library = shared_runtime(compiler, runtime).unwrap_or_else(|| runtime.to_path_buf());
-    let result = Command::new(compiler)
-        .args(["-std=c99", "-O2"])
-        .args(fast_linker(compiler))
-        .arg("-I")
-        .arg(work)
-        .args(sources)
-        .arg(library)
-        .args(NATIVE_LIBS)
-        .arg("-o")
-        .arg(output)
-        .output()
-        .map_err(|e| format!("cannot run {compiler}: {e}"))?;
-    if result.status.success() {
-        Ok(())
-    } else {
-        Err(format!(
-            "linking the host failed:\n{}",
-            String::from_utf8_lossy(&result.stderr)
-        ))
-    }
+    cc::run(compiler, "linking the host failed", |cc| {
+        cc.args(["-std=c99", "-O2"])
+            .args(fast_linker(compiler))
+            .arg("-I")
+            .arg(work)
+            .args(sources)
+            .arg(library)
+            .args(NATIVE_LIBS)
+            .arg("-o")
+            .arg(output);
+    })
 }
 
 /// The runtime archive as a shared library, made once beside it and kept
@@ -144,17 +138,16 @@ fn make_shared_runtime(compiler: &str, runtime: &Path) -> Option<PathBuf> {
         ".libladder_runtime_shared-{stamp}.{}.partial",
         std::process::id()
     ));
-    let status = Command::new(compiler)
-        .args(fast_linker(compiler))
-        .args(["-shared", "-o"])
-        .arg(&partial)
-        .arg("-Wl,--whole-archive")
-        .arg(runtime)
-        .arg("-Wl,--no-whole-archive")
-        .args(NATIVE_LIBS)
-        .output()
-        .ok()?;
-    if !status.status.success() || std::fs::rename(&partial, &shared).is_err() {
+    let made = cc::run(compiler, "making the shared runtime failed", |cc| {
+        cc.args(fast_linker(compiler))
+            .args(["-shared", "-o"])
+            .arg(&partial)
+            .arg("-Wl,--whole-archive")
+            .arg(runtime)
+            .arg("-Wl,--no-whole-archive")
+            .args(NATIVE_LIBS);
+    });
+    if made.is_err() || std::fs::rename(&partial, &shared).is_err() {
         let _ = std::fs::remove_file(&partial);
         return None;
     }
@@ -229,14 +222,10 @@ fn links_with(compiler: &str, flags: &[String]) -> bool {
         return false;
     }
     let program = work.path().join("probe");
-    let linked = Command::new(compiler)
-        .args(flags)
-        .arg(&source)
-        .arg("-o")
-        .arg(&program)
-        .output()
-        .is_ok_and(|o| o.status.success());
-    linked && Command::new(&program).status().is_ok_and(|s| s.success())
+    let linked = cc::run(compiler, "the probe did not link", |cc| {
+        cc.args(flags).arg(&source).arg("-o").arg(&program);
+    });
+    linked.is_ok() && Command::new(&program).status().is_ok_and(|s| s.success())
 }
 
 /// The scenario host's C source compiled once per process (an object's
@@ -255,20 +244,13 @@ pub fn compiled_once(compiler: &str, name: &str, source: &str) -> Result<Vec<u8>
             let c = work.path().join(format!("{name}.c"));
             let object = work.path().join(format!("{name}.o"));
             std::fs::write(&c, source).map_err(|e| e.to_string())?;
-            let output = Command::new(compiler)
-                .args(["-std=c99", "-O2", "-c", "-I"])
-                .arg(work.path())
-                .arg(&c)
-                .arg("-o")
-                .arg(&object)
-                .output()
-                .map_err(|e| format!("cannot run {compiler}: {e}"))?;
-            if !output.status.success() {
-                return Err(format!(
-                    "compiling {name}.c failed:\n{}",
-                    String::from_utf8_lossy(&output.stderr)
-                ));
-            }
+            cc::run(compiler, &format!("compiling {name}.c failed"), |cc| {
+                cc.args(["-std=c99", "-O2", "-c", "-I"])
+                    .arg(work.path())
+                    .arg(&c)
+                    .arg("-o")
+                    .arg(&object);
+            })?;
             std::fs::read(&object).map_err(|e| e.to_string())
         })
         .clone()

@@ -1,7 +1,8 @@
 //! Operands of application instructions: each declared operand resolved by
 //! its kind, then checked against its device table.
 
-use super::operands::{self, Resolved};
+use super::devices::Resolved;
+use super::{operands, words};
 use crate::diagnostics::{Code, Diagnostic, Diagnostics};
 use crate::isa::app::ResolveOperand;
 use crate::isa::{DeviceClass, Devices, OperandKind};
@@ -111,14 +112,14 @@ fn resolve_kind(operand: &Operand, kind: OperandKind, width: Width) -> Resolved<
 
 fn resolve_any(operand: &Operand, kind: OperandKind, width: Width) -> Resolved<AppOperand> {
     Ok(match kind {
-        OperandKind::Source => AppOperand::Word(operands::word_source(operand, width)?),
-        OperandKind::Count => AppOperand::Word(operands::word_source(operand, Width::Single)?),
+        OperandKind::Source => AppOperand::Word(words::word_source(operand, width)?),
+        OperandKind::Count => AppOperand::Word(words::word_source(operand, Width::Single)?),
         OperandKind::Destination | OperandKind::Modified => {
-            AppOperand::Word(operands::word_destination(operand, width, 1)?)
+            AppOperand::Word(words::word_destination(operand, width, 1)?)
         }
-        OperandKind::DoubleDestination => AppOperand::Word(operands::word_destination(operand, width, 2)?),
-        OperandKind::BlockSource => AppOperand::Word(operands::word_device_source(operand, width)?),
-        OperandKind::BlockDestination => AppOperand::Word(operands::word_destination(operand, width, 1)?),
+        OperandKind::DoubleDestination => AppOperand::Word(words::word_destination(operand, width, 2)?),
+        OperandKind::BlockSource => AppOperand::Word(words::word_device_source(operand, width)?),
+        OperandKind::BlockDestination => AppOperand::Word(words::word_destination(operand, width, 1)?),
         OperandKind::BitDestination | OperandKind::BitModified => AppOperand::Bit(operands::bit_target(operand)?),
         OperandKind::BitSource => AppOperand::Bit(operands::bit_source(operand)?),
         OperandKind::BitTriple => AppOperand::Bit(operands::bit_triple(operand)?),
@@ -126,18 +127,18 @@ fn resolve_any(operand: &Operand, kind: OperandKind, width: Width) -> Resolved<A
         OperandKind::ElementDestination => AppOperand::Element(operands::element(operand, true)?),
         OperandKind::RangeEnd => AppOperand::RangeEnd(operands::range_end(operand)?),
         OperandKind::DigitSource => {
-            AppOperand::Digits(operands::digit_group(operands::word_source(operand, width)?, operand)?)
+            AppOperand::Digits(words::digit_group(words::word_source(operand, width)?, operand)?)
         }
-        OperandKind::DigitDestination => AppOperand::Digits(operands::digit_group(
-            operands::word_destination(operand, width, 1)?,
+        OperandKind::DigitDestination => AppOperand::Digits(words::digit_group(
+            words::word_destination(operand, width, 1)?,
             operand,
         )?),
-        OperandKind::TableEnd => AppOperand::Word(operands::table_end(operand, width)?),
-        OperandKind::ByteSource => AppOperand::Word(operands::byte_source(operand)?),
+        OperandKind::TableEnd => AppOperand::Word(words::table_end(operand, width)?),
+        OperandKind::ByteSource => AppOperand::Word(words::byte_source(operand)?),
         OperandKind::Timer => AppOperand::Timer(operands::timer(operand)?),
-        OperandKind::RealSource => AppOperand::Word(operands::real_source(operand)?),
+        OperandKind::RealSource => AppOperand::Word(words::real_source(operand)?),
         OperandKind::RealDestination | OperandKind::RealModified => {
-            AppOperand::Word(operands::word_destination(operand, Width::Double, 1)?)
+            AppOperand::Word(words::word_destination(operand, Width::Double, 1)?)
         }
         OperandKind::HighSpeedCounter => AppOperand::Counter(operands::high_speed_counter(operand)?),
         OperandKind::CounterPair => AppOperand::Counter(operands::counter_pair(operand)?),

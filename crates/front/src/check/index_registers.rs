@@ -2,16 +2,24 @@
 //! `DEVVn` (the same run-time offset as `DEV[Dk]`), and `Vn`/`Zn` as words,
 //! where a 32-bit `Zn` is the pair (Vn, Zn).
 
-use super::operands::{area_text_words, check_extent, kind_error, text_of, Resolved};
+use super::devices::{area_text_words, check_extent, kind_error, text_of, Resolved};
 use crate::diagnostics::{Code, Diagnostic};
 use crate::program::{Address, IndexRegister, WordRef};
 use crate::syntax::{DeviceSyntax, OffsetKind, Operand, Prefix};
 use ladder_runtime::device::{index_register_word, INDEX_REGISTER_COUNT};
 use ladder_runtime::WordArea;
 
+/// The device's number with its index register, if it has one.
+pub(super) fn indexed(d: &DeviceSyntax) -> Resolved<Address> {
+    Ok(Address {
+        index: d.number,
+        index_register: index_register(d)?,
+    })
+}
+
 /// The index register must be a D, Z or V in range; an index register
 /// cannot itself be modified.
-pub(super) fn index_register(d: &DeviceSyntax) -> Resolved<Option<IndexRegister>> {
+fn index_register(d: &DeviceSyntax) -> Resolved<Option<IndexRegister>> {
     let Some(o) = d.offset else {
         return Ok(None);
     };

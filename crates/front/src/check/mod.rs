@@ -8,11 +8,13 @@
 
 mod app;
 mod blocks;
+mod devices;
 mod index_registers;
 mod lints;
 pub mod operands;
 mod parts;
 mod rung;
+mod words;
 
 use crate::diagnostics::{Code, Diagnostic, Diagnostics};
 use crate::isa::app::{Keeps, Runs};
@@ -21,9 +23,10 @@ use crate::program::*;
 use crate::source::{SourceFile, Span};
 use crate::syntax::{self, InstructionSyntax, ParsedProgram, Statement, StatementKind};
 use blocks::{BlockTracker, PendingJump};
+use devices::Resolved;
 use ladder_runtime::device::{EDGE_SLOT_COUNT, SORT_INSTANCES, STATE_INSTANCES};
 use ladder_runtime::{BitArea, Width, WordArea};
-use operands::{Coil, Resolved};
+use operands::Coil;
 use rung::RungTracker;
 use rustc_hash::FxHashMap;
 
@@ -401,8 +404,8 @@ impl Checker {
                 let new_rung = self.structure_contact(role, span);
                 let width = spec.width;
                 if let Some([left, right]) = operands {
-                    let left = self.ok(operands::word_source(left, width));
-                    let right = self.ok(operands::word_source(right, width));
+                    let left = self.ok(words::word_source(left, width));
+                    let right = self.ok(words::word_source(right, width));
                     if let (Some(left), Some(right)) = (left, right) {
                         self.emit_contact(role, new_rung, Contact::Compare { op, width, left, right }, site);
                     }
@@ -773,8 +776,7 @@ impl Checker {
                     return;
                 }
                 Prefix::D | Prefix::Sd | Prefix::R | Prefix::V | Prefix::Z | Prefix::U => {
-                    let Some(WordRef::Word(area, address)) =
-                        self.ok(operands::word_destination(first, Width::Single, 1))
+                    let Some(WordRef::Word(area, address)) = self.ok(words::word_destination(first, Width::Single, 1))
                     else {
                         return;
                     };

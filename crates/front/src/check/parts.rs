@@ -2,7 +2,7 @@
 //! next STL or RET), outputs on a state's power, FEND and the subroutines
 //! after it, CALL and its resolution (recursion and nesting depth), FOR/NEXT.
 
-use super::{operands, Checker, Site};
+use super::{operands, words, Checker, Site};
 use crate::diagnostics::{Code, Diagnostic};
 use crate::program::{Contact, Line, Op, StlBlock, Subroutine};
 use crate::source::Span;
@@ -160,7 +160,7 @@ impl Checker {
     pub(super) fn loop_start(&mut self, operands: Option<&[syntax::Operand]>, site: &Site) {
         self.loop_on_bus("FOR", site.span);
         let count = match operands {
-            Some([count]) => self.ok(operands::word_source(count, Width::Single)),
+            Some([count]) => self.ok(words::word_source(count, Width::Single)),
             _ => None,
         };
         let start = self.instructions.len();

@@ -22,7 +22,7 @@
 //! specification) and once in `lower::app`, in files named after the family.
 
 pub use super::operand::fits;
-use super::operand::{operand_type, tables::*, DeviceClass, Devices, OperandKind};
+use super::operand::{operand_type, tables::*, DeviceClass, Devices, FromOperand, OperandKind};
 use super::reach::Reach;
 use crate::program::{Address, AppOperand, BitRef, CounterRef, DigitGroup, Element, RangeEnd, WordRef};
 use ladder_runtime::special::{self, SpecialBit};
@@ -225,110 +225,6 @@ impl AppSpec {
             text.push_str(&operand.name.to_ascii_uppercase());
         }
         text
-    }
-}
-
-/// Converts a checked operand to the typed field of `AppArgs`; `None` when
-/// the resolver produced the wrong shape (it never does for a declared kind).
-pub trait FromOperand: Sized {
-    fn from_operand(operand: AppOperand) -> Option<Self>;
-}
-
-impl FromOperand for WordRef {
-    fn from_operand(operand: AppOperand) -> Option<Self> {
-        match operand {
-            AppOperand::Word(word) => Some(word),
-            AppOperand::Bit(_)
-            | AppOperand::Element(_)
-            | AppOperand::RangeEnd(_)
-            | AppOperand::Digits(_)
-            | AppOperand::Timer(_)
-            | AppOperand::Counter(_) => None,
-        }
-    }
-}
-
-impl FromOperand for DigitGroup {
-    fn from_operand(operand: AppOperand) -> Option<Self> {
-        match operand {
-            AppOperand::Digits(group) => Some(group),
-            AppOperand::Word(_)
-            | AppOperand::Bit(_)
-            | AppOperand::Element(_)
-            | AppOperand::RangeEnd(_)
-            | AppOperand::Timer(_)
-            | AppOperand::Counter(_) => None,
-        }
-    }
-}
-
-impl FromOperand for BitRef {
-    fn from_operand(operand: AppOperand) -> Option<Self> {
-        match operand {
-            AppOperand::Bit(bit) => Some(bit),
-            AppOperand::Word(_)
-            | AppOperand::Element(_)
-            | AppOperand::RangeEnd(_)
-            | AppOperand::Digits(_)
-            | AppOperand::Timer(_)
-            | AppOperand::Counter(_) => None,
-        }
-    }
-}
-
-impl FromOperand for Element {
-    fn from_operand(operand: AppOperand) -> Option<Self> {
-        match operand {
-            AppOperand::Element(element) => Some(element),
-            AppOperand::Word(_)
-            | AppOperand::Bit(_)
-            | AppOperand::RangeEnd(_)
-            | AppOperand::Digits(_)
-            | AppOperand::Timer(_)
-            | AppOperand::Counter(_) => None,
-        }
-    }
-}
-
-impl FromOperand for Address {
-    fn from_operand(operand: AppOperand) -> Option<Self> {
-        match operand {
-            AppOperand::Timer(timer) => Some(timer),
-            AppOperand::Counter(_)
-            | AppOperand::Word(_)
-            | AppOperand::Bit(_)
-            | AppOperand::Element(_)
-            | AppOperand::RangeEnd(_)
-            | AppOperand::Digits(_) => None,
-        }
-    }
-}
-
-impl FromOperand for RangeEnd {
-    fn from_operand(operand: AppOperand) -> Option<Self> {
-        match operand {
-            AppOperand::RangeEnd(end) => Some(end),
-            AppOperand::Word(_)
-            | AppOperand::Bit(_)
-            | AppOperand::Element(_)
-            | AppOperand::Digits(_)
-            | AppOperand::Timer(_)
-            | AppOperand::Counter(_) => None,
-        }
-    }
-}
-
-impl FromOperand for CounterRef {
-    fn from_operand(operand: AppOperand) -> Option<Self> {
-        match operand {
-            AppOperand::Counter(counter) => Some(counter),
-            AppOperand::Word(_)
-            | AppOperand::Bit(_)
-            | AppOperand::Element(_)
-            | AppOperand::RangeEnd(_)
-            | AppOperand::Digits(_)
-            | AppOperand::Timer(_) => None,
-        }
     }
 }
 

@@ -1,13 +1,117 @@
 //! What an operand position of an instruction accepts: its kind (how the
-//! instruction uses it) and its device table (which devices may stand there).
+//! instruction uses it, and the typed operand it gives: `FromOperand`) and
+//! its device table (which devices may stand there).
 //!
 //! The device table is the "Device used" table of the seed for that
 //! parameter; a device outside it is a compile error (E0003), as a vendor
 //! editor refuses it.
 
-use super::app::FromOperand;
 use crate::program::{Address, AppOperand, BitRef, CounterRef, DigitGroup, Element, RangeEnd, WordRef};
 use std::fmt;
+
+/// Converts a checked operand to the typed field of `AppArgs`; `None` when
+/// the resolver produced the wrong shape (it never does for a declared kind).
+pub trait FromOperand: Sized {
+    fn from_operand(operand: AppOperand) -> Option<Self>;
+}
+
+impl FromOperand for WordRef {
+    fn from_operand(operand: AppOperand) -> Option<Self> {
+        match operand {
+            AppOperand::Word(word) => Some(word),
+            AppOperand::Bit(_)
+            | AppOperand::Element(_)
+            | AppOperand::RangeEnd(_)
+            | AppOperand::Digits(_)
+            | AppOperand::Timer(_)
+            | AppOperand::Counter(_) => None,
+        }
+    }
+}
+
+impl FromOperand for DigitGroup {
+    fn from_operand(operand: AppOperand) -> Option<Self> {
+        match operand {
+            AppOperand::Digits(group) => Some(group),
+            AppOperand::Word(_)
+            | AppOperand::Bit(_)
+            | AppOperand::Element(_)
+            | AppOperand::RangeEnd(_)
+            | AppOperand::Timer(_)
+            | AppOperand::Counter(_) => None,
+        }
+    }
+}
+
+impl FromOperand for BitRef {
+    fn from_operand(operand: AppOperand) -> Option<Self> {
+        match operand {
+            AppOperand::Bit(bit) => Some(bit),
+            AppOperand::Word(_)
+            | AppOperand::Element(_)
+            | AppOperand::RangeEnd(_)
+            | AppOperand::Digits(_)
+            | AppOperand::Timer(_)
+            | AppOperand::Counter(_) => None,
+        }
+    }
+}
+
+impl FromOperand for Element {
+    fn from_operand(operand: AppOperand) -> Option<Self> {
+        match operand {
+            AppOperand::Element(element) => Some(element),
+            AppOperand::Word(_)
+            | AppOperand::Bit(_)
+            | AppOperand::RangeEnd(_)
+            | AppOperand::Digits(_)
+            | AppOperand::Timer(_)
+            | AppOperand::Counter(_) => None,
+        }
+    }
+}
+
+impl FromOperand for Address {
+    fn from_operand(operand: AppOperand) -> Option<Self> {
+        match operand {
+            AppOperand::Timer(timer) => Some(timer),
+            AppOperand::Counter(_)
+            | AppOperand::Word(_)
+            | AppOperand::Bit(_)
+            | AppOperand::Element(_)
+            | AppOperand::RangeEnd(_)
+            | AppOperand::Digits(_) => None,
+        }
+    }
+}
+
+impl FromOperand for RangeEnd {
+    fn from_operand(operand: AppOperand) -> Option<Self> {
+        match operand {
+            AppOperand::RangeEnd(end) => Some(end),
+            AppOperand::Word(_)
+            | AppOperand::Bit(_)
+            | AppOperand::Element(_)
+            | AppOperand::Digits(_)
+            | AppOperand::Timer(_)
+            | AppOperand::Counter(_) => None,
+        }
+    }
+}
+
+impl FromOperand for CounterRef {
+    fn from_operand(operand: AppOperand) -> Option<Self> {
+        match operand {
+            AppOperand::Counter(counter) => Some(counter),
+            AppOperand::Word(_)
+            | AppOperand::Bit(_)
+            | AppOperand::Element(_)
+            | AppOperand::RangeEnd(_)
+            | AppOperand::Digits(_)
+            | AppOperand::Timer(_) => None,
+        }
+    }
+}
 
 /// Declares the operand kinds: each with the Rust type its checked operand
 /// has in `AppArgs`, whether the instruction reads it (out of range: 4085H,

@@ -1,4 +1,5 @@
-//! Parser: tokens of each line to a statement.
+//! Parser of plain IL: tokens of each line to a statement. Whether a file
+//! is plain IL or an export is decided in `mod.rs`.
 
 use super::lexer::{tokenize, Token, TokenKind};
 use super::operand::parse_operand;
@@ -6,56 +7,8 @@ use super::{InstructionSyntax, ParsedProgram, Statement, StatementKind};
 use crate::diagnostics::{Code, Diagnostic, Diagnostics};
 use crate::source::{SourceFile, Span};
 
-/// Parses a whole source file, plain IL or a GX Works2 CSV export (told by
-/// its content). Problems are reported, never fatal: the result holds every
-/// statement that could be recognised.
-pub fn parse(file: &SourceFile) -> (ParsedProgram, Diagnostics) {
-    if super::export::is_export(&file.text) {
-        return super::export::parse(file);
-    }
-    let (program, diagnostics) = parse_il(file);
-    // Rows of fields that are not an instruction list ladderc knows: one
-    // error, not one per line.
-    let errors = diagnostics
-        .iter()
-        .filter(|d| d.severity() == crate::diagnostics::Severity::Error)
-        .count();
-    if errors >= 3 {
-        if let Some(foreign) = super::export::tabular(&file.text).and(super::export::foreign_cpu_in(file)) {
-            let mut one = Diagnostics::default();
-            one.push(foreign);
-            return (ParsedProgram::default(), one);
-        }
-        if let Some(line) = super::export::tabular(&file.text) {
-            let start = file.line_starts().get(line).copied().unwrap_or(0);
-            let end = file.text[start..].find('\n').map_or(file.text.len(), |n| start + n);
-            let mut diagnostic = Diagnostic::new(
-                Code::UnreadableExport,
-                Span::new(start, end.max(start)),
-                "this file looks like a CSV export, but not of an instruction list ladderc reads",
-            )
-            .with_label("fields separated by tabs or commas")
-            .with_note(format!(
-                "read as plain IL it gives {errors} errors; `ladderc explain E0048` says which exports are read"
-            ));
-            let row = &file.text[start..end];
-            if row.matches(',').count().max(row.matches('\t').count()) == 2 {
-                diagnostic = diagnostic.with_note(
-                    "rows of a step, an instruction and an operand are how other vendors' editors list steps \
-                     (Delta's WPLSoft writes `000000,LD,M1002`); their special devices are not FX's (Delta's \
-                     M1002 is FX's M8002), so ladderc does not read them as FX programs",
-                );
-            }
-            let mut one = Diagnostics::default();
-            one.push(diagnostic);
-            return (ParsedProgram::default(), one);
-        }
-    }
-    (program, diagnostics)
-}
-
 /// Parses plain IL.
-fn parse_il(file: &SourceFile) -> (ParsedProgram, Diagnostics) {
+pub(super) fn parse_il(file: &SourceFile) -> (ParsedProgram, Diagnostics) {
     let mut diagnostics = Diagnostics::default();
     let tokens = tokenize(&file.text);
     let statements = tokens
@@ -190,6 +143,7 @@ fn stray_comma(span: Span) -> Diagnostic {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::syntax::parse;
 
     fn parse_text(text: &str) -> (ParsedProgram, Vec<Code>) {
         let (program, diagnostics) = parse(&SourceFile::new("t.il", text));
