@@ -718,11 +718,73 @@ mod tests {
         );
     }
 
+    /// As the module says: a helper given no image does nothing, and one
+    /// that returns a value returns 0, even where its arguments alone would
+    /// give another answer (a digit's segments, a real number's bits).
     #[test]
     fn null_images_are_ignored() {
+        let null = core::ptr::null_mut();
+        let one = 1.0f32.to_bits();
+        let returned = unsafe {
+            [
+                ("ladder_rt_loop_repeat", ladder_rt_loop_repeat(null, 1)),
+                ("ladder_rt_highest_on", ladder_rt_highest_on(null, 0, 16)),
+                ("ladder_rt_real_function", ladder_rt_real_function(null, 0, one)),
+                ("ladder_rt_real_to_decimal", ladder_rt_real_to_decimal(null, one)),
+                ("ladder_rt_decimal_to_real", ladder_rt_decimal_to_real(null, 1)),
+                ("ladder_rt_set_clock", ladder_rt_set_clock(null, 0)),
+                ("ladder_rt_time_compare", ladder_rt_time_compare(null, 1, 2, 3, 0, 0)),
+                ("ladder_rt_time_zone", ladder_rt_time_zone(null, 0, 0, 0, 0)),
+                ("ladder_rt_time_add", ladder_rt_time_add(null, 0, 0, 0, 0)),
+                ("ladder_rt_time_to_seconds", ladder_rt_time_to_seconds(null, 0, 9999)),
+                ("ladder_rt_seconds_to_time", ladder_rt_seconds_to_time(null, 3661, 0)),
+                ("ladder_rt_segments", ladder_rt_segments(null, 1)),
+                (
+                    "ladder_rt_segment_latch",
+                    ladder_rt_segment_latch(null, 0, 1, 2, 1, 0, 0),
+                ),
+                ("ladder_rt_characters", ladder_rt_characters(null, 0, 0, 0, 1)),
+                (
+                    "ladder_rt_pulse_output",
+                    ladder_rt_pulse_output(null, 0, 1, 0, 1000, 100, 0, 0, 0, 0),
+                ),
+            ]
+        };
+        for (name, value) in returned {
+            assert_eq!(value, 0, "{name} with a null image");
+        }
+        // Every helper declared to return a value is among those above.
+        let mut declared: Vec<&str> = Helper::ALL
+            .iter()
+            .filter(|helper| helper.decl().returns.is_some())
+            .map(|helper| helper.decl().name)
+            .collect();
+        let mut called: Vec<&str> = returned.iter().map(|(name, _)| *name).collect();
+        declared.sort_unstable();
+        called.sort_unstable();
+        assert_eq!(called, declared);
+        // The scan's steps refuse a missing image as one of another layout.
+        assert_eq!(unsafe { ladder_rt_begin_scan(null, 10, core::ptr::null(), 0) }, 0);
+        // Helpers that return nothing write nothing: no image, nothing to
+        // reach (a null dereference would crash the test).
         unsafe {
-            ladder_rt_timer_coil(core::ptr::null_mut(), 0, 1, 5);
-            ladder_rt_record_error(core::ptr::null_mut(), 0x4085, 3);
+            ladder_rt_timer_coil(null, 0, 1, 5);
+            ladder_rt_counter_coil(null, 0, 1, 5);
+            ladder_rt_reset_timer(null, 0);
+            ladder_rt_zone(null, 0, 0, 10, 1);
+            ladder_rt_alarm_reset(null);
+            ladder_rt_record_error(null, 0x4085, 3);
+            ladder_rt_end_scan(null, 0);
+        }
+        // The same arguments on an image give other answers: the zeros above
+        // are the null image's.
+        let mut mem = crate::memory::Memory::new_boxed();
+        let image = (&mut *mem as *mut crate::memory::Memory).cast();
+        unsafe {
+            assert_eq!(ladder_rt_loop_repeat(image, 1), 1);
+            assert_ne!(ladder_rt_segments(image, 1), 0);
+            assert_ne!(ladder_rt_real_to_decimal(image, one), 0);
+            assert_eq!(ladder_rt_begin_scan(image, 10, core::ptr::null(), 0), 1);
         }
     }
 

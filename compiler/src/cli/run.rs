@@ -182,11 +182,25 @@ fn driven_outputs(program: &CheckedProgram) -> Vec<String> {
             Op::Output(Output::Coil(bit) | Output::Set { target: bit, .. } | Output::Pulse { target: bit, .. }) => {
                 Some(*bit)
             }
-            _ => None,
+            Op::Output(
+                Output::Timer { .. }
+                | Output::Counter { .. }
+                | Output::Reset { .. }
+                | Output::StateJump { .. }
+                | Output::MasterControl { .. }
+                | Output::App(_),
+            )
+            | Op::Load { .. }
+            | Op::And(_)
+            | Op::Or(_)
+            | Op::Logic(_)
+            | Op::Jump { .. }
+            | Op::Call { .. }
+            | Op::Line(_) => None,
         })
         .filter_map(|bit| match bit {
             BitRef::Device(BitArea::Y, address) if address.is_fixed() => Some(address.index),
-            _ => None,
+            BitRef::Device(..) | BitRef::WordBit(..) => None,
         })
         .collect();
     outputs.sort_unstable();

@@ -243,7 +243,11 @@ fn drawing_faults(name: &str, text: &str) -> Result<(), String> {
                 walk(tail, &mut out);
                 out
             }
-            _ => laid.cells.iter().map(|c| c.element.index).collect(),
+            ladder_diagram::Body::Step { .. }
+            | ladder_diagram::Body::StepEnd { .. }
+            | ladder_diagram::Body::Label { .. }
+            | ladder_diagram::Body::MasterControlReset { .. }
+            | ladder_diagram::Body::Rail { .. } => laid.cells.iter().map(|c| c.element.index).collect(),
         };
         for cell in laid.cells.iter().filter(|c| outputs.contains(&c.element.index)) {
             if cell.column + cell.width != laid.columns {

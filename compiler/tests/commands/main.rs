@@ -35,4 +35,5 @@ mod ladder;
 mod layers;
 mod native_hosts;
 mod program_files;
+mod tidy;
 mod watch_and_report;

@@ -1,4 +1,4 @@
-//! Program files as ladderc reads them (DIALECT "Program files"): plain IL
+//! Program files as ladderc reads them (docs/language.md, "Program files"): plain IL
 //! with or without a UTF-8 byte-order mark, CRLF, UTF-16 with a mark, and
 //! GX Works2 CSV exports; and `ladderc import`, whose IL compiles to the
 //! same program as the export (checked on the real FX2N export and on every

@@ -74,7 +74,7 @@ pub fn emit_block(condition: &Condition, out: &mut Vec<String>) {
                     Condition::Contact(kind, device) => {
                         out.push(contact_line(if series { "AND" } else { "OR" }, kind, device))
                     }
-                    _ => {
+                    Condition::Series(_) | Condition::Parallel(_) => {
                         emit_block(part, out);
                         out.push(if series { "ANB" } else { "ORB" }.to_string());
                     }

@@ -268,7 +268,7 @@ impl Emitter<'_> {
             }
             Inst::Truncate { value, to } => match to {
                 Type::Bit => format!("(uint8_t){}", v(value)),
-                other => format!(
+                other @ (Type::I16 | Type::I32 | Type::I64 | Type::F32 | Type::F64) => format!(
                     "({})ld_s{}((uint{}_t){})",
                     c_type(*other),
                     width(*other),

@@ -401,9 +401,10 @@ impl Translator<'_, '_> {
     /// zero-extended).
     fn constant(&self, value: Value) -> Option<i64> {
         let inst = self.builder.func.dfg.value_def(value).inst()?;
-        match self.builder.func.dfg.insts[inst] {
-            cranelift_codegen::ir::InstructionData::UnaryImm { imm, .. } => Some(imm.bits()),
-            _ => None,
+        if let cranelift_codegen::ir::InstructionData::UnaryImm { imm, .. } = self.builder.func.dfg.insts[inst] {
+            Some(imm.bits())
+        } else {
+            None
         }
     }
 

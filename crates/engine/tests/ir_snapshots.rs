@@ -1,5 +1,6 @@
-//! Snapshots of the optimised IR of the seed examples and example programs,
-//! so that a change in lowering shows up in review. Accept intended changes
+//! Snapshots of the optimised IR of the seed examples, the example programs
+//! and a small program of each instruction family (from the scenarios), so
+//! that a change in lowering shows up in review. Accept intended changes
 //! with `INSTA_UPDATE=always cargo test -p ladder-engine --test ir_snapshots` and
 //! review the diff.
 
@@ -80,4 +81,74 @@ fn example_programs() {
 fn fx_structure() {
     snapshot_file("testsuite/programs/fx/fx_station.il");
     snapshot_scenario("testsuite/scenarios/fx_structure/loop_nested_indexed_table.scn");
+}
+
+/// Snapshots of the scenarios `folder/name.scn`, one per name.
+fn snapshot_scenarios(folder: &str, names: &[&str]) {
+    for name in names {
+        snapshot_scenario(&format!("testsuite/scenarios/{folder}/{name}.scn"));
+    }
+}
+
+/// ADD/SUB with their flags, MUL/DIV, the 32-bit D forms, INC/DEC.
+#[test]
+fn arithmetic() {
+    snapshot_scenarios("data", &["add_flags", "arithmetic"]);
+}
+
+/// CMP, DCMP and ZCP; comparison contacts (LD=, AND<, OR>=, the D forms).
+#[test]
+fn comparisons() {
+    snapshot_scenarios("data", &["compare_instructions", "comparison_contacts"]);
+}
+
+/// MOV with digit groups and timer/counter values, DMOV; BMOV, FMOV, DFMOV.
+#[test]
+fn moves() {
+    snapshot_scenarios("data", &["move_and_digits", "block_moves"]);
+}
+
+/// SFTLP and ROLP.
+#[test]
+fn shifts_and_rotations() {
+    snapshot_scenarios("app/fx_data", &["sftl_example", "rol_example"]);
+}
+
+/// BCD and BIN.
+#[test]
+fn conversions() {
+    snapshot_scenarios("app/fx_data", &["bcd_example", "bin_example"]);
+}
+
+/// OUT C of a 16-bit counter and of 32-bit C200 (with its direction relay);
+/// OUT T of a 100 ms timer and of retentive T250/T246.
+#[test]
+fn counters_and_timers() {
+    snapshot_scenarios(
+        "fx",
+        &["counter_16bit", "counter_32bit", "timer_100ms", "timer_retentive"],
+    );
+}
+
+/// LDP/LDF, ANDP/ANDF, ORP/ORF; the pulse (P) forms of INC, MOV and DADD.
+#[test]
+fn edges_and_pulse_forms() {
+    snapshot_scenarios("fx", &["edge_contacts"]);
+    snapshot_scenarios("data", &["pulse_forms"]);
+}
+
+/// V and Z index registers on every kind of device; a FOR/NEXT loop filling
+/// a table through Z0; a loop calling a subroutine (CALL/SRET).
+#[test]
+fn index_registers_loops_and_calls() {
+    snapshot_scenarios(
+        "fx_structure",
+        &["index_registers_devices", "loop_fills_table", "loop_calls_subroutine"],
+    );
+}
+
+/// ANS with its alarm relays, ANR and ANRP.
+#[test]
+fn alarms() {
+    snapshot_scenarios("app", &["ans_example", "anr"]);
 }

@@ -5,8 +5,6 @@
 //! lowering, which holds IR values where this holds bits). It is written for
 //! clarity, not speed; the native engines are tested against it.
 
-#![deny(clippy::wildcard_enum_match_arm)]
-
 /// Operand access with the offset rules: public because the live ladder
 /// monitor shows the device an indexed operand names now by the same rule.
 pub mod access;

@@ -16,8 +16,6 @@
 //! terminator. A value is defined once and used in blocks its definition
 //! dominates. The master-control power of each level is a local variable.
 
-#![deny(clippy::wildcard_enum_match_arm)]
-
 mod builder;
 mod cfg;
 mod effect;

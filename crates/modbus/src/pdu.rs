@@ -145,7 +145,11 @@ pub fn encode(function: u8, response: Result<Response, ExceptionCode>) -> Vec<u8
             pair(address, count)
         }
         // The service answers only the functions `decode` makes.
-        _ => exception(ExceptionCode::ServerDeviceFailure),
+        Response::ReportServerId(..)
+        | Response::MaskWriteRegister(..)
+        | Response::ReadWriteMultipleRegisters(_)
+        | Response::ReadDeviceIdentification(_)
+        | Response::Custom(..) => exception(ExceptionCode::ServerDeviceFailure),
     }
 }
 

@@ -232,7 +232,13 @@ fn parse_steps(path: &Path, text: &str) -> Result<(Option<ProgramSource>, Vec<St
             ("pulse", [device, count]) => {
                 let input = match parse_device(device, false).map_err(error)?.device {
                     ladder_runtime::Device::Bit(BitArea::X, n) if n < ladder_runtime::device::HSC_INPUTS => n,
-                    _ => return Err(error(format!("`{device}`: pulses are counted on inputs X0..X7"))),
+                    ladder_runtime::Device::Bit(..)
+                    | ladder_runtime::Device::Word(..)
+                    | ladder_runtime::Device::WordBit(..)
+                    | ladder_runtime::Device::Digits(..)
+                    | ladder_runtime::Device::WideCounter(_) => {
+                        return Err(error(format!("`{device}`: pulses are counted on inputs X0..X7")))
+                    }
                 };
                 let count = number(count, 0, u32::MAX.into()).map_err(error)? as u32;
                 Directive::Pulse { input, count }
@@ -379,7 +385,11 @@ fn forceable(text: &str) -> Result<(BitArea, u32), String> {
             area @ (BitArea::X | BitArea::Y | BitArea::M | BitArea::TimerContact | BitArea::CounterContact),
             index,
         ) => Ok((area, index)),
-        _ => Err(format!("`{text}` cannot be forced (X, Y, M, T and C can)")),
+        ladder_runtime::Device::Bit(BitArea::S | BitArea::Sm, _)
+        | ladder_runtime::Device::Word(..)
+        | ladder_runtime::Device::WordBit(..)
+        | ladder_runtime::Device::Digits(..)
+        | ladder_runtime::Device::WideCounter(_) => Err(format!("`{text}` cannot be forced (X, Y, M, T and C can)")),
     }
 }
 

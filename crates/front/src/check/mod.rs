@@ -4,8 +4,6 @@
 //! independent error in one run. An instruction whose operands are bad still
 //! takes part in the rung structure, so one typo gives one error.
 
-#![deny(clippy::wildcard_enum_match_arm)]
-
 mod app;
 mod blocks;
 mod devices;

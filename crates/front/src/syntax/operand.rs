@@ -551,6 +551,9 @@ impl Cursor<'_> {
 
 #[cfg(test)]
 mod tests {
+    // The helpers below take the one variant they expect and panic on any other.
+    #![allow(clippy::wildcard_enum_match_arm)]
+
     use super::*;
 
     fn device(text: &str) -> DeviceSyntax {
