@@ -40,6 +40,7 @@ mod report;
 mod run;
 mod serve;
 pub mod test;
+mod verify;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use ladder_engine::scenario::EngineKind;
@@ -85,6 +86,10 @@ pub enum Command {
     Render(render::RenderArgs),
     /// Run scenario files (folders are searched for *.scn).
     Test(test::TestArgs),
+    /// Prove properties of a program for every input sequence, or find a
+    /// sequence that breaks them (property files; folders are searched for
+    /// *.prop).
+    Verify(verify::VerifyArgs),
     /// Explain a diagnostic code such as E0010 (without one: list every code).
     Explain {
         /// A code such as E0010 or W0002.
@@ -159,6 +164,7 @@ pub fn main_with_args(args: impl IntoIterator<Item = std::ffi::OsString>) -> u8 
         Command::Build(args) => build::run(&args, shown),
         Command::Run(args) => run::run(&args, shown),
         Command::Test(args) => test::run(&args),
+        Command::Verify(args) => verify::run(&args),
         Command::Render(args) => render::run(&args, shown),
         Command::Explain { code } => explain::run(code.as_deref()),
         Command::Completions { shell } => {

@@ -71,6 +71,20 @@ const LAYERS: &[(&str, &[&str], &[&str])] = &[
         ],
         &["tokio", "axum", "rustls", "async-opcua", "hyper"],
     ),
+    // Model checking: the interpreter is its transition relation, the
+    // engine's pipeline its layout and its scenario runner the witnesses'
+    // replay; no server.
+    (
+        "ladder-verify",
+        &[
+            "ladder-runtime",
+            "ladder-front",
+            "ladder-interp",
+            "ladder-ir",
+            "ladder-engine",
+        ],
+        &["tokio", "axum", "rustls", "async-opcua", "hyper"],
+    ),
     // A plant protocol knows frames, not the PLC: no ladder crate at all.
     (
         "ladder-melsec",
@@ -114,6 +128,7 @@ const LAYERS: &[(&str, &[&str], &[&str])] = &[
             "ladder-melsec",
             "ladder-modbus",
             "ladder-serve",
+            "ladder-verify",
         ],
         &[],
     ),

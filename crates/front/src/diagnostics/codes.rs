@@ -298,6 +298,47 @@ once. Export the program as an instruction list (GX Works2: Project >
 Export to CSV file; GX Developer: Write to CSV file), or save it as plain
 IL with one instruction per line.";
 
+    PropertySyntax = "E0049", Error, "a line of a property file that cannot be read",
+"A property file (`ladderc verify`) has one directive per line: program,
+scan-ms, input, init, force, assume, never, always, reach or respond. The
+line is none of them, or its expression is not complete.
+
+    never Y0 &                     # error: the expression ends too early
+    respond X2 -> !Y0 within       # error: `within` without a number
+
+Expressions combine bits and comparisons of words with `!`, `&`, `|`, `->`
+and `<->`; `prev(DEV)`, `rose(DEV)` and `fell(DEV)` look at the previous
+scan. A respond property is `respond EXPR1 -> EXPR2 within N`.";
+
+    PropertyDevice = "E0050", Error, "a device a property file names that does not exist",
+"The name is not a device of the dialect, or its number is outside its
+area, as in a scenario.
+
+    never Y0 & M9000               # error: M goes up to M8511
+
+Devices are named as in scenarios: X0, Y10, M5, S20, TS0/CS3 (contacts),
+TN0/CN0 (current values), D0, D10:32 (the pair D11, D10), K4M0, D0.F.";
+
+    PropertyType = "E0051", Error, "a bit used as a word, or a word as a bit",
+"A bit stands alone in an expression; a word is compared with a number or
+another word. A number given in decimal must lie in the word's signed range
+(H numbers give the bits).
+
+    never D0                       # error: compare it: never D0 != 0
+    always X0 > 1                  # error: X0 is a bit
+    never D0 > 40000               # error: a 16-bit word holds -32768..32767
+
+`T0` and `C0` are the contacts when they stand alone and the current values
+in a comparison.";
+
+    PropertyPrevInAssume = "E0052", Error, "`prev`, `rose` or `fell` in an assumption",
+"An `assume` line is read on the image before each scan, with the scan's
+inputs written: there is no previous scan to look at there.
+
+    assume rose(X0) -> !X1         # error
+
+Say it of the inputs themselves, or state it as a property instead.";
+
     CodeAfterEnd = "W0001", Warning, "code after END",
 "Instructions after END are never executed.";
 

@@ -1,0 +1,438 @@
+//! The cone of influence: the parts of the image that can influence the
+//! devices a property file names, found on the program's IR (the one every
+//! back end compiles). A device is in the cone when an instruction that may
+//! write a device of the cone reads it, as data (an operand, through SSA
+//! values) or as control (a branch deciding whether that instruction runs:
+//! control dependence from post-dominators). States that agree on the cone
+//! have the same future on it, so the search keys states by the cone alone:
+//! the running seconds and the start counter of a motor starter do not
+//! multiply the states of its interlock.
+//!
+//! Where the IR does not say what is read (a subroutine call, a helper that
+//! takes places or touches the whole image), there is no cone: the search
+//! keys states by the whole compact layout, which is always sound.
+
+use ladder_ir::{BlockId, Cell, Function, Index, Inst, Program, Space, Terminator, Value};
+use ladder_runtime::helpers::{Helper, Writes};
+use ladder_runtime::layout::Array;
+use ladder_runtime::special::{D_ERROR_CODE, D_ERROR_LINE, M_OPERATION_ERROR};
+use ladder_runtime::Device;
+use rustc_hash::FxHashSet;
+
+/// Elements of the image: one element, or a whole array.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Cone {
+    pub elements: FxHashSet<(Array, u32)>,
+    pub arrays: FxHashSet<Array>,
+}
+
+impl Cone {
+    pub fn holds(&self, array: Array, n: u32) -> bool {
+        self.arrays.contains(&array) || self.elements.contains(&(array, n))
+    }
+
+    fn touches(&self, locations: &Locations) -> bool {
+        match locations {
+            Locations::Elements(list) => list.iter().any(|&(a, n)| self.holds(a, n)),
+            Locations::Arrays(arrays) => arrays
+                .iter()
+                .any(|a| self.arrays.contains(a) || self.elements.iter().any(|(b, _)| b == a)),
+        }
+    }
+
+    /// Adds `locations`; true when something was new.
+    fn add(&mut self, locations: &Locations) -> bool {
+        let mut new = false;
+        match locations {
+            Locations::Elements(list) => {
+                for &(a, n) in list {
+                    if !self.holds(a, n) {
+                        self.elements.insert((a, n));
+                        new = true;
+                    }
+                }
+            }
+            Locations::Arrays(arrays) => {
+                for &a in arrays {
+                    new |= self.arrays.insert(a);
+                }
+            }
+        }
+        new
+    }
+}
+
+/// What an instruction reads or writes in the image.
+#[derive(Clone, Debug, PartialEq, Eq)]
+enum Locations {
+    Elements(Vec<(Array, u32)>),
+    Arrays(Vec<Array>),
+}
+
+/// The image elements of a device a host names.
+pub fn device_elements(device: Device, double: bool) -> Vec<(Array, u32)> {
+    match device {
+        Device::Bit(area, n) => vec![(Array::of_bits(area), n)],
+        Device::Word(area, n) if double => vec![(Array::of_words(area), n), (Array::of_words(area), n + 1)],
+        Device::Word(area, n) | Device::WordBit(area, n, _) => vec![(Array::of_words(area), n)],
+        Device::Digits(area, n, digits) => (n..n + 4 * u32::from(digits))
+            .map(|k| (Array::of_bits(area), k))
+            .collect(),
+        Device::WideCounter(n) => vec![(Array::WideCounterValue, n)],
+    }
+}
+
+fn cell_locations(cell: Cell) -> Locations {
+    let span = cell.span();
+    let array = span.space.array();
+    match span.start {
+        Index::Fixed(n) => Locations::Elements(vec![(array, n)]),
+        Index::Dynamic(_) => Locations::Arrays(vec![array]),
+    }
+}
+
+fn run_locations(space: Space, start: Index, count: u32) -> Locations {
+    let array = space.array();
+    match start {
+        Index::Fixed(n) => Locations::Elements((n..n.saturating_add(count.max(1))).map(|k| (array, k)).collect()),
+        Index::Dynamic(_) => Locations::Arrays(vec![array]),
+    }
+}
+
+fn operation_error() -> Locations {
+    Locations::Elements(vec![
+        (Array::M, M_OPERATION_ERROR),
+        (Array::D, D_ERROR_CODE),
+        (Array::D, D_ERROR_LINE),
+    ])
+}
+
+const TIMER_ARRAYS: [Array; 5] = [
+    Array::TimerContact,
+    Array::TimerValue,
+    Array::TimerRemainder,
+    Array::TimerCoilWasOn,
+    Array::ForceTimer,
+];
+const COUNTER_ARRAYS: [Array; 5] = [
+    Array::CounterContact,
+    Array::CounterValue,
+    Array::WideCounterValue,
+    Array::CounterCoilWasOn,
+    Array::ForceCounter,
+];
+
+/// What a helper reads and writes besides its arguments, for the helpers
+/// whose declaration says it (`None`: the helper takes places or touches
+/// the machine, and there is no cone).
+fn helper_locations(helper: Helper) -> Option<(Locations, Locations)> {
+    let decl = helper.decl();
+    let mut written: Vec<Array> = Vec::new();
+    let mut elements: Vec<(Array, u32)> = Vec::new();
+    for param in decl.params {
+        match param.1 {
+            ladder_runtime::helpers::Param::U32 | ladder_runtime::helpers::Param::I32 => {}
+            ladder_runtime::helpers::Param::SourcePlace | ladder_runtime::helpers::Param::DestinationPlace => {
+                return None
+            }
+        }
+    }
+    for writes in decl.writes {
+        match writes {
+            Writes::Timers => written.extend(TIMER_ARRAYS),
+            Writes::Counters => written.extend(COUNTER_ARRAYS),
+            Writes::StlBookkeeping => written.push(Array::StlPendingOff),
+            Writes::OperationError => {
+                if let Locations::Elements(list) = operation_error() {
+                    elements.extend(list);
+                }
+            }
+            Writes::Bits(area) => written.push(Array::of_bits(*area)),
+            Writes::Image => return None,
+        }
+    }
+    // The timer and counter coils read the state they keep (and the
+    // elapsed time, which is not state); the others read only their
+    // arguments.
+    let reads = if matches!(helper, Helper::TimerCoil | Helper::CounterCoil) {
+        Locations::Arrays(written.clone())
+    } else {
+        Locations::Arrays(Vec::new())
+    };
+    let mut writes = Locations::Arrays(written);
+    if !elements.is_empty() {
+        if let Locations::Arrays(arrays) = &writes {
+            if arrays.is_empty() {
+                writes = Locations::Elements(elements);
+            } else {
+                // Both: the whole operation-error arrays are a safe
+                // over-approximation.
+                let mut arrays = arrays.clone();
+                arrays.extend([Array::M, Array::D]);
+                writes = Locations::Arrays(arrays);
+            }
+        }
+    }
+    Some((reads, writes))
+}
+
+/// Reads and writes of one instruction (`None`: unknown, no cone).
+#[allow(clippy::type_complexity)]
+fn accesses(inst: &Inst) -> Option<(Option<Locations>, Option<Locations>)> {
+    Some(match inst {
+        Inst::Load { cell } => (Some(cell_locations(*cell)), None),
+        Inst::Store { cell, .. } => (None, Some(cell_locations(*cell))),
+        Inst::FillBits { area, start, count, .. } => (None, Some(run_locations(Space::Bits(*area), *start, *count))),
+        Inst::ClearWords { area, start, count } => (None, Some(run_locations(Space::Words(*area), *start, *count))),
+        Inst::RecordError { .. } => (None, Some(operation_error())),
+        Inst::Call { helper, .. } => {
+            let (reads, writes) = helper_locations(*helper)?;
+            (Some(reads), Some(writes))
+        }
+        Inst::CallSubroutine { .. } => return None,
+        Inst::Const { .. }
+        | Inst::LoadElapsed
+        | Inst::GetLocal { .. }
+        | Inst::SetLocal { .. }
+        | Inst::LoadLoopCount { .. }
+        | Inst::StoreLoopCount { .. }
+        | Inst::Not { .. }
+        | Inst::And { .. }
+        | Inst::Or { .. }
+        | Inst::Binary { .. }
+        | Inst::Unary { .. }
+        | Inst::Compare { .. }
+        | Inst::Extend { .. }
+        | Inst::Truncate { .. }
+        | Inst::Select { .. }
+        | Inst::Float { .. }
+        | Inst::FloatUnary { .. }
+        | Inst::FloatCompare { .. }
+        | Inst::Bitcast { .. }
+        | Inst::Convert { .. } => (None, None),
+    })
+}
+
+/// A function-local variable: a master-control power or a loop count.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+enum Variable {
+    Power(u8),
+    LoopCount(u8),
+}
+
+fn variable_written(inst: &Inst) -> Option<Variable> {
+    if let Inst::SetLocal { local, .. } = inst {
+        Some(Variable::Power(local.0))
+    } else if let Inst::StoreLoopCount { level, .. } = inst {
+        Some(Variable::LoopCount(*level))
+    } else {
+        None
+    }
+}
+
+fn variable_read(inst: &Inst) -> Option<Variable> {
+    if let Inst::GetLocal { local } = inst {
+        Some(Variable::Power(local.0))
+    } else if let Inst::LoadLoopCount { level } = inst {
+        Some(Variable::LoopCount(*level))
+    } else {
+        None
+    }
+}
+
+/// For each block, the branch blocks it is control dependent on (`None`
+/// when some block cannot reach a return: no cone).
+fn control_dependences(function: &Function) -> Option<Vec<Vec<BlockId>>> {
+    let n = function.blocks.len();
+    // The reversed graph, with a virtual exit (n) before every return.
+    let exit = n;
+    let mut successors_rev: Vec<Vec<usize>> = vec![Vec::new(); n + 1];
+    let mut predecessors_rev: Vec<Vec<usize>> = vec![Vec::new(); n + 1];
+    for (b, block) in function.blocks.iter().enumerate() {
+        let targets = block.terminator.successors();
+        if targets.is_empty() {
+            successors_rev[exit].push(b);
+            predecessors_rev[b].push(exit);
+        }
+        for t in targets {
+            successors_rev[t.0 as usize].push(b);
+            predecessors_rev[b].push(t.0 as usize);
+        }
+    }
+    // Reverse postorder of the reversed graph from the exit.
+    let mut order = Vec::new();
+    let mut visited = vec![false; n + 1];
+    let mut stack = vec![(exit, false)];
+    while let Some((node, done)) = stack.pop() {
+        if done {
+            order.push(node);
+            continue;
+        }
+        if std::mem::replace(&mut visited[node], true) {
+            continue;
+        }
+        stack.push((node, true));
+        for &s in successors_rev[node].iter().rev() {
+            if !visited[s] {
+                stack.push((s, false));
+            }
+        }
+    }
+    order.reverse();
+    if order.len() != n + 1 {
+        return None;
+    }
+    let mut position = vec![0usize; n + 1];
+    for (i, &node) in order.iter().enumerate() {
+        position[node] = i;
+    }
+    let mut ipdom: Vec<Option<usize>> = vec![None; n + 1];
+    ipdom[exit] = Some(exit);
+    let mut changed = true;
+    while changed {
+        changed = false;
+        for &node in order.iter().skip(1) {
+            let mut new: Option<usize> = None;
+            for &p in &predecessors_rev[node] {
+                if ipdom[p].is_none() {
+                    continue;
+                }
+                new = Some(match new {
+                    None => p,
+                    Some(mut a) => {
+                        let mut b = p;
+                        while a != b {
+                            while position[a] > position[b] {
+                                a = ipdom[a].unwrap_or(exit);
+                            }
+                            while position[b] > position[a] {
+                                b = ipdom[b].unwrap_or(exit);
+                            }
+                        }
+                        a
+                    }
+                });
+            }
+            if new.is_some() && ipdom[node] != new {
+                ipdom[node] = new;
+                changed = true;
+            }
+        }
+    }
+    let mut dependences: Vec<Vec<BlockId>> = vec![Vec::new(); n];
+    for (a, block) in function.blocks.iter().enumerate() {
+        let Terminator::Branch { then, otherwise, .. } = block.terminator else {
+            continue;
+        };
+        let stop = ipdom[a]?;
+        for s in [then.0 as usize, otherwise.0 as usize] {
+            let mut at = s;
+            while at != stop && at != exit {
+                if !dependences[at].contains(&BlockId(a as u32)) {
+                    dependences[at].push(BlockId(a as u32));
+                }
+                at = ipdom[at]?;
+            }
+        }
+    }
+    Some(dependences)
+}
+
+/// The cone of `roots` in `program` (`None`: the IR does not say enough).
+pub fn cone(program: &Program, roots: &[(Array, u32)]) -> Option<Cone> {
+    if !program.subroutines.is_empty() {
+        return None;
+    }
+    let function = &program.main;
+    let dependences = control_dependences(function)?;
+    // Every instruction's accesses, once, by block and position.
+    let mut instructions: Vec<Vec<(Option<Locations>, Option<Locations>)>> = Vec::new();
+    let mut definition: Vec<Option<(usize, usize)>> = vec![None; function.value_types.len()];
+    for (b, block) in function.blocks.iter().enumerate() {
+        let mut list = Vec::with_capacity(block.insts.len());
+        for (i, (result, inst)) in block.insts.iter().enumerate() {
+            list.push(accesses(inst)?);
+            if let Some(v) = result {
+                definition[v.0 as usize] = Some((b, i));
+            }
+        }
+        instructions.push(list);
+    }
+    let mut cone = Cone::default();
+    cone.add(&Locations::Elements(roots.to_vec()));
+    let mut relevant_variables: FxHashSet<Variable> = FxHashSet::default();
+    loop {
+        let mut grew = false;
+        // The instructions the cone needs: those that write it (or a
+        // variable it needs), then everything they depend on.
+        let mut needed: FxHashSet<(usize, usize)> = FxHashSet::default();
+        let mut needed_blocks: FxHashSet<usize> = FxHashSet::default();
+        let mut work: Vec<Value> = Vec::new();
+        let visit_block = |b: usize, work: &mut Vec<Value>, needed_blocks: &mut FxHashSet<usize>| {
+            let mut pending = vec![b];
+            while let Some(b) = pending.pop() {
+                if !needed_blocks.insert(b) {
+                    continue;
+                }
+                for branch in &dependences[b] {
+                    if let Terminator::Branch { condition, .. } = function.block(*branch).terminator {
+                        work.push(condition);
+                    }
+                    pending.push(branch.0 as usize);
+                }
+            }
+        };
+        for (b, list) in instructions.iter().enumerate() {
+            for (i, (_, writes)) in list.iter().enumerate() {
+                let inst = &function.blocks[b].insts[i].1;
+                let writes_cone = writes.as_ref().is_some_and(|w| cone.touches(w));
+                let writes_variable = variable_written(inst).is_some_and(|v| relevant_variables.contains(&v));
+                if writes_cone || writes_variable {
+                    needed.insert((b, i));
+                    work.extend(inst.operands());
+                    visit_block(b, &mut work, &mut needed_blocks);
+                }
+            }
+        }
+        while let Some(value) = work.pop() {
+            let Some((b, i)) = definition.get(value.0 as usize).copied().flatten() else {
+                continue;
+            };
+            if !needed.insert((b, i)) {
+                continue;
+            }
+            let inst = &function.blocks[b].insts[i].1;
+            work.extend(inst.operands());
+            visit_block(b, &mut work, &mut needed_blocks);
+        }
+        for &(b, i) in &needed {
+            let inst = &function.blocks[b].insts[i].1;
+            if let Some(v) = variable_read(inst) {
+                grew |= relevant_variables.insert(v);
+            }
+            if let Some(reads) = &instructions[b][i].0 {
+                grew |= cone.add(reads);
+            }
+        }
+        if !grew {
+            break;
+        }
+    }
+    // The scan around the program: pending STL states turn OFF at step 2,
+    // inputs come from the input image at step 1.
+    let states = cone.arrays.contains(&Array::S) || cone.elements.iter().any(|(a, _)| *a == Array::S);
+    if states {
+        cone.arrays.insert(Array::StlPendingOff);
+    }
+    let inputs: Vec<(Array, u32)> = cone
+        .elements
+        .iter()
+        .filter(|(a, _)| *a == Array::X)
+        .map(|&(_, n)| (Array::InputImage, n))
+        .collect();
+    cone.elements.extend(inputs);
+    if cone.arrays.contains(&Array::X) {
+        cone.arrays.insert(Array::InputImage);
+    }
+    Some(cone)
+}

@@ -1,0 +1,226 @@
+//! `ladderc verify`: properties of a program checked for every input
+//! sequence (docs/verify.md). A property file names the program, the free
+//! inputs, the scan time and the properties (`property.rs`, `expr.rs`); the
+//! program is a transition system of whole scans of the reference
+//! interpreter (`model.rs`); an explicit-state search proves a property or
+//! finds the earliest scan that breaks it (`search.rs`); a violation comes
+//! back as a scenario that replays it, checked on the interpreter before it
+//! is reported (`witness.rs`).
+
+pub mod coi;
+pub mod expr;
+pub mod model;
+pub mod property;
+pub mod search;
+pub mod witness;
+
+use ladder_engine::pipeline::Lowered;
+use ladder_engine::scenario::ProgramSource;
+use ladder_front::check::compile_source;
+use ladder_front::diagnostics::{render_all, Diagnostic, Shown};
+use ladder_front::source::SourceFile;
+use model::Model;
+use property::{Claim, PropertyFile};
+use search::{Limits, Outcome, Searched};
+use std::path::{Path, PathBuf};
+
+/// What was established of one property.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Verdict {
+    Proved,
+    ViolatedAt(u32),
+    ReachedAt(u32),
+    Unreachable,
+    Unknown(String),
+}
+
+impl Verdict {
+    /// The verdict line's text after `FILE:LINE: `.
+    pub fn text(&self) -> String {
+        match self {
+            Verdict::Proved => "proved".to_string(),
+            Verdict::ViolatedAt(n) => format!("violated at scan {n}"),
+            Verdict::ReachedAt(n) => format!("reached at scan {n}"),
+            Verdict::Unreachable => "unreachable".to_string(),
+            Verdict::Unknown(why) => format!("unknown ({why})"),
+        }
+    }
+
+    /// Passed (`Some(true)`), failed (`Some(false)`) or unknown (`None`).
+    pub fn passed(&self) -> Option<bool> {
+        match self {
+            Verdict::Proved | Verdict::ReachedAt(_) => Some(true),
+            Verdict::ViolatedAt(_) | Verdict::Unreachable => Some(false),
+            Verdict::Unknown(_) => None,
+        }
+    }
+}
+
+/// One property's result.
+#[derive(Clone, Debug)]
+pub struct PropertyReport {
+    pub line: u32,
+    pub verdict: Verdict,
+    /// Vacuity and unused devices.
+    pub warnings: Vec<String>,
+    /// The witness scenario of a violation or a reached condition.
+    pub witness: Option<String>,
+    pub searched: Searched,
+}
+
+/// Why a property file was not checked (exit status 2).
+#[derive(Debug)]
+pub enum FileError {
+    /// It cannot be read.
+    Read(String),
+    /// Diagnostics, rendered with file:line:col and the text underlined.
+    Invalid(String),
+}
+
+/// How `verify_file` works.
+#[derive(Clone, Debug, Default)]
+pub struct Options {
+    pub limits: Limits,
+}
+
+/// The witness file of a property: `DIR/NAME-LINE.scn`.
+pub fn witness_path(dir: &Path, file: &Path, line: u32) -> PathBuf {
+    let stem = file.file_stem().map_or("properties".into(), |s| s.to_string_lossy());
+    dir.join(format!("{stem}-{line}.scn"))
+}
+
+/// Checks every property of the file at `path`.
+pub fn verify_file(path: &Path, options: &Options) -> Result<Vec<PropertyReport>, FileError> {
+    let source = SourceFile::read(path).map_err(|e| FileError::Read(format!("{}: {e}", path.display())))?;
+    let file = property::parse_file(path, &source).map_err(|d| FileError::Invalid(render(&source, &d)))?;
+    let program_source = match &file.program {
+        ProgramSource::File(program) => {
+            SourceFile::read(program).map_err(|e| FileError::Read(format!("{}: {e}", program.display())))?
+        }
+        ProgramSource::Inline { text, .. } => SourceFile::new(format!("{} (program)", path.display()), text.clone()),
+    };
+    let (checked, diagnostics) = compile_source(&program_source);
+    let Some(checked) = checked else {
+        return Err(FileError::Invalid(render_all(
+            &program_source,
+            &diagnostics,
+            Shown::default(),
+        )));
+    };
+    let lowered = Lowered::new(&checked);
+    let model = Model::new(&checked, &lowered.ir, &file).map_err(|e| FileError::Invalid(e.0))?;
+    let mut reports = Vec::new();
+    for property in &file.properties {
+        let (outcome, searched) = search::search(&model, &property.claim, &options.limits);
+        let mut warnings = unused_devices(&model, &property.claim);
+        let mut witness = None;
+        let verdict = match (&property.claim, outcome) {
+            (Claim::Never(_) | Claim::Always(_) | Claim::Respond { .. }, Outcome::Exhausted) => Verdict::Proved,
+            (Claim::Reach(_), Outcome::Exhausted) => Verdict::Unreachable,
+            (claim, Outcome::Found { path: choices }) => {
+                let scan = choices.len() as u32;
+                let verdict = match claim {
+                    Claim::Reach(_) => Verdict::ReachedAt(scan),
+                    Claim::Never(_) | Claim::Always(_) | Claim::Respond { .. } => Verdict::ViolatedAt(scan),
+                };
+                let title = format!("{}:{}: {}", path.display(), property.line, verdict.text());
+                let text = witness::scenario(&model, &file, &program_source.text, claim, &title, &choices);
+                let scenario_path = witness_path(Path::new("."), path, property.line);
+                match witness::replay(&scenario_path, &text) {
+                    Ok(()) => {
+                        witness = Some(text);
+                        verdict
+                    }
+                    Err(why) => Verdict::Unknown(format!("a bug of the verifier: its witness does not replay ({why})")),
+                }
+            }
+            (_, Outcome::Unknown(why)) => Verdict::Unknown(why),
+        };
+        if verdict == Verdict::Proved && !searched.condition_seen {
+            let condition = match &property.claim {
+                Claim::Always(expr::Expr::Implies(..)) => Some("its condition (left of `->`)"),
+                Claim::Respond { .. } => Some("its trigger"),
+                Claim::Always(_) | Claim::Never(_) | Claim::Reach(_) => None,
+            };
+            if let Some(condition) = condition {
+                warnings.push(format!(
+                    "vacuous: {condition} is never true, so the property holds without saying anything"
+                ));
+            }
+        }
+        reports.push(PropertyReport {
+            line: property.line,
+            verdict,
+            warnings,
+            witness,
+            searched,
+        });
+    }
+    Ok(reports)
+}
+
+fn render(source: &SourceFile, diagnostics: &[Diagnostic]) -> String {
+    render_all(source, diagnostics, Shown::default())
+}
+
+/// A warning for each device the property names that the program neither
+/// reads nor writes (and that is not a free input).
+fn unused_devices(model: &Model, claim: &Claim) -> Vec<String> {
+    let mut named = Vec::new();
+    for e in claim.exprs() {
+        e.devices(&mut named);
+    }
+    let mut warnings = Vec::new();
+    let mut said = Vec::new();
+    for (device, _) in named {
+        if said.contains(&device) || model.program_uses(device) {
+            continue;
+        }
+        said.push(device);
+        let is_input = model.inputs.iter().any(|&input| {
+            let (d, _) = model::input_device(input);
+            d == device.device
+        });
+        if !is_input {
+            warnings.push(format!(
+                "{:?} is neither read nor written by the program",
+                device.device
+            ));
+        }
+    }
+    warnings
+}
+
+/// The property files under `path`: the file itself, or every `*.prop` in
+/// a folder, recursively, sorted.
+pub fn collect_files(path: &Path) -> std::io::Result<Vec<PathBuf>> {
+    if !path.is_dir() {
+        return Ok(vec![path.to_path_buf()]);
+    }
+    let mut files = Vec::new();
+    let mut folders = vec![path.to_path_buf()];
+    while let Some(folder) = folders.pop() {
+        for entry in std::fs::read_dir(&folder)? {
+            let entry = entry?.path();
+            if entry.is_dir() {
+                folders.push(entry);
+            } else if entry.extension().is_some_and(|e| e == "prop") {
+                files.push(entry);
+            }
+        }
+    }
+    files.sort();
+    Ok(files)
+}
+
+/// For tests: the model's free inputs of a file, by name.
+pub fn free_inputs(file: &PropertyFile, checked: &ladder_front::program::CheckedProgram) -> Vec<String> {
+    let lowered = Lowered::new(checked);
+    match Model::new(checked, &lowered.ir, file) {
+        Ok(model) => witness::input_names(&model.inputs),
+        Err(_) => Vec::new(),
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,325 @@
+//! The program as a transition system: a state is the part of the device
+//! image the program and the property file use (the program's compact
+//! layout, which holds every device its instructions reach, its timers',
+//! counters', STL and edge bookkeeping, and the devices the file names),
+//! and one transition is one whole scan of the reference interpreter with
+//! one choice of the free inputs and of the elapsed time.
+//!
+//! The interpreter is the specification, so the model is exact: every
+//! instruction as DIALECT.md says, timers with the scan times given,
+//! first-scan relays, operation errors. The explicit-state search over it
+//! (`search.rs`) needs the reachable states to be few, which is what limits
+//! it (`Limits`).
+
+use crate::expr::Expr;
+use crate::property::{Input, PropertyFile, ScanTime};
+use ladder_front::host_device::HostDevice;
+use ladder_front::program::CheckedProgram;
+use ladder_interp::Interpreter;
+use ladder_ir::image::{compact_layout, machine_use};
+use ladder_runtime::layout::{Array, Layout, Scalar, FULL};
+use ladder_runtime::{BitArea, Device, MachineUse, Memory, Width};
+
+/// One choice made before a scan: the value of every free input (in the
+/// order of `Model::inputs`) and the elapsed time.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Choice {
+    pub values: Vec<i64>,
+    pub elapsed_ms: u32,
+}
+
+pub struct Model<'p> {
+    interpreter: Interpreter<'p>,
+    machine: MachineUse,
+    /// The byte ranges of `Memory` a state is made of.
+    ranges: Vec<(usize, usize)>,
+    pub inputs: Vec<Input>,
+    pub scan_time: ScanTime,
+    assumes: Vec<Expr>,
+    /// The image before scan 1: power-up with `init` and `force` applied.
+    pub power_up: Box<Memory>,
+    /// The program's own layout (no host devices): what it reads or
+    /// writes.
+    program_layout: Layout,
+    /// Whether states are keyed by the property file's cone of influence
+    /// (else by the whole compact layout).
+    pub cone: bool,
+}
+
+/// Why a model cannot be made.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ModelError(pub String);
+
+impl<'p> Model<'p> {
+    pub fn new(
+        checked: &'p CheckedProgram,
+        ir: &ladder_ir::Program,
+        file: &PropertyFile,
+    ) -> Result<Model<'p>, ModelError> {
+        let program_layout = compact_layout(checked, ir, &[]);
+        let inputs = match &file.inputs {
+            Some(inputs) => inputs.clone(),
+            None => program_layout
+                .runs_of(Array::X)
+                .flat_map(|run| run.first..run.first + run.count)
+                .map(|n| Input::Bit(BitArea::X, n))
+                .collect(),
+        };
+        let host_devices = host_devices(file, &inputs);
+        let layout = compact_layout(checked, ir, &host_devices);
+        let machine = machine_use(checked, ir, &host_devices);
+        let roots: Vec<(Array, u32)> = named_devices(file)
+            .into_iter()
+            .flat_map(|d| crate::coi::device_elements(d.device, d.width == Width::Double))
+            .collect();
+        let cone = crate::coi::cone(ir, &roots);
+        let ranges = match &cone {
+            Some(cone) => cone_ranges(cone),
+            None => layout_ranges(&layout, machine),
+        };
+        let merged = merge(ranges);
+        let mut power_up = Memory::new_boxed();
+        for (device, value) in &file.inits {
+            if !power_up.write_device(device.device, device.width, *value) {
+                return Err(ModelError(format!("`init` cannot write {:?}", device.device)));
+            }
+        }
+        for &(area, index, on) in &file.forces {
+            power_up
+                .force(area, index, on)
+                .map_err(|e| ModelError(format!("`force`: {e}")))?;
+        }
+        Ok(Model {
+            interpreter: Interpreter::new(checked),
+            machine,
+            ranges: merged,
+            inputs,
+            scan_time: file.scan_time,
+            assumes: file.assumes.clone(),
+            power_up,
+            program_layout,
+            cone: cone.is_some(),
+        })
+    }
+
+    /// Bytes of a state.
+    pub fn state_size(&self) -> usize {
+        self.ranges.iter().map(|(a, b)| b - a).sum()
+    }
+
+    /// How many choices each scan has (saturating).
+    pub fn branching(&self) -> u64 {
+        let mut n = u64::from(self.scan_time.choices().count() as u32);
+        for input in &self.inputs {
+            let values = match *input {
+                Input::Bit(..) => 2,
+                Input::Word { low, high, .. } => (high - low + 1) as u64,
+            };
+            n = n.saturating_mul(values);
+        }
+        n
+    }
+
+    /// Every choice of a scan, in a fixed order (all inputs OFF or lowest
+    /// first).
+    pub fn choices(&self) -> Vec<Choice> {
+        let mut out = vec![Choice {
+            values: Vec::new(),
+            elapsed_ms: 0,
+        }];
+        for input in &self.inputs {
+            let (low, high) = match *input {
+                Input::Bit(..) => (0, 1),
+                Input::Word { low, high, .. } => (low, high),
+            };
+            out = out
+                .into_iter()
+                .flat_map(|c| {
+                    (low..=high).map(move |v| {
+                        let mut c = c.clone();
+                        c.values.push(v);
+                        c
+                    })
+                })
+                .collect();
+        }
+        out.into_iter()
+            .flat_map(|c| {
+                self.scan_time.choices().map(move |ms| Choice {
+                    values: c.values.clone(),
+                    elapsed_ms: ms,
+                })
+            })
+            .collect()
+    }
+
+    /// The state an image holds.
+    pub fn key(&self, mem: &Memory) -> Box<[u8]> {
+        let bytes = bytemuck::bytes_of(mem);
+        let mut key = Vec::with_capacity(self.state_size());
+        for &(start, end) in &self.ranges {
+            key.extend_from_slice(&bytes[start..end]);
+        }
+        key.into_boxed_slice()
+    }
+
+    /// Writes a state into `mem` (a later scan's: the first-scan relays
+    /// stay OFF).
+    pub fn restore(&self, key: &[u8], mem: &mut Memory) {
+        let bytes = bytemuck::bytes_of_mut(mem);
+        let mut at = 0;
+        for &(start, end) in &self.ranges {
+            bytes[start..end].copy_from_slice(&key[at..at + (end - start)]);
+            at += end - start;
+        }
+        mem.scan_count = mem.scan_count.max(1);
+    }
+
+    /// Writes the choice's inputs into `mem` (as a host's `set` before the
+    /// scan) and tells whether every `assume` holds then.
+    pub fn apply_inputs(&self, mem: &mut Memory, choice: &Choice) -> bool {
+        for (input, &value) in self.inputs.iter().zip(&choice.values) {
+            let (device, width) = input_device(*input);
+            mem.write_device(device, width, value as i32);
+            // A host's X goes to the input image, which step 1 copies to
+            // X: the assumptions read it there already ("this scan's
+            // inputs written").
+            if let Input::Bit(BitArea::X, n) = *input {
+                if let Some(x) = mem.x.get_mut(n as usize) {
+                    *x = u8::from(value != 0);
+                }
+            }
+        }
+        self.assumes.iter().all(|a| a.holds(mem, mem))
+    }
+
+    /// One whole scan.
+    pub fn scan(&self, mem: &mut Memory, elapsed_ms: u32) {
+        self.interpreter.scan_using(mem, elapsed_ms, self.machine);
+    }
+
+    /// Whether the program reads or writes `device` (it is in the program's
+    /// own layout).
+    pub fn program_uses(&self, device: HostDevice) -> bool {
+        let (array, n) = match device.device {
+            Device::Bit(area, n) | Device::Digits(area, n, _) => (Array::of_bits(area), n),
+            Device::Word(area, n) => (Array::of_words(area), n),
+            Device::WordBit(area, n, _) => (Array::of_words(area), n),
+            Device::WideCounter(n) => (Array::WideCounterValue, n),
+        };
+        self.program_layout.offset(array, n).is_some()
+    }
+}
+
+/// The byte ranges of a compact layout's arrays, and the scalars that
+/// carry something from one scan to the next: the scan count matters only
+/// as "is this the first scan", which a restored state says, and the clocks
+/// only when the program shows them.
+fn layout_ranges(layout: &Layout, machine: MachineUse) -> Vec<(usize, usize)> {
+    let mut ranges = Vec::new();
+    let mut scalars = vec![Scalar::StlPendingAny];
+    if machine.contains(MachineUse::CLOCK_RELAYS) {
+        scalars.push(Scalar::ClockMs);
+    }
+    if machine.contains(MachineUse::CALENDAR) {
+        scalars.extend([Scalar::CalendarSeconds, Scalar::CalendarMs, Scalar::CalendarFlags]);
+    }
+    for scalar in scalars {
+        ranges.push((scalar.offset(), scalar.offset() + 4));
+    }
+    for array in Array::ALL {
+        for run in layout.runs_of(array) {
+            let Some(offset) = FULL.offset(array, run.first) else {
+                continue;
+            };
+            ranges.push((offset, offset + run.count as usize * array.size()));
+        }
+    }
+    ranges
+}
+
+/// The byte ranges of a cone of influence, with the scalars it needs.
+fn cone_ranges(cone: &crate::coi::Cone) -> Vec<(usize, usize)> {
+    let mut ranges = Vec::new();
+    for &array in &cone.arrays {
+        let Some(offset) = FULL.offset(array, array.first()) else {
+            continue;
+        };
+        ranges.push((offset, offset + (array.end() - array.first()) as usize * array.size()));
+    }
+    for &(array, n) in &cone.elements {
+        if cone.arrays.contains(&array) {
+            continue;
+        }
+        let Some(offset) = FULL.offset(array, n) else { continue };
+        ranges.push((offset, offset + array.size()));
+    }
+    let mut scalars = Vec::new();
+    if cone.arrays.contains(&Array::StlPendingOff) {
+        scalars.push(Scalar::StlPendingAny);
+    }
+    let m = |range: std::ops::RangeInclusive<u32>| range.into_iter().any(|n| cone.holds(Array::M, n));
+    let d = |range: std::ops::RangeInclusive<u32>| range.into_iter().any(|n| cone.holds(Array::D, n));
+    if m(8011..=8014) {
+        scalars.push(Scalar::ClockMs);
+    }
+    if m(8015..=8019) || d(8013..=8019) {
+        scalars.extend([Scalar::CalendarSeconds, Scalar::CalendarMs, Scalar::CalendarFlags]);
+    }
+    for scalar in scalars {
+        ranges.push((scalar.offset(), scalar.offset() + 4));
+    }
+    ranges
+}
+
+/// Sorted, with overlapping and touching ranges joined.
+fn merge(mut ranges: Vec<(usize, usize)>) -> Vec<(usize, usize)> {
+    ranges.sort_unstable();
+    let mut merged: Vec<(usize, usize)> = Vec::with_capacity(ranges.len());
+    for (start, end) in ranges {
+        match merged.last_mut() {
+            Some(last) if start <= last.1 => last.1 = last.1.max(end),
+            Some(_) | None => merged.push((start, end)),
+        }
+    }
+    merged
+}
+
+/// The devices the properties and assumptions name: the roots of the cone.
+fn named_devices(file: &PropertyFile) -> Vec<HostDevice> {
+    let mut named = Vec::new();
+    for property in &file.properties {
+        for expr in property.claim.exprs() {
+            expr.devices(&mut named);
+        }
+    }
+    for assume in &file.assumes {
+        assume.devices(&mut named);
+    }
+    named.into_iter().map(|(device, _)| device).collect()
+}
+
+/// The device and width an input is written as.
+pub fn input_device(input: Input) -> (Device, Width) {
+    match input {
+        Input::Bit(area, n) => (Device::Bit(area, n), Width::Single),
+        Input::Word { device, .. } => (device.device, device.width),
+    }
+}
+
+/// The devices the file names: a compact layout holds them.
+fn host_devices(file: &PropertyFile, inputs: &[Input]) -> Vec<HostDevice> {
+    let mut devices = named_devices(file);
+    devices.extend(file.inits.iter().map(|(device, _)| *device));
+    for &(area, index, _) in &file.forces {
+        devices.push(HostDevice {
+            device: Device::Bit(area, index),
+            width: Width::Single,
+        });
+    }
+    for &input in inputs {
+        let (device, width) = input_device(input);
+        devices.push(HostDevice { device, width });
+    }
+    devices
+}
