@@ -20,7 +20,7 @@ use ladder_front::check::compile_source;
 use ladder_front::diagnostics::{render_all, Diagnostic, Shown};
 use ladder_front::source::SourceFile;
 use model::Model;
-use property::{Claim, PropertyFile};
+use property::Claim;
 use search::{Limits, Outcome, Searched};
 use std::path::{Path, PathBuf};
 
@@ -108,9 +108,11 @@ pub fn verify_file(path: &Path, options: &Options) -> Result<Vec<PropertyReport>
         )));
     };
     let lowered = Lowered::new(&checked);
-    let model = Model::new(&checked, &lowered.ir, &file).map_err(|e| FileError::Invalid(e.0))?;
     let mut reports = Vec::new();
     for property in &file.properties {
+        // A model per property: its cone, and only the inputs in it.
+        let model =
+            Model::new(&checked, &lowered.ir, &file, Some(&property.claim)).map_err(|e| FileError::Invalid(e.0))?;
         let (outcome, searched) = search::search(&model, &property.claim, &options.limits);
         let mut warnings = unused_devices(&model, &property.claim);
         let mut witness = None;
@@ -211,15 +213,6 @@ pub fn collect_files(path: &Path) -> std::io::Result<Vec<PathBuf>> {
     }
     files.sort();
     Ok(files)
-}
-
-/// For tests: the model's free inputs of a file, by name.
-pub fn free_inputs(file: &PropertyFile, checked: &ladder_front::program::CheckedProgram) -> Vec<String> {
-    let lowered = Lowered::new(checked);
-    match Model::new(checked, &lowered.ir, file) {
-        Ok(model) => witness::input_names(&model.inputs),
-        Err(_) => Vec::new(),
-    }
 }
 
 #[cfg(test)]

@@ -12,7 +12,7 @@
 //! it (`Limits`).
 
 use crate::expr::Expr;
-use crate::property::{Input, PropertyFile, ScanTime};
+use crate::property::{Claim, Input, PropertyFile, ScanTime};
 use ladder_front::host_device::HostDevice;
 use ladder_front::program::CheckedProgram;
 use ladder_interp::Interpreter;
@@ -51,13 +51,23 @@ pub struct Model<'p> {
 pub struct ModelError(pub String);
 
 impl<'p> Model<'p> {
+    /// The model for checking `claim` (`None`: every property of `file`).
     pub fn new(
         checked: &'p CheckedProgram,
         ir: &ladder_ir::Program,
         file: &PropertyFile,
+        claim: Option<&Claim>,
     ) -> Result<Model<'p>, ModelError> {
         let program_layout = compact_layout(checked, ir, &[]);
-        let inputs = match &file.inputs {
+        // The roots of the cone: what this property (or every property of
+        // the file) and the assumptions name.
+        let named = named_devices(file, claim);
+        let roots: Vec<(Array, u32)> = named
+            .iter()
+            .flat_map(|d| crate::coi::device_elements(d.device, d.width == Width::Double))
+            .collect();
+        let cone = crate::coi::cone(ir, &roots);
+        let declared = match &file.inputs {
             Some(inputs) => inputs.clone(),
             None => program_layout
                 .runs_of(Array::X)
@@ -65,14 +75,23 @@ impl<'p> Model<'p> {
                 .map(|n| Input::Bit(BitArea::X, n))
                 .collect(),
         };
-        let host_devices = host_devices(file, &inputs);
+        // An input outside the cone cannot influence what the property
+        // names: it is left OFF (its lowest value) instead of enumerated.
+        let inputs: Vec<Input> = match &cone {
+            Some(cone) => declared
+                .into_iter()
+                .filter(|&input| {
+                    let (device, width) = input_device(input);
+                    crate::coi::device_elements(device, width == Width::Double)
+                        .into_iter()
+                        .any(|(array, n)| cone.holds(array, n))
+                })
+                .collect(),
+            None => declared,
+        };
+        let host_devices = host_devices(file, &named, &inputs);
         let layout = compact_layout(checked, ir, &host_devices);
         let machine = machine_use(checked, ir, &host_devices);
-        let roots: Vec<(Array, u32)> = named_devices(file)
-            .into_iter()
-            .flat_map(|d| crate::coi::device_elements(d.device, d.width == Width::Double))
-            .collect();
-        let cone = crate::coi::cone(ir, &roots);
         let ranges = match &cone {
             Some(cone) => cone_ranges(cone),
             None => layout_ranges(&layout, machine),
@@ -285,11 +304,16 @@ fn merge(mut ranges: Vec<(usize, usize)>) -> Vec<(usize, usize)> {
     merged
 }
 
-/// The devices the properties and assumptions name: the roots of the cone.
-fn named_devices(file: &PropertyFile) -> Vec<HostDevice> {
+/// The devices `claim` (or, without one, every property of the file) and
+/// the assumptions name: the roots of the cone.
+fn named_devices(file: &PropertyFile, claim: Option<&Claim>) -> Vec<HostDevice> {
     let mut named = Vec::new();
-    for property in &file.properties {
-        for expr in property.claim.exprs() {
+    let claims: Vec<&Claim> = match claim {
+        Some(claim) => vec![claim],
+        None => file.properties.iter().map(|p| &p.claim).collect(),
+    };
+    for claim in claims {
+        for expr in claim.exprs() {
             expr.devices(&mut named);
         }
     }
@@ -308,8 +332,8 @@ pub fn input_device(input: Input) -> (Device, Width) {
 }
 
 /// The devices the file names: a compact layout holds them.
-fn host_devices(file: &PropertyFile, inputs: &[Input]) -> Vec<HostDevice> {
-    let mut devices = named_devices(file);
+fn host_devices(file: &PropertyFile, named: &[HostDevice], inputs: &[Input]) -> Vec<HostDevice> {
+    let mut devices = named.to_vec();
     devices.extend(file.inits.iter().map(|(device, _)| *device));
     for &(area, index, _) in &file.forces {
         devices.push(HostDevice {

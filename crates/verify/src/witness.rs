@@ -7,7 +7,7 @@
 
 use crate::expr::read;
 use crate::model::{input_device, Choice, Model};
-use crate::property::{Claim, Input, PropertyFile, ScanTime};
+use crate::property::{Claim, PropertyFile, ScanTime};
 use ladder_engine::scenario::{parse_scenario, run_scenario, ProgramSource, RunOptions};
 use ladder_engine::EngineKind;
 use ladder_front::host_device::HostDevice;
@@ -160,15 +160,4 @@ pub fn replay(scenario_path: &Path, text: &str) -> Result<(), String> {
         None => Ok(()),
         Some(failure) => Err(format!("line {}: {}", failure.line, failure.message)),
     }
-}
-
-/// The inputs a witness sets, for tests.
-pub fn input_names(inputs: &[Input]) -> Vec<String> {
-    inputs
-        .iter()
-        .map(|&input| {
-            let (device, width) = input_device(input);
-            name(HostDevice { device, width }).0
-        })
-        .collect()
 }
