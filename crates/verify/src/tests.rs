@@ -187,10 +187,15 @@ fn limits_answer_unknown_never_a_wrong_verdict() {
     let found = verdicts(text, &shallow);
     assert!(found[0].1.starts_with("unknown (depth 100"), "{found:?}");
     assert_eq!(verdicts(text, &Options::default())[0].1, "violated at scan 301");
-    // Too many inputs for the explicit-state search.
-    let text = "program <<\nLD X0\nOUT Y0\n>>\ninput X0..X17\nnever Y0 & !X0\n";
-    let found = verdicts(text, &Options::default());
+    // Too many inputs in the cone for the explicit-state search: sixteen
+    // contacts in series.
+    let contacts: String = (0..16).map(|n| format!("AND X{n:o}\n")).collect();
+    let text = format!("program <<\nLD SM0\n{contacts}OUT Y0\n>>\nnever Y0\n");
+    let found = verdicts(&text, &Options::default());
     assert!(found[0].1.starts_with("unknown (65536 choices"), "{found:?}");
+    // Inputs outside the property's cone are not enumerated.
+    let text = format!("program <<\nLD SM0\n{contacts}OUT Y0\nLD X0\nOUT Y1\n>>\nnever Y1 & !X0\n");
+    assert_eq!(verdicts(&text, &Options::default())[0].1, "proved");
 }
 
 #[test]
