@@ -237,6 +237,93 @@ fn ranged_scan_times_choose_every_time() {
     assert_eq!(found[1].1, "proved", "{found:?}");
 }
 
+#[test]
+fn garbage_is_diagnosed_never_a_panic() {
+    // Lines of fragments a property file is made of, in every order, with
+    // multi-byte characters where a parser might slice between bytes.
+    let pieces = [
+        "never",
+        "always",
+        "reach",
+        "respond",
+        "assume",
+        "input",
+        "init",
+        "force",
+        "scan-ms",
+        "program",
+        "<<",
+        ">>",
+        "X0",
+        "Y1",
+        "D0:32",
+        "K4M0",
+        "D0.F",
+        "T0",
+        "C300",
+        "TN0",
+        "prev(",
+        "rose(",
+        "fell(",
+        ")",
+        "(",
+        "->",
+        "<->",
+        "&",
+        "|",
+        "!",
+        "==",
+        "<=",
+        ">",
+        "within",
+        "3",
+        "-5",
+        "H",
+        "HFFFF",
+        "K",
+        "..",
+        "in",
+        "é",
+        "→",
+        "#",
+        "0..1",
+        "U0\\G10",
+        "X0..X7",
+        "D0 in 0..5",
+        "true",
+        "false",
+        "",
+    ];
+    let mut state = 0x1234_5678_9abc_def0u64;
+    let mut next = || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state
+    };
+    for _ in 0..3000 {
+        let mut text = String::from("program <<\nLD X0\nOUT Y0\n>>\n");
+        for _ in 0..1 + next() % 4 {
+            for _ in 0..next() % 7 {
+                text.push_str(pieces[(next() % pieces.len() as u64) as usize]);
+                if next() % 3 != 0 {
+                    text.push(' ');
+                }
+            }
+            text.push('\n');
+        }
+        let source = SourceFile::new("g.prop", text.as_str());
+        if let Err(list) = parse_file(Path::new("g.prop"), &source) {
+            for d in list {
+                assert!(
+                    d.span.end as usize <= text.len() && text.is_char_boundary(d.span.start as usize),
+                    "{text}"
+                );
+            }
+        }
+    }
+}
+
 mod random {
     //! Verdicts against exhaustive simulation: small random programs over
     //! three inputs, every input sequence up to a depth simulated on the
