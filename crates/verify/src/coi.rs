@@ -13,10 +13,10 @@
 //! keys states by the whole compact layout, which is always sound.
 
 use ladder_ir::{BlockId, Cell, Function, Index, Inst, Program, Space, Terminator, Value};
-use ladder_runtime::helpers::{Helper, Writes};
+use ladder_runtime::helpers::Helper;
 use ladder_runtime::layout::Array;
 use ladder_runtime::special::{D_ERROR_CODE, D_ERROR_LINE, M_OPERATION_ERROR};
-use ladder_runtime::Device;
+use ladder_runtime::{Device, MachineUse};
 use rustc_hash::FxHashSet;
 
 /// Elements of the image: one element, or a whole array.
@@ -123,57 +123,35 @@ const COUNTER_ARRAYS: [Array; 5] = [
 ];
 
 /// What a helper reads and writes besides its arguments, for the helpers
-/// whose declaration says it (`None`: the helper takes places or touches
-/// the machine, and there is no cone).
+/// whose every read and write is known here (`None` for the others: they
+/// take device places, touch the machine, or read more than their
+/// declaration says, and there is no cone).
 fn helper_locations(helper: Helper) -> Option<(Locations, Locations)> {
-    let decl = helper.decl();
-    let mut written: Vec<Array> = Vec::new();
-    let mut elements: Vec<(Array, u32)> = Vec::new();
-    for param in decl.params {
-        match param.1 {
-            ladder_runtime::helpers::Param::U32 | ladder_runtime::helpers::Param::I32 => {}
-            ladder_runtime::helpers::Param::SourcePlace | ladder_runtime::helpers::Param::DestinationPlace => {
-                return None
-            }
-        }
-    }
-    for writes in decl.writes {
-        match writes {
-            Writes::Timers => written.extend(TIMER_ARRAYS),
-            Writes::Counters => written.extend(COUNTER_ARRAYS),
-            Writes::StlBookkeeping => written.push(Array::StlPendingOff),
-            Writes::OperationError => {
-                if let Locations::Elements(list) = operation_error() {
-                    elements.extend(list);
-                }
-            }
-            Writes::Bits(area) => written.push(Array::of_bits(*area)),
-            Writes::Image => return None,
-        }
-    }
-    // The timer and counter coils read the state they keep (and the
-    // elapsed time, which is not state); the others read only their
-    // arguments.
-    let reads = if matches!(helper, Helper::TimerCoil | Helper::CounterCoil) {
-        Locations::Arrays(written.clone())
+    let arrays = |list: &[Array]| Locations::Arrays(list.to_vec());
+    if matches!(helper, Helper::ScheduleStateOff) {
+        // Step 2 of the next scan turns the state OFF.
+        Some((arrays(&[]), arrays(&[Array::StlPendingOff])))
+    } else if matches!(helper, Helper::ResetTimer) {
+        Some((arrays(&[]), arrays(&TIMER_ARRAYS)))
+    } else if matches!(helper, Helper::ResetCounter) {
+        Some((arrays(&[]), arrays(&COUNTER_ARRAYS)))
+    } else if matches!(helper, Helper::TimerCoil) {
+        // A coil reads the state it keeps (and the elapsed time).
+        Some((arrays(&TIMER_ARRAYS), arrays(&TIMER_ARRAYS)))
+    } else if matches!(helper, Helper::CounterCoil) {
+        // ... and a 32-bit counter its direction relay M8200+.
+        let mut reads = COUNTER_ARRAYS.to_vec();
+        reads.push(Array::M);
+        Some((Locations::Arrays(reads), arrays(&COUNTER_ARRAYS)))
+    } else if matches!(
+        helper,
+        Helper::RealFunction | Helper::RealToDecimal | Helper::DecimalToReal | Helper::Segments
+    ) {
+        // Functions of their arguments alone.
+        Some((arrays(&[]), arrays(&[])))
     } else {
-        Locations::Arrays(Vec::new())
-    };
-    let mut writes = Locations::Arrays(written);
-    if !elements.is_empty() {
-        if let Locations::Arrays(arrays) = &writes {
-            if arrays.is_empty() {
-                writes = Locations::Elements(elements);
-            } else {
-                // Both: the whole operation-error arrays are a safe
-                // over-approximation.
-                let mut arrays = arrays.clone();
-                arrays.extend([Array::M, Array::D]);
-                writes = Locations::Arrays(arrays);
-            }
-        }
+        None
     }
-    Some((reads, writes))
 }
 
 /// Reads and writes of one instruction (`None`: unknown, no cone).
@@ -339,8 +317,15 @@ fn control_dependences(function: &Function) -> Option<Vec<Vec<BlockId>>> {
 }
 
 /// The cone of `roots` in `program` (`None`: the IR does not say enough).
-pub fn cone(program: &Program, roots: &[(Array, u32)]) -> Option<Cone> {
-    if !program.subroutines.is_empty() {
+/// `machine` is what the scan around the program keeps up to date: the
+/// high-speed counters (counted at the input refresh) and the alarm
+/// monitor (SM248/SD249 from S900-S999) read and write outside the IR, so
+/// with them there is no cone.
+pub fn cone(program: &Program, roots: &[(Array, u32)], machine: MachineUse) -> Option<Cone> {
+    if !program.subroutines.is_empty()
+        || machine.contains(MachineUse::HIGH_SPEED)
+        || machine.contains(MachineUse::ALARMS)
+    {
         return None;
     }
     let function = &program.main;
@@ -414,16 +399,24 @@ pub fn cone(program: &Program, roots: &[(Array, u32)]) -> Option<Cone> {
                 grew |= cone.add(reads);
             }
         }
+        // The scan around the program: step 2 turns OFF the states a
+        // transfer left pending, so a state's pending flag is in the cone
+        // with the state (and with it every transfer that may set it).
+        let pending: Vec<(Array, u32)> = cone
+            .elements
+            .iter()
+            .filter(|(a, _)| *a == Array::S)
+            .map(|&(_, n)| (Array::StlPendingOff, n))
+            .collect();
+        grew |= cone.add(&Locations::Elements(pending));
+        if cone.arrays.contains(&Array::S) {
+            grew |= cone.add(&Locations::Arrays(vec![Array::StlPendingOff]));
+        }
         if !grew {
             break;
         }
     }
-    // The scan around the program: pending STL states turn OFF at step 2,
-    // inputs come from the input image at step 1.
-    let states = cone.arrays.contains(&Array::S) || cone.elements.iter().any(|(a, _)| *a == Array::S);
-    if states {
-        cone.arrays.insert(Array::StlPendingOff);
-    }
+    // Inputs come from the input image at step 1.
     let inputs: Vec<(Array, u32)> = cone
         .elements
         .iter()

@@ -103,17 +103,24 @@ impl Expr {
     }
 }
 
-/// A device's value as a signed number of its width (digit groups
-/// unsigned), 0 where the image cannot show it.
+/// A device's value as a signed number of its width, as a word holds it:
+/// K4 and K8 digit groups are a signed word and pair, K1-K3 and K5-K7 the
+/// non-negative numbers their bits make. 0 where the image cannot show it.
 pub fn read(mem: &Memory, device: HostDevice) -> i64 {
     let value = mem.read_device(device.device, device.width).unwrap_or(0);
     match (device.device, device.bits()) {
-        (Device::Digits(..), bits) if bits < 32 => i64::from(value as u32 & ((1u32 << bits) - 1)),
-        (Device::Digits(..), _) => i64::from(value as u32),
-        (_, 16) => i64::from(value as i16),
+        (Device::Digits(_, _, digits), _) if !signed_digits(digits) => {
+            i64::from(value as u32 & ((1u32 << (4 * u32::from(digits))) - 1))
+        }
+        (_, 16) | (Device::Digits(_, _, 4), _) => i64::from(value as i16),
         (_, 1) => i64::from(value != 0),
         (_, _) => i64::from(value),
     }
+}
+
+/// K4 and K8 groups fill a word or a pair, whose top bit is the sign.
+fn signed_digits(digits: u8) -> bool {
+    digits == 4 || digits == 8
 }
 
 fn term(t: &Term, before: &Memory, now: &Memory) -> i64 {
@@ -516,7 +523,15 @@ fn comparison(left: Operand, right: Operand) -> Result<(Term, Term), Diagnostic>
         match operand {
             Operand::Device { device, span, .. } => {
                 let word = as_word(*device, *span)?;
-                Ok(Some((word.bits(), matches!(word.device, Device::Digits(..)))))
+                let unsigned = match word.device {
+                    Device::Digits(_, _, digits) => !signed_digits(digits),
+                    Device::Bit(..) | Device::Word(..) | Device::WordBit(..) | Device::WideCounter(_) => false,
+                };
+                let bits = match word.device {
+                    Device::Digits(_, _, digits) => 4 * u32::from(digits),
+                    Device::Bit(..) | Device::Word(..) | Device::WordBit(..) | Device::WideCounter(_) => word.bits(),
+                };
+                Ok(Some((bits, unsigned)))
             }
             Operand::Number { .. } => Ok(None),
         }

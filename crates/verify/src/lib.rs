@@ -101,9 +101,22 @@ pub fn verify_file(path: &Path, options: &Options) -> Result<Vec<PropertyReport>
     };
     let (checked, diagnostics) = compile_source(&program_source);
     let Some(checked) = checked else {
+        // An inline program's lines are counted from its block: each
+        // diagnostic also says where it is in the property file.
+        let located: Vec<Diagnostic> = match &file.program {
+            ProgramSource::Inline { first_line, .. } => diagnostics
+                .iter()
+                .cloned()
+                .map(|d| {
+                    let line = first_line + program_source.line_of(d.span.start) - 1;
+                    d.with_note(format!("line {line} of {}", path.display()))
+                })
+                .collect(),
+            ProgramSource::File(_) => diagnostics.to_vec(),
+        };
         return Err(FileError::Invalid(render_all(
             &program_source,
-            &diagnostics,
+            &located,
             Shown::default(),
         )));
     };
@@ -126,10 +139,11 @@ pub fn verify_file(path: &Path, options: &Options) -> Result<Vec<PropertyReport>
                     Claim::Never(_) | Claim::Always(_) | Claim::Respond { .. } => Verdict::ViolatedAt(scan),
                 };
                 let title = format!("{}:{}: {}", path.display(), property.line, verdict.text());
-                let text = witness::scenario(&model, &file, &program_source.text, claim, &title, &choices);
                 let scenario_path = witness_path(Path::new("."), path, property.line);
-                match witness::replay(&scenario_path, &text) {
-                    Ok(()) => {
+                let replayed = witness::scenario(&model, &file, &program_source.text, claim, &title, &choices)
+                    .and_then(|text| witness::replay(&scenario_path, &text).map(|()| text));
+                match replayed {
+                    Ok(text) => {
                         witness = Some(text);
                         verdict
                     }
@@ -138,7 +152,9 @@ pub fn verify_file(path: &Path, options: &Options) -> Result<Vec<PropertyReport>
             }
             (_, Outcome::Unknown(why)) => Verdict::Unknown(why),
         };
-        if verdict == Verdict::Proved && !searched.condition_seen {
+        if matches!(verdict, Verdict::Proved | Verdict::Unreachable) && searched.transitions == 0 {
+            warnings.push("vacuous: the assumptions rule out every input of the first scan".to_string());
+        } else if verdict == Verdict::Proved && !searched.condition_seen {
             let condition = match &property.claim {
                 Claim::Always(expr::Expr::Implies(..)) => Some("its condition (left of `->`)"),
                 Claim::Respond { .. } => Some("its trigger"),
@@ -185,8 +201,8 @@ fn unused_devices(model: &Model, claim: &Claim) -> Vec<String> {
         });
         if !is_input {
             warnings.push(format!(
-                "{:?} is neither read nor written by the program",
-                device.device
+                "{} is neither read nor written by the program",
+                witness::name(device).0
             ));
         }
     }
@@ -203,8 +219,11 @@ pub fn collect_files(path: &Path) -> std::io::Result<Vec<PathBuf>> {
     let mut folders = vec![path.to_path_buf()];
     while let Some(folder) = folders.pop() {
         for entry in std::fs::read_dir(&folder)? {
-            let entry = entry?.path();
-            if entry.is_dir() {
+            let entry = entry?;
+            // Not through links to folders: a link to a parent would loop.
+            let kind = entry.file_type()?;
+            let entry = entry.path();
+            if kind.is_dir() {
                 folders.push(entry);
             } else if entry.extension().is_some_and(|e| e == "prop") {
                 files.push(entry);

@@ -66,7 +66,7 @@ impl<'p> Model<'p> {
             .iter()
             .flat_map(|d| crate::coi::device_elements(d.device, d.width == Width::Double))
             .collect();
-        let cone = crate::coi::cone(ir, &roots);
+        let cone = crate::coi::cone(ir, &roots, machine_use(checked, ir, &named));
         let declared = match &file.inputs {
             Some(inputs) => inputs.clone(),
             None => program_layout
@@ -128,7 +128,8 @@ impl<'p> Model<'p> {
 
     /// How many choices each scan has (saturating).
     pub fn branching(&self) -> u64 {
-        let mut n = u64::from(self.scan_time.choices().count() as u32);
+        let (low, high) = (*self.scan_time.choices().start(), *self.scan_time.choices().end());
+        let mut n = u64::from(high - low) + 1;
         for input in &self.inputs {
             let values = match *input {
                 Input::Bit(..) => 2,
@@ -197,19 +198,26 @@ impl<'p> Model<'p> {
     /// Writes the choice's inputs into `mem` (as a host's `set` before the
     /// scan) and tells whether every `assume` holds then.
     pub fn apply_inputs(&self, mem: &mut Memory, choice: &Choice) -> bool {
+        let mut shown: Vec<(usize, u8)> = Vec::new();
         for (input, &value) in self.inputs.iter().zip(&choice.values) {
             let (device, width) = input_device(*input);
             mem.write_device(device, width, value as i32);
             // A host's X goes to the input image, which step 1 copies to
-            // X: the assumptions read it there already ("this scan's
-            // inputs written").
+            // X: the assumptions read the new value ("this scan's inputs
+            // written"), and X is put back before the scan, whose input
+            // refresh compares it with the new one (high-speed counters).
             if let Input::Bit(BitArea::X, n) = *input {
                 if let Some(x) = mem.x.get_mut(n as usize) {
+                    shown.push((n as usize, *x));
                     *x = u8::from(value != 0);
                 }
             }
         }
-        self.assumes.iter().all(|a| a.holds(mem, mem))
+        let holds = self.assumes.iter().all(|a| a.holds(mem, mem));
+        for (n, old) in shown {
+            mem.x[n] = old;
+        }
+        holds
     }
 
     /// One whole scan.
@@ -217,16 +225,23 @@ impl<'p> Model<'p> {
         self.interpreter.scan_using(mem, elapsed_ms, self.machine);
     }
 
-    /// Whether the program reads or writes `device` (it is in the program's
-    /// own layout).
+    /// Whether the program reads or writes `device` (some element of it
+    /// is in the program's own layout), or the scan keeps it for a part of
+    /// the machine the program uses (SM248 of the alarm monitor).
     pub fn program_uses(&self, device: HostDevice) -> bool {
-        let (array, n) = match device.device {
-            Device::Bit(area, n) | Device::Digits(area, n, _) => (Array::of_bits(area), n),
-            Device::Word(area, n) => (Array::of_words(area), n),
-            Device::WordBit(area, n, _) => (Array::of_words(area), n),
-            Device::WideCounter(n) => (Array::WideCounterValue, n),
+        let elements = crate::coi::device_elements(device.device, device.width == Width::Double);
+        if elements
+            .iter()
+            .any(|&(array, n)| self.program_layout.offset(array, n).is_some())
+        {
+            return true;
+        }
+        let part = match device.device {
+            Device::Bit(area, n) | Device::Digits(area, n, _) => MachineUse::of_bits(area, n, n + 1),
+            Device::Word(area, n) | Device::WordBit(area, n, _) => MachineUse::of_words(area, n, n + 1),
+            Device::WideCounter(_) => MachineUse::NONE,
         };
-        self.program_layout.offset(array, n).is_some()
+        part != MachineUse::NONE && self.machine.contains(part)
     }
 }
 
@@ -235,17 +250,11 @@ impl<'p> Model<'p> {
 /// as "is this the first scan", which a restored state says, and the clocks
 /// only when the program shows them.
 fn layout_ranges(layout: &Layout, machine: MachineUse) -> Vec<(usize, usize)> {
-    let mut ranges = Vec::new();
-    let mut scalars = vec![Scalar::StlPendingAny];
-    if machine.contains(MachineUse::CLOCK_RELAYS) {
-        scalars.push(Scalar::ClockMs);
-    }
-    if machine.contains(MachineUse::CALENDAR) {
-        scalars.extend([Scalar::CalendarSeconds, Scalar::CalendarMs, Scalar::CalendarFlags]);
-    }
-    for scalar in scalars {
-        ranges.push((scalar.offset(), scalar.offset() + 4));
-    }
+    let mut ranges = scalar_ranges(
+        true,
+        machine.contains(MachineUse::CLOCK_RELAYS),
+        machine.contains(MachineUse::CALENDAR),
+    );
     for array in Array::ALL {
         for run in layout.runs_of(array) {
             let Some(offset) = FULL.offset(array, run.first) else {
@@ -273,22 +282,41 @@ fn cone_ranges(cone: &crate::coi::Cone) -> Vec<(usize, usize)> {
         let Some(offset) = FULL.offset(array, n) else { continue };
         ranges.push((offset, offset + array.size()));
     }
-    let mut scalars = Vec::new();
-    if cone.arrays.contains(&Array::StlPendingOff) {
-        scalars.push(Scalar::StlPendingAny);
-    }
+    // Step 2 looks at the pending table only when this says something is
+    // pending.
+    let pending = cone.arrays.contains(&Array::StlPendingOff)
+        || cone.elements.iter().any(|(array, _)| *array == Array::StlPendingOff);
     let m = |range: std::ops::RangeInclusive<u32>| range.into_iter().any(|n| cone.holds(Array::M, n));
     let d = |range: std::ops::RangeInclusive<u32>| range.into_iter().any(|n| cone.holds(Array::D, n));
-    if m(8011..=8014) {
-        scalars.push(Scalar::ClockMs);
-    }
-    if m(8015..=8019) || d(8013..=8019) {
-        scalars.extend([Scalar::CalendarSeconds, Scalar::CalendarMs, Scalar::CalendarFlags]);
-    }
-    for scalar in scalars {
-        ranges.push((scalar.offset(), scalar.offset() + 4));
-    }
+    ranges.extend(scalar_ranges(pending, m(8011..=8014), m(8015..=8019) || d(8013..=8019)));
     ranges
+}
+
+/// The scan's scalars that carry something from one scan to the next and
+/// that the state needs: the STL pending flag (step 2 looks at the pending
+/// table only when it is set), the time the clock relays follow (and their
+/// memory, kept with the calendar's flags), the calendar and its cache. The
+/// scan count matters only as "is this the first scan", which a restored
+/// state says; the elapsed time, the loop watchdog and the layout misses are
+/// set anew every scan.
+fn scalar_ranges(pending: bool, clock_relays: bool, calendar: bool) -> Vec<(usize, usize)> {
+    let mut scalars = vec![Scalar::ForcedCount];
+    if pending {
+        scalars.push(Scalar::StlPendingAny);
+    }
+    if clock_relays || calendar {
+        scalars.extend([Scalar::ClockMs, Scalar::CalendarFlags]);
+    }
+    if calendar {
+        scalars.extend([
+            Scalar::CalendarSeconds,
+            Scalar::CalendarMs,
+            Scalar::CalendarCacheAt,
+            Scalar::CalendarCacheTime,
+            Scalar::CalendarCacheYear,
+        ]);
+    }
+    scalars.into_iter().map(|s| (s.offset(), s.offset() + 4)).collect()
 }
 
 /// Sorted, with overlapping and touching ranges joined.

@@ -137,7 +137,7 @@ pub fn parse_file(path: &Path, source: &SourceFile) -> Result<PropertyFile, Vec<
                             ));
                         };
                         offset += program_line.len();
-                        if program_line.trim_end() == ">>" {
+                        if program_line.trim() == ">>" {
                             break;
                         }
                         body.push_str(program_line.trim_end_matches(['\n', '\r']));
@@ -146,7 +146,7 @@ pub fn parse_file(path: &Path, source: &SourceFile) -> Result<PropertyFile, Vec<
                     program = Some(ProgramSource::Inline { text: body, first_line });
                     Ok(())
                 }
-                "program" if !rest.is_empty() && !rest.contains(char::is_whitespace) => {
+                "program" if !rest.is_empty() => {
                     let base = path.parent().unwrap_or(Path::new("."));
                     program = Some(ProgramSource::File(base.join(rest)));
                     Ok(())
@@ -338,11 +338,11 @@ fn force(text: &str) -> Result<(BitArea, u32, bool), (Code, String)> {
         return Err((Code::PropertySyntax, "`force` takes a device and 0 or 1".into()));
     };
     let (area, index) = match device(name)?.device {
-        Device::Bit(area @ (BitArea::X | BitArea::Y | BitArea::M), index) => (area, index),
-        Device::Bit(..) | Device::Word(..) | Device::WordBit(..) | Device::Digits(..) | Device::WideCounter(_) => {
+        Device::Bit(area, index) => (area, index),
+        Device::Word(..) | Device::WordBit(..) | Device::Digits(..) | Device::WideCounter(_) => {
             return Err((
                 Code::PropertyType,
-                format!("`{name}` cannot be forced (X, Y and M can, as DIALECT's forced I/O says)"),
+                format!("`{name}` is not a bit: X, Y, M and timer and counter contacts can be forced"),
             ))
         }
     };

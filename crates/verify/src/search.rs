@@ -176,7 +176,7 @@ pub fn search(model: &Model, claim: &Claim, limits: &Limits) -> (Outcome, Search
     (Outcome::Exhausted, stats)
 }
 
-enum Step {
+pub(crate) enum Step {
     /// The transition breaks the property (reach: satisfies it).
     Found,
     /// It does not; the monitor's next value.
@@ -185,7 +185,7 @@ enum Step {
 
 /// Checks one transition. The monitor of `respond` is the number of scans
 /// the oldest waiting trigger still allows after this one, 0 for none.
-fn check(
+pub(crate) fn check(
     claim: &Claim,
     before: &ladder_runtime::Memory,
     now: &ladder_runtime::Memory,

@@ -8,6 +8,7 @@
 use crate::expr::read;
 use crate::model::{input_device, Choice, Model};
 use crate::property::{Claim, PropertyFile, ScanTime};
+use crate::search::{check, Step};
 use ladder_engine::scenario::{parse_scenario, run_scenario, ProgramSource, RunOptions};
 use ladder_engine::EngineKind;
 use ladder_front::host_device::HostDevice;
@@ -24,7 +25,15 @@ fn checked_scans(claim: &Claim, last: u32) -> Vec<u32> {
     }
     let uses_prev = named.iter().any(|&(_, prev)| prev);
     match claim {
-        Claim::Respond { within, .. } => (last.saturating_sub(*within).max(1)..=last).collect(),
+        Claim::Respond { within, .. } => {
+            let first = last.saturating_sub(*within).max(1);
+            let first = if uses_prev {
+                first.saturating_sub(1).max(1)
+            } else {
+                first
+            };
+            (first..=last).collect()
+        }
         Claim::Never(_) | Claim::Always(_) | Claim::Reach(_) if uses_prev && last > 1 => vec![last - 1, last],
         Claim::Never(_) | Claim::Always(_) | Claim::Reach(_) => vec![last],
     }
@@ -32,7 +41,7 @@ fn checked_scans(claim: &Claim, last: u32) -> Vec<u32> {
 
 /// A device's name as a scenario writes it, and whether `set32`/`expect32`
 /// takes it.
-fn name(device: HostDevice) -> (String, bool) {
+pub(crate) fn name(device: HostDevice) -> (String, bool) {
     let double = device.width == Width::Double;
     match device.device {
         Device::Bit(area, n) => (area.device_name(n), false),
@@ -50,7 +59,10 @@ fn value_text(mem: &Memory, device: HostDevice) -> String {
     read(mem, device).to_string()
 }
 
-/// The scenario text of a witness, and the scan it ends with.
+/// The scenario text of a witness. The choices are simulated once more
+/// from power-up and the property checked on every scan of that run: `Err`
+/// when it does not break (or, for reach, hold) exactly at the last one,
+/// which would be a bug of the search.
 pub fn scenario(
     model: &Model,
     file: &PropertyFile,
@@ -58,7 +70,7 @@ pub fn scenario(
     claim: &Claim,
     title: &str,
     path: &[Choice],
-) -> String {
+) -> Result<String, String> {
     let mut out = String::new();
     let _ = writeln!(out, "# {title}");
     let _ = writeln!(
@@ -111,6 +123,9 @@ pub fn scenario(
         })
         .collect();
     let mut elapsed = None;
+    let mut before = mem.clone();
+    let mut monitor = 0;
+    let mut seen = false;
     for (scan, choice) in path.iter().enumerate() {
         let scan = scan as u32 + 1;
         if let ScanTime::Range(..) = file.scan_time {
@@ -127,8 +142,23 @@ pub fn scenario(
                 *old = value;
             }
         }
+        *before = *mem;
         model.apply_inputs(&mut mem, choice);
         model.scan(&mut mem, choice.elapsed_ms);
+        let found = match check(claim, &before, &mem, monitor, &mut seen) {
+            Step::Found => true,
+            Step::Monitor(next) => {
+                monitor = next;
+                false
+            }
+        };
+        if found != (scan as usize == path.len()) {
+            return Err(format!(
+                "the property {} at scan {scan} of the found run of {} scans",
+                if found { "breaks" } else { "does not break" },
+                path.len()
+            ));
+        }
         let _ = writeln!(out, "scan");
         if checked.contains(&scan) {
             for &device in &devices {
@@ -142,7 +172,7 @@ pub fn scenario(
             }
         }
     }
-    out
+    Ok(out)
 }
 
 /// Replays a witness on the reference interpreter, as `ladderc test`
