@@ -326,7 +326,8 @@ fn garbage_is_diagnosed_never_a_panic() {
 
 mod random {
     //! Verdicts against exhaustive simulation: small random programs over
-    //! three inputs, every input sequence up to a depth simulated on the
+    //! three inputs (bit logic, edges, timers, a counter, a counted word,
+    //! an STL sequence), every input sequence up to a depth simulated on the
     //! interpreter from power-up (no states merged, no cone); the
     //! verifier's verdict must agree with what the simulation sees.
 
@@ -353,67 +354,110 @@ mod random {
     }
 
     fn bit(rng: &mut Rng) -> String {
-        match rng.below(4) {
-            0 => format!("X{}", rng.below(3)),
-            1 => format!("Y{}", rng.below(3)),
-            2 => format!("M{}", rng.below(3)),
-            _ => format!("T{}", rng.below(2)),
+        match rng.below(7) {
+            0 | 1 => format!("X{}", rng.below(3)),
+            2 => format!("Y{}", rng.below(3)),
+            3 => format!("M{}", rng.below(3)),
+            4 => format!("T{}", rng.below(2)),
+            5 => "C0".to_string(),
+            _ => format!("S{}", 20 + rng.below(2)),
         }
     }
 
+    /// Rungs of contacts (bits, edges, a comparison of a counted word) and
+    /// outputs (coils, SET/RST, PLS, timers, a counter, INCP), and at times
+    /// an STL sequence after them.
     fn program(rng: &mut Rng) -> String {
         let mut text = String::new();
         for _ in 0..2 + rng.below(5) {
-            let contact = ["LD", "LDI", "LDP", "LDF"][rng.below(4) as usize];
-            text.push_str(&format!("{contact} {}\n", bit(rng)));
+            if rng.below(5) == 0 {
+                text.push_str(&format!("LD> D0 K{}\n", rng.below(4)));
+            } else {
+                let contact = ["LD", "LDI", "LDP", "LDF"][rng.below(4) as usize];
+                text.push_str(&format!("{contact} {}\n", bit(rng)));
+            }
             for _ in 0..rng.below(3) {
                 let series = ["AND", "ANI", "OR", "ORI", "ANDP"][rng.below(5) as usize];
                 text.push_str(&format!("{series} {}\n", bit(rng)));
             }
             let target = ["Y", "M"][rng.below(2) as usize];
             let n = rng.below(3);
-            match rng.below(6) {
+            match rng.below(9) {
                 0 => text.push_str(&format!("SET {target}{n}\n")),
                 1 => text.push_str(&format!("RST {target}{n}\n")),
                 2 => text.push_str(&format!("PLS {target}{n}\n")),
                 3 => text.push_str(&format!("OUT T{} K{}\n", rng.below(2), 1 + rng.below(3))),
+                4 => text.push_str(&format!("OUT C0 K{}\n", 1 + rng.below(3))),
+                5 => text.push_str("INCP D0\n"),
+                6 => text.push_str("RST C0\n"),
                 _ => text.push_str(&format!("OUT {target}{n}\n")),
             }
+        }
+        // The counted word stays small, so that proofs stay quick.
+        text.push_str("LD> D0 K4\nMOV K0 D0\n");
+        if rng.below(2) == 0 {
+            text.push_str(&format!(
+                "LD M8002\nSET S20\nSTL S20\nLD {}\nSET S21\nSTL S21\nOUT Y2\nLD {}\nSET S20\nRET\n",
+                bit(rng),
+                bit(rng)
+            ));
         }
         text
     }
 
-    fn holds(mem: &Memory, before: &Memory, a: u32, b: u32, prev: bool) -> bool {
-        let y = |m: &Memory, n: u32| m.read_device(Device::Bit(BitArea::Y, n), Width::Single) == Some(1);
-        let m = |m: &Memory, n: u32| m.read_device(Device::Bit(BitArea::M, n), Width::Single) == Some(1);
-        y(mem, a) && if prev { !m(before, b) } else { m(mem, b) }
+    /// A bit of the property: Y0-Y2, M0-M2 or S20-S21.
+    fn atom(rng: &mut Rng) -> (BitArea, u32, String) {
+        match rng.below(3) {
+            0 => {
+                let n = rng.below(3) as u32;
+                (BitArea::Y, n, format!("Y{n}"))
+            }
+            1 => {
+                let n = rng.below(3) as u32;
+                (BitArea::M, n, format!("M{n}"))
+            }
+            _ => {
+                let n = 20 + rng.below(2) as u32;
+                (BitArea::S, n, format!("S{n}"))
+            }
+        }
     }
 
-    /// The earliest scan (1..=depth) at which `Y<a> & M<b>` (or `Y<a> &
-    /// !prev(M<b>)`) holds for some input sequence, by simulating them all.
-    fn earliest(text: &str, a: u32, b: u32, prev: bool, depth: u32) -> Option<u32> {
+    fn on(mem: &Memory, (area, n): (BitArea, u32)) -> bool {
+        mem.read_device(Device::Bit(area, n), Width::Single) == Some(1)
+    }
+
+    /// The earliest scan (1..=depth) at which `A & B` (or `A & !prev(B)`)
+    /// holds for some input sequence, by simulating them all (depth first,
+    /// an image per depth reused).
+    fn earliest(text: &str, a: (BitArea, u32), b: (BitArea, u32), prev: bool, depth: u32) -> Option<u32> {
         let (program, diagnostics) = compile_source(&SourceFile::new("r.il", text));
         let program = program.unwrap_or_else(|| panic!("{text}\n{diagnostics:?}"));
         let interpreter = Interpreter::new(&program);
-        let mut level: Vec<Box<Memory>> = vec![Memory::new_boxed()];
-        for scan in 1..=depth {
-            let mut next = Vec::new();
-            for mem in &level {
-                for inputs in 0..8u32 {
-                    let mut after = mem.clone();
-                    for x in 0..3 {
-                        after.write_device(Device::Bit(BitArea::X, x), Width::Single, ((inputs >> x) & 1) as i32);
-                    }
-                    interpreter.scan_using(&mut after, 100, ladder_runtime::MachineUse::ALL);
-                    if holds(&after, mem, a, b, prev) {
-                        return Some(scan);
-                    }
-                    next.push(after);
-                }
+        let mut images: Vec<Box<Memory>> = (0..=depth).map(|_| Memory::new_boxed()).collect();
+        let mut best: Option<u32> = None;
+        // (depth of the image to extend, next input choice to try)
+        let mut stack: Vec<(usize, u32)> = vec![(0, 0)];
+        while let Some((at, inputs)) = stack.pop() {
+            if inputs == 8 || best.is_some_and(|b| b <= at as u32 + 1) {
+                continue;
             }
-            level = next;
+            stack.push((at, inputs + 1));
+            let (done, rest) = images.split_at_mut(at + 1);
+            let (before, after) = (&done[at], &mut rest[0]);
+            **after = **before;
+            for x in 0..3 {
+                after.write_device(Device::Bit(BitArea::X, x), Width::Single, ((inputs >> x) & 1) as i32);
+            }
+            interpreter.scan_using(after, 100, ladder_runtime::MachineUse::ALL);
+            let second = if prev { !on(before, b) } else { on(after, b) };
+            if on(after, a) && second {
+                best = Some(best.map_or(at as u32 + 1, |b| b.min(at as u32 + 1)));
+            } else if (at as u32 + 1) < depth {
+                stack.push((at + 1, 0));
+            }
         }
-        None
+        best
     }
 
     #[test]
@@ -437,17 +481,20 @@ mod random {
             .unwrap_or(0x5EED);
         let mut rng = Rng(seed);
         let depth = 3;
-        for case in 0..80 {
+        let (mut violated, mut proved) = (0, 0);
+        for case in 0..200 {
             let text = program(&mut rng);
-            let (a, b, prev) = (rng.below(3) as u32, rng.below(3) as u32, rng.below(2) == 0);
+            let (a_area, a_n, a_name) = atom(&mut rng);
+            let (b_area, b_n, b_name) = atom(&mut rng);
+            let prev = rng.below(2) == 0;
             let condition = if prev {
-                format!("Y{a} & !prev(M{b})")
+                format!("{a_name} & !prev({b_name})")
             } else {
-                format!("Y{a} & M{b}")
+                format!("{a_name} & {b_name}")
             };
             let file = format!("program <<\n{text}>>\nscan-ms 100\ninput X0..X2\nnever {condition}\n");
             let found = verdicts(&file, &Options::default());
-            let simulated = earliest(&text, a, b, prev, depth);
+            let simulated = earliest(&text, (a_area, a_n), (b_area, b_n), prev, depth);
             let verdict = &found[0].1;
             let agrees = match simulated {
                 Some(scan) => *verdict == format!("violated at scan {scan}"),
@@ -464,6 +511,15 @@ mod random {
                 agrees,
                 "seed {seed}, case {case}: `never {condition}` is {verdict}, simulation says {simulated:?}\n{text}"
             );
+            match verdict.as_str() {
+                "proved" => proved += 1,
+                _ => violated += 1,
+            }
         }
+        // Both answers are exercised (else the comparison says little).
+        assert!(
+            violated >= 20 && proved >= 20,
+            "seed {seed}: {violated} violated, {proved} proved"
+        );
     }
 }
