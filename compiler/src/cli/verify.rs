@@ -92,7 +92,9 @@ pub fn run(args: &VerifyArgs) -> u8 {
     } else {
         say!("{passed} passed, {failed} failed");
     }
-    if let Some(path) = &args.junit {
+    // A file that could not be checked writes no report (exit 2: nothing
+    // written).
+    if let (Some(path), false) = (&args.junit, unusable) {
         let inputs: Vec<&Path> = args.paths.iter().map(PathBuf::as_path).collect();
         if let Err(message) = write_junit(path, &results, &inputs) {
             say_err!("error: {message}");

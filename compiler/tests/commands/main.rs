@@ -36,4 +36,5 @@ mod layers;
 mod native_hosts;
 mod program_files;
 mod tidy;
+mod verify;
 mod watch_and_report;
