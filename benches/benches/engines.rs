@@ -126,7 +126,7 @@ fn compile_time(c: &mut Criterion) {
     group.sample_size(10);
     group.bench_function("check", |b| b.iter(|| checked("plant", black_box(&text))));
     group.bench_function("lower_and_optimise", |b| {
-        b.iter(|| ladder_engine::pipeline::Lowered::new(black_box(&program)).ir)
+        b.iter(|| ladder_engine::pipeline::Lowered::new(black_box(&program)))
     });
     group.bench_function("jit", |b| {
         b.iter(|| {

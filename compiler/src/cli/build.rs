@@ -368,8 +368,8 @@ fn produce(
         // The IR is what a reader studies (and what `verify` models): it
         // is checked once more here, in release builds too, where the
         // passes do not check it after each step.
-        (Emit::Ir, _) => match ladder_ir::verify(&lowered.ir) {
-            Ok(()) => Ok((lowered.ir.to_string().into_bytes(), None)),
+        (Emit::Ir, _) => match ladder_ir::verify(lowered.ir()) {
+            Ok(()) => Ok((lowered.ir().to_string().into_bytes(), None)),
             Err(error) => {
                 say_err!("internal error: the IR ladderc made is not well formed (please report it):\n{error}");
                 Err(status::FAILED)

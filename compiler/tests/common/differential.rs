@@ -72,14 +72,14 @@ pub fn compile(text: &str) -> CheckedProgram {
 /// program's scan keeps them (whole images are compared, so the in-process
 /// engines keep the same).
 pub fn machine(case: &Case, lowered: &Lowered) -> ladder_runtime::MachineUse {
-    ladder_ir::image::machine_use(lowered.checked, &lowered.ir, &host_devices(case))
+    ladder_ir::image::machine_use(lowered.checked(), lowered.ir(), &host_devices(case))
 }
 
 /// Runs `case` on the interpreter and the JIT, comparing whole images after
 /// every scan; returns the interpreter's image digests.
 pub fn in_process(case: &Case, lowered: &Lowered) -> Result<Vec<u64>, Divergence> {
     let jit = lowered.jit().expect("generated programs compile to native code");
-    let interpreter = Interpreter::new(lowered.checked);
+    let interpreter = Interpreter::new(lowered.checked());
     let machine = machine(case, lowered);
     let mut expected = Memory::new_boxed();
     let mut actual = Memory::new_boxed();
@@ -103,7 +103,7 @@ pub fn in_process(case: &Case, lowered: &Lowered) -> Result<Vec<u64>, Divergence
 
 /// The interpreter's image after `scans` scans of `case`.
 pub fn interpreter_image(case: &Case, lowered: &Lowered, scans: usize) -> Box<Memory> {
-    let interpreter = Interpreter::new(lowered.checked);
+    let interpreter = Interpreter::new(lowered.checked());
     let machine = machine(case, lowered);
     let mut mem = Memory::new_boxed();
     for step in &case.steps[..scans] {
@@ -160,7 +160,7 @@ pub fn host_devices(case: &Case) -> Vec<ladder_front::host_device::HostDevice> {
 /// The compact layout of `program` for `case`'s host.
 pub fn compact_layout(case: &Case, lowered: &Lowered) -> ladder_runtime::layout::Layout {
     ImageRequest::compact(host_devices(case))
-        .layout(lowered.checked, &lowered.ir)
+        .layout(lowered.checked(), lowered.ir())
         .expect("a compact layout")
 }
 
@@ -168,7 +168,7 @@ pub fn compact_layout(case: &Case, lowered: &Lowered) -> ladder_runtime::layout:
 /// would hold them.
 pub fn compact_digests(case: &Case, lowered: &Lowered) -> Vec<u64> {
     let layout = compact_layout(case, lowered);
-    let interpreter = Interpreter::new(lowered.checked);
+    let interpreter = Interpreter::new(lowered.checked());
     let machine = machine(case, lowered);
     let mut mem = Memory::new_boxed();
     case.steps
@@ -256,7 +256,7 @@ impl AotHost {
                     let source = match coils {
                         ladder_ir::Coils::Inline => lowered.c_source(&options, &image).output,
                         ladder_ir::Coils::Calls => {
-                            Lowered::with_coils(lowered.checked, coils)
+                            Lowered::with_coils(lowered.checked(), coils)
                                 .c_source(&options, &image)
                                 .output
                         }

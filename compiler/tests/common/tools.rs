@@ -271,7 +271,8 @@ pub fn interpreter_digests(program: &Path, scans: u32) -> String {
     let checked = checked.unwrap_or_else(|| panic!("{diagnostics:?}"));
     let interpreter = ladder_interp::Interpreter::new(&checked);
     // The parts of the machine the built object's scan keeps.
-    let machine = ladder_ir::image::machine_use(&checked, &ladder_engine::pipeline::Lowered::new(&checked).ir, &[]);
+    let lowered = ladder_engine::pipeline::Lowered::new(&checked);
+    let machine = ladder_ir::image::machine_use(&checked, lowered.ir(), &[]);
     let mut mem = Memory::new_boxed();
     let mut out = String::new();
     for scan in 1..=scans {

@@ -197,7 +197,7 @@ pub fn instantiate_lowered<'p>(
 ) -> Result<Box<dyn Engine + 'p>, EngineError> {
     use crate::pipeline::ImageRequest;
     match kind {
-        EngineKind::Interp => Ok(Box::new(InProcess::new(Interpreter::new(lowered.checked)))),
+        EngineKind::Interp => Ok(Box::new(InProcess::new(Interpreter::new(lowered.checked())))),
         EngineKind::Jit => {
             let compiled = lowered.jit().map_err(|e| EngineError::Failed(e.to_string()))?;
             Ok(Box::new(InProcess::new(compiled)))
@@ -216,7 +216,7 @@ pub fn instantiate_lowered<'p>(
         // coils a microcontroller gets (calls of the runtime), so that
         // every scenario runs them as well as the inline ones.
         EngineKind::CCompact => Ok(Box::new(crate::aot::AotEngine::start(
-            &crate::pipeline::Lowered::with_coils(lowered.checked, ladder_ir::Coils::Calls),
+            &crate::pipeline::Lowered::with_coils(lowered.checked(), ladder_ir::Coils::Calls),
             crate::aot::Route::C,
             &ImageRequest::compact(host_devices.to_vec()),
         )?)),

@@ -1,7 +1,8 @@
 //! The stages after the checker, in order: lowering to IR, IR passes, the
 //! image's layout, and code generation. A program is lowered once, into a
-//! `Lowered`, and every back end builds from that: there is no other way in,
-//! so "lowered once" cannot be broken by a caller.
+//! `Lowered` (whose IR cannot be swapped for another), and every back end
+//! builds from that: the pipeline has no entry that lowers again. (The
+//! stages themselves stay public to their crates' tests and benchmarks.)
 
 use ladder_codegen::{emit_object, CodegenError, JitProgram, ObjectOptions};
 use ladder_front::host_device::HostDevice;
@@ -14,11 +15,23 @@ use ladder_runtime::layout::Layout;
 /// builds it (the JIT, the object file, the C back end, full or compact):
 /// a scenario runs on four native engines from one lowering.
 pub struct Lowered<'p> {
-    pub checked: &'p CheckedProgram,
-    pub ir: Program,
+    // Private, with getters: the IR is always the lowering of this
+    // checked program, and nothing replaces it.
+    checked: &'p CheckedProgram,
+    ir: Program,
 }
 
 impl<'p> Lowered<'p> {
+    /// The checked program it was lowered from.
+    pub fn checked(&self) -> &'p CheckedProgram {
+        self.checked
+    }
+
+    /// Its optimised IR.
+    pub fn ir(&self) -> &Program {
+        &self.ir
+    }
+
     pub fn new(checked: &'p CheckedProgram) -> Lowered<'p> {
         Lowered::with_coils(checked, Coils::Inline)
     }

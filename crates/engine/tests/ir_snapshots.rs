@@ -20,7 +20,7 @@ fn workspace() -> PathBuf {
 fn ir_of(name: &str, text: &str) -> String {
     let (program, diagnostics) = compile_source(&SourceFile::new(name, text));
     let program = program.unwrap_or_else(|| panic!("{name} does not compile: {diagnostics:?}"));
-    ladder_engine::pipeline::Lowered::new(&program).ir.to_string()
+    ladder_engine::pipeline::Lowered::new(&program).ir().to_string()
 }
 
 fn snapshot_file(relative: &str) {

@@ -125,7 +125,7 @@ pub fn build(program: &CheckedProgram, options: &FmuOptions) -> Result<Vec<u8>, 
     let runtime = toolchain::runtime_library()?;
     // Lowered once: the variables come from the IR the object is made of.
     let lowered = pipeline::Lowered::new(program);
-    let variables = variables(program, &lowered.ir);
+    let variables = variables(program, lowered.ir());
     let object_options = ladder_codegen::ObjectOptions {
         prefix: ladder_codegen::DEFAULT_PREFIX.to_string(),
         ..Default::default()

@@ -30,6 +30,18 @@ pub(crate) fn reverse_postorder(function: &Function) -> Vec<BlockId> {
     order
 }
 
+/// The predecessors of every block among the blocks of `order` (the
+/// reverse postorder: blocks the entry cannot reach have none), in order.
+pub(crate) fn predecessors(function: &Function, order: &[BlockId]) -> Vec<Vec<BlockId>> {
+    let mut predecessors: Vec<Vec<BlockId>> = vec![Vec::new(); function.blocks.len()];
+    for &block in order {
+        for successor in function.block(block).terminator.successors() {
+            predecessors[successor.0 as usize].push(block);
+        }
+    }
+    predecessors
+}
+
 /// The immediate dominator of every block the entry reaches (the entry is
 /// its own), by the iterative algorithm of Cooper, Harvey and Kennedy ("A
 /// Simple, Fast Dominance Algorithm", 2001) over the reverse postorder.
@@ -37,8 +49,12 @@ pub(crate) struct Dominators {
     /// By block number: the immediate dominator, `None` for unreachable
     /// blocks.
     idom: Vec<Option<BlockId>>,
-    /// By block number: the position in the reverse postorder.
-    position: Vec<usize>,
+    /// By block number: when a depth-first walk of the dominator tree
+    /// enters and leaves the block, so that `a` dominates `b` exactly when
+    /// `b`'s interval lies in `a`'s (a query in constant time: the verifier
+    /// asks for every use after every pass).
+    entered: Vec<usize>,
+    left: Vec<usize>,
 }
 
 impl Dominators {
@@ -49,15 +65,14 @@ impl Dominators {
         for (at, block) in order.iter().enumerate() {
             position[block.0 as usize] = at;
         }
-        let mut predecessors: Vec<Vec<BlockId>> = vec![Vec::new(); blocks];
-        for &block in order {
-            for successor in function.block(block).terminator.successors() {
-                predecessors[successor.0 as usize].push(block);
-            }
-        }
+        let predecessors = predecessors(function, order);
         let mut idom: Vec<Option<BlockId>> = vec![None; blocks];
         let Some(&entry) = order.first() else {
-            return Dominators { idom, position };
+            return Dominators {
+                idom,
+                entered: vec![0; blocks],
+                left: vec![0; blocks],
+            };
         };
         idom[entry.0 as usize] = Some(entry);
         let mut changed = true;
@@ -80,7 +95,29 @@ impl Dominators {
                 }
             }
         }
-        Dominators { idom, position }
+        // Number the dominator tree.
+        let mut children: Vec<Vec<usize>> = vec![Vec::new(); blocks];
+        for (block, parent) in idom.iter().enumerate() {
+            if let Some(parent) = parent {
+                if parent.0 as usize != block {
+                    children[parent.0 as usize].push(block);
+                }
+            }
+        }
+        let (mut entered, mut left) = (vec![0; blocks], vec![0; blocks]);
+        let mut clock = 0;
+        let mut stack = vec![(entry.0 as usize, false)];
+        while let Some((block, done)) = stack.pop() {
+            clock += 1;
+            if done {
+                left[block] = clock;
+                continue;
+            }
+            entered[block] = clock;
+            stack.push((block, true));
+            stack.extend(children[block].iter().map(|&child| (child, false)));
+        }
+        Dominators { idom, entered, left }
     }
 
     /// The entry reaches `block`.
@@ -94,21 +131,8 @@ impl Dominators {
         if !self.is_reachable(a) || !self.is_reachable(b) {
             return false;
         }
-        let mut at = b;
-        loop {
-            if at == a {
-                return true;
-            }
-            // Dominators come earlier in the reverse postorder: once past
-            // `a`'s position, `a` cannot be found above.
-            if self.position[at.0 as usize] < self.position[a.0 as usize] {
-                return false;
-            }
-            match self.idom[at.0 as usize] {
-                Some(up) if up != at => at = up,
-                Some(_) | None => return false,
-            }
-        }
+        let (a, b) = (a.0 as usize, b.0 as usize);
+        self.entered[a] <= self.entered[b] && self.left[b] <= self.left[a]
     }
 }
 

@@ -42,10 +42,8 @@ pub fn lower_and_optimize(program: &ladder_front::program::CheckedProgram) -> Pr
 pub fn lower_and_optimize_with(program: &ladder_front::program::CheckedProgram, coils: Coils) -> Program {
     let mut ir = lower::lower(program, coils);
     if cfg!(debug_assertions) {
-        let subroutines = ir.subroutines.len();
-        passes::assert_well_formed(&ir.main, "main", subroutines, "lower");
-        for (number, subroutine) in ir.subroutines.iter().enumerate() {
-            passes::assert_well_formed(subroutine, &format!("sub{number}"), subroutines, "lower");
+        if let Err(error) = verify(&ir) {
+            panic!("the IR is not well formed after `lower`:\n{error}");
         }
     }
     passes::optimize(&mut ir);

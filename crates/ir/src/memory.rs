@@ -22,7 +22,7 @@
 //! The interpreter has no such pass: it is the specification the
 //! differential test holds this against.
 
-use super::{Block, BlockId, Effect, Function, Index, Inst, Space, Value};
+use super::{Block, Effect, Function, Index, Inst, Space, Value};
 use crate::cfg::reverse_postorder;
 use crate::replacements::Replacements;
 use crate::Bookkeeping;
@@ -220,12 +220,7 @@ impl Waiting {
 /// hold.
 pub fn forward_memory(function: &mut Function) {
     let order = reverse_postorder(function);
-    let mut predecessors: Vec<Vec<BlockId>> = vec![Vec::new(); function.blocks.len()];
-    for &block in &order {
-        for successor in function.block(block).terminator.successors() {
-            predecessors[successor.0 as usize].push(block);
-        }
-    }
+    let predecessors = crate::cfg::predecessors(function, &order);
     let mut position_in_order = vec![usize::MAX; function.blocks.len()];
     for (position, block) in order.iter().enumerate() {
         position_in_order[block.0 as usize] = position;

@@ -83,7 +83,7 @@ impl Passes<'_> {
 
 /// Panics with the verifier's report when `function` is not well formed
 /// after `stage`: a compiler bug, caught where it is made (debug builds).
-pub(crate) fn assert_well_formed(function: &Function, name: &str, subroutines: usize, stage: &str) {
+fn assert_well_formed(function: &Function, name: &str, subroutines: usize, stage: &str) {
     if let Err(error) = super::verify_function(function, name, subroutines) {
         // A large function's text would bury the report.
         let text = function.to_string();

@@ -20,7 +20,9 @@
 //! - a constant holds its value as constant folding writes it (sign-extended
 //!   from its width; a bit is 0 or 1; a float's bits unsigned);
 //! - every fixed device number, edge slot, STL state and timer or counter
-//!   lies in its array of the image; locals, loop levels, subroutines and
+//!   lies in its array of the image (a run of SET/RST Kn or ZRST starts in
+//!   it; code generation clamps one that is longer than the rest of its
+//!   array, as `Effect::Fill` says); locals, loop levels, subroutines and
 //!   helper arguments exist.
 //!
 //! The IR has no block parameters: values cross blocks by dominance, and the

@@ -125,7 +125,7 @@ pub fn verify_file(path: &Path, options: &Options) -> Result<Vec<PropertyReport>
     for property in &file.properties {
         // A model per property: its cone, and only the inputs in it.
         let model =
-            Model::new(&checked, &lowered.ir, &file, Some(&property.claim)).map_err(|e| FileError::Invalid(e.0))?;
+            Model::new(&checked, lowered.ir(), &file, Some(&property.claim)).map_err(|e| FileError::Invalid(e.0))?;
         let (outcome, searched) = search::search(&model, &property.claim, &options.limits);
         let mut warnings = unused_devices(&model, &property.claim);
         let mut witness = None;

@@ -338,11 +338,18 @@ fn force(text: &str) -> Result<(BitArea, u32, bool), (Code, String)> {
         return Err((Code::PropertySyntax, "`force` takes a device and 0 or 1".into()));
     };
     let (area, index) = match device(name)?.device {
-        Device::Bit(area, index) => (area, index),
-        Device::Word(..) | Device::WordBit(..) | Device::Digits(..) | Device::WideCounter(_) => {
+        Device::Bit(
+            area @ (BitArea::X | BitArea::Y | BitArea::M | BitArea::TimerContact | BitArea::CounterContact),
+            index,
+        ) => (area, index),
+        Device::Bit(BitArea::S | BitArea::Sm, _)
+        | Device::Word(..)
+        | Device::WordBit(..)
+        | Device::Digits(..)
+        | Device::WideCounter(_) => {
             return Err((
                 Code::PropertyType,
-                format!("`{name}` is not a bit: X, Y, M and timer and counter contacts can be forced"),
+                format!("`{name}` cannot be forced: X, Y, M and timer and counter contacts can"),
             ))
         }
     };
