@@ -11,48 +11,10 @@ use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Through
 use ladder_codegen::ObjectOptions;
 use ladder_front::check::compile_source;
 use ladder_front::source::SourceFile;
-use std::alloc::{GlobalAlloc, Layout, System};
 use std::hint::black_box;
-use std::sync::atomic::{AtomicUsize, Ordering};
-
-/// The system allocator, counting the bytes in use and their peak.
-struct Counting;
-
-static IN_USE: AtomicUsize = AtomicUsize::new(0);
-static PEAK: AtomicUsize = AtomicUsize::new(0);
-
-// SAFETY: every call is forwarded to the system allocator unchanged.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        let pointer = unsafe { System.alloc(layout) };
-        if !pointer.is_null() {
-            let now = IN_USE.fetch_add(layout.size(), Ordering::Relaxed) + layout.size();
-            PEAK.fetch_max(now, Ordering::Relaxed);
-        }
-        pointer
-    }
-
-    unsafe fn dealloc(&self, pointer: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(pointer, layout) };
-        IN_USE.fetch_sub(layout.size(), Ordering::Relaxed);
-    }
-
-    unsafe fn realloc(&self, pointer: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        let moved = unsafe { System.realloc(pointer, layout, new_size) };
-        if !moved.is_null() {
-            if new_size >= layout.size() {
-                let now = IN_USE.fetch_add(new_size - layout.size(), Ordering::Relaxed) + new_size - layout.size();
-                PEAK.fetch_max(now, Ordering::Relaxed);
-            } else {
-                IN_USE.fetch_sub(layout.size() - new_size, Ordering::Relaxed);
-            }
-        }
-        moved
-    }
-}
 
 #[global_allocator]
-static ALLOCATOR: Counting = Counting;
+static ALLOCATOR: ladderc_benches::heap::Counting = ladderc_benches::heap::Counting;
 
 /// Check, lower, optimise and emit an object file: `ladderc build`.
 fn build(text: &str) -> usize {
@@ -71,10 +33,9 @@ fn build(text: &str) -> usize {
 fn peak_heap_per_instruction() {
     for instructions in [1_000, 10_000, 100_000, 1_000_000] {
         let program = ladderc_benches::bit_logic(instructions, 1024, 7);
-        let before = IN_USE.load(Ordering::Relaxed);
-        PEAK.store(before, Ordering::Relaxed);
+        let before = ladderc_benches::heap::start();
         black_box(build(&program.il));
-        let peak = PEAK.load(Ordering::Relaxed) - before;
+        let peak = ladderc_benches::heap::peak_since(before);
         eprintln!(
             "compile memory: {} instructions: peak heap {:.2} KB per instruction",
             program.instructions,
@@ -84,12 +45,11 @@ fn peak_heap_per_instruction() {
     let adds: String = (0..60_000)
         .map(|i| format!("LD X{}\nADD D{} K3 D{}\n", i % 8, i % 4000, (i + 1) % 4000))
         .collect();
-    let before = IN_USE.load(Ordering::Relaxed);
-    PEAK.store(before, Ordering::Relaxed);
+    let before = ladderc_benches::heap::start();
     black_box(build(&adds));
     eprintln!(
         "compile memory: 60000 ADD rungs: peak heap {:.2} KB per instruction",
-        (PEAK.load(Ordering::Relaxed) - before) as f64 / 120_000.0 / 1024.0
+        ladderc_benches::heap::peak_since(before) as f64 / 120_000.0 / 1024.0
     );
 }
 

@@ -1,5 +1,6 @@
 //! Programs for the benchmarks in `benches/`.
 
+pub mod heap;
 pub mod paired;
 
 use std::fmt::Write;

@@ -12,7 +12,7 @@
 //! takes places or touches the whole image), there is no cone: the search
 //! keys states by the whole compact layout, which is always sound.
 
-use ladder_ir::{BlockId, Cell, Function, Index, Inst, Program, Space, Terminator, Value};
+use ladder_ir::{BlockId, Effect, Function, Index, Inst, Program, Span, Terminator, Value};
 use ladder_runtime::helpers::Helper;
 use ladder_runtime::layout::Array;
 use ladder_runtime::special::{D_ERROR_CODE, D_ERROR_LINE, M_OPERATION_ERROR};
@@ -82,19 +82,12 @@ pub fn device_elements(device: Device, double: bool) -> Vec<(Array, u32)> {
     }
 }
 
-fn cell_locations(cell: Cell) -> Locations {
-    let span = cell.span();
+/// The elements a span covers: a fixed run, or its whole array for a
+/// run-time start.
+fn span_locations(span: Span) -> Locations {
     let array = span.space.array();
     match span.start {
-        Index::Fixed(n) => Locations::Elements(vec![(array, n)]),
-        Index::Dynamic(_) => Locations::Arrays(vec![array]),
-    }
-}
-
-fn run_locations(space: Space, start: Index, count: u32) -> Locations {
-    let array = space.array();
-    match start {
-        Index::Fixed(n) => Locations::Elements((n..n.saturating_add(count.max(1))).map(|k| (array, k)).collect()),
+        Index::Fixed(n) => Locations::Elements((n..n.saturating_add(span.count.max(1))).map(|k| (array, k)).collect()),
         Index::Dynamic(_) => Locations::Arrays(vec![array]),
     }
 }
@@ -154,40 +147,21 @@ fn helper_locations(helper: Helper) -> Option<(Locations, Locations)> {
     }
 }
 
-/// Reads and writes of one instruction (`None`: unknown, no cone).
+/// Reads and writes of one instruction in the image (`None`: unknown, no
+/// cone), from what the IR declares of it (`Inst::effect`).
 #[allow(clippy::type_complexity)]
 fn accesses(inst: &Inst) -> Option<(Option<Locations>, Option<Locations>)> {
-    Some(match inst {
-        Inst::Load { cell } => (Some(cell_locations(*cell)), None),
-        Inst::Store { cell, .. } => (None, Some(cell_locations(*cell))),
-        Inst::FillBits { area, start, count, .. } => (None, Some(run_locations(Space::Bits(*area), *start, *count))),
-        Inst::ClearWords { area, start, count } => (None, Some(run_locations(Space::Words(*area), *start, *count))),
-        Inst::RecordError { .. } => (None, Some(operation_error())),
-        Inst::Call { helper, .. } => {
-            let (reads, writes) = helper_locations(*helper)?;
+    Some(match inst.effect() {
+        Effect::Load(span) => (Some(span_locations(span)), None),
+        Effect::Store(span, _) | Effect::Fill(span) => (None, Some(span_locations(span))),
+        Effect::OperationError => (None, Some(operation_error())),
+        Effect::Helper(helper, _) => {
+            let (reads, writes) = helper_locations(helper)?;
             (Some(reads), Some(writes))
         }
-        Inst::CallSubroutine { .. } => return None,
-        Inst::Const { .. }
-        | Inst::LoadElapsed
-        | Inst::GetLocal { .. }
-        | Inst::SetLocal { .. }
-        | Inst::LoadLoopCount { .. }
-        | Inst::StoreLoopCount { .. }
-        | Inst::Not { .. }
-        | Inst::And { .. }
-        | Inst::Or { .. }
-        | Inst::Binary { .. }
-        | Inst::Unary { .. }
-        | Inst::Compare { .. }
-        | Inst::Extend { .. }
-        | Inst::Truncate { .. }
-        | Inst::Select { .. }
-        | Inst::Float { .. }
-        | Inst::FloatUnary { .. }
-        | Inst::FloatCompare { .. }
-        | Inst::Bitcast { .. }
-        | Inst::Convert { .. } => (None, None),
+        Effect::Subroutine => return None,
+        // Function locals are followed apart (`Variable`).
+        Effect::Pure | Effect::ReadsLocal | Effect::WritesLocal => (None, None),
     })
 }
 
