@@ -13,8 +13,9 @@
 //! keys states by the whole compact layout, which is always sound.
 
 use ladder_ir::{BlockId, Effect, Function, Index, Inst, Program, Span, Terminator, Value};
-use ladder_runtime::helpers::Helper;
+use ladder_runtime::helpers::{Helper, Param};
 use ladder_runtime::layout::Array;
+use ladder_runtime::place::Place;
 use ladder_runtime::special::{D_ERROR_CODE, D_ERROR_LINE, M_OPERATION_ERROR};
 use ladder_runtime::{Device, MachineUse};
 use rustc_hash::FxHashSet;
@@ -136,6 +137,10 @@ fn helper_locations(helper: Helper) -> Option<(Locations, Locations)> {
         let mut reads = COUNTER_ARRAYS.to_vec();
         reads.push(Array::M);
         Some((Locations::Arrays(reads), arrays(&COUNTER_ARRAYS)))
+    } else if matches!(helper, Helper::LoopRepeat) {
+        // The watchdog's count is followed apart (`cone`); an overrun is
+        // an operation error.
+        Some((arrays(&[]), operation_error()))
     } else if matches!(
         helper,
         Helper::RealFunction | Helper::RealToDecimal | Helper::DecimalToReal | Helper::Segments
@@ -159,7 +164,8 @@ fn accesses(inst: &Inst) -> Option<(Option<Locations>, Option<Locations>)> {
             let (reads, writes) = helper_locations(helper)?;
             (Some(reads), Some(writes))
         }
-        Effect::Subroutine => return None,
+        // What a call needs is followed through its subroutine (`cone`).
+        Effect::Subroutine => (None, None),
         // Function locals are followed apart (`Variable`).
         Effect::Pure | Effect::ReadsLocal | Effect::WritesLocal => (None, None),
     })
@@ -290,87 +296,192 @@ fn control_dependences(function: &Function) -> Option<Vec<Vec<BlockId>>> {
     Some(dependences)
 }
 
+/// One function's part of the analysis.
+struct Part<'f> {
+    function: &'f Function,
+    /// For each block, the branch blocks it is control dependent on.
+    dependences: Vec<Vec<BlockId>>,
+    /// Every instruction's reads and writes, by block and position.
+    accesses: Vec<Vec<(Option<Locations>, Option<Locations>)>>,
+    /// Where each value is defined.
+    definition: Vec<Option<(usize, usize)>>,
+}
+
+impl<'f> Part<'f> {
+    fn new(function: &'f Function) -> Option<Part<'f>> {
+        let dependences = control_dependences(function)?;
+        let mut definition: Vec<Option<(usize, usize)>> = vec![None; function.value_types.len()];
+        for (b, block) in function.blocks.iter().enumerate() {
+            for (i, (result, _)) in block.insts.iter().enumerate() {
+                if let Some(v) = result {
+                    definition[v.0 as usize] = Some((b, i));
+                }
+            }
+        }
+        let mut part = Part {
+            function,
+            dependences,
+            accesses: Vec::new(),
+            definition,
+        };
+        for block in &function.blocks {
+            let mut list = Vec::with_capacity(block.insts.len());
+            for (_, inst) in &block.insts {
+                list.push(part.accesses_of(inst)?);
+            }
+            part.accesses.push(list);
+        }
+        Some(part)
+    }
+
+    /// What an instruction reads and writes (`None`: unknown, no cone).
+    /// Block moves and fills take packed places: their areas are read off
+    /// the constant that packs them.
+    #[allow(clippy::type_complexity)]
+    fn accesses_of(&self, inst: &Inst) -> Option<(Option<Locations>, Option<Locations>)> {
+        if let Inst::Call { helper, args } = inst {
+            if matches!(helper, Helper::BlockMove | Helper::Fill) {
+                let mut reads = Vec::new();
+                let mut writes = Vec::new();
+                for (&(_, param), &arg) in helper.decl().params.iter().zip(args) {
+                    match param {
+                        Param::SourcePlace => reads.push(self.place_array(arg)?),
+                        Param::DestinationPlace => writes.push(self.place_array(arg)?),
+                        Param::U32 | Param::I32 => {}
+                    }
+                }
+                return Some((Some(Locations::Arrays(reads)), Some(Locations::Arrays(writes))));
+            }
+        }
+        accesses(inst)
+    }
+
+    /// The array of the place a packed-place argument names: a constant,
+    /// or a constant tag ORed with a run-time index.
+    fn place_array(&self, value: Value) -> Option<Array> {
+        let defining = |v: Value| {
+            let (b, i) = self.definition.get(v.0 as usize).copied().flatten()?;
+            Some(&self.function.blocks[b].insts[i].1)
+        };
+        let constant = |v: Value| {
+            if let Some(Inst::Const { value, .. }) = defining(v) {
+                Some(*value)
+            } else {
+                None
+            }
+        };
+        let packed = match constant(value) {
+            Some(c) => c,
+            None => {
+                let Some(Inst::Binary {
+                    op: ladder_ir::BinOp::Or,
+                    a,
+                    b,
+                }) = defining(value)
+                else {
+                    return None;
+                };
+                constant(*a).or_else(|| constant(*b))?
+            }
+        };
+        Some(match Place::unpack(packed as u32)? {
+            Place::Word(area, _) | Place::WordBit(area, _) => Array::of_words(area),
+            Place::Bit(area, _) | Place::Digits(area, _, _) => Array::of_bits(area),
+            Place::WideCounter(_) => Array::WideCounterValue,
+            Place::Constant(_) => return None,
+        })
+    }
+}
+
 /// The cone of `roots` in `program` (`None`: the IR does not say enough).
 /// `machine` is what the scan around the program keeps up to date: the
 /// high-speed counters (counted at the input refresh) and the alarm
 /// monitor (SM248/SD249 from S900-S999) read and write outside the IR, so
 /// with them there is no cone.
+///
+/// Subroutines are part of it: an instruction of a subroutine that the
+/// cone needs makes every call of that subroutine needed (where it runs
+/// decides whether the instruction does). FOR/NEXT's watchdog (the
+/// runtime's count of repetitions in the scan, which `LoopRepeat` keeps)
+/// is a variable of its own: a needed `LoopRepeat` needs every other.
 pub fn cone(program: &Program, roots: &[(Array, u32)], machine: MachineUse) -> Option<Cone> {
-    if !program.subroutines.is_empty()
-        || machine.contains(MachineUse::HIGH_SPEED)
-        || machine.contains(MachineUse::ALARMS)
-    {
+    if machine.contains(MachineUse::HIGH_SPEED) || machine.contains(MachineUse::ALARMS) {
         return None;
     }
-    let function = &program.main;
-    let dependences = control_dependences(function)?;
-    // Every instruction's accesses, once, by block and position.
-    let mut instructions: Vec<Vec<(Option<Locations>, Option<Locations>)>> = Vec::new();
-    let mut definition: Vec<Option<(usize, usize)>> = vec![None; function.value_types.len()];
-    for (b, block) in function.blocks.iter().enumerate() {
-        let mut list = Vec::with_capacity(block.insts.len());
-        for (i, (result, inst)) in block.insts.iter().enumerate() {
-            list.push(accesses(inst)?);
-            if let Some(v) = result {
-                definition[v.0 as usize] = Some((b, i));
-            }
-        }
-        instructions.push(list);
-    }
+    let parts: Vec<Part> = std::iter::once(&program.main)
+        .chain(&program.subroutines)
+        .map(Part::new)
+        .collect::<Option<_>>()?;
     let mut cone = Cone::default();
     cone.add(&Locations::Elements(roots.to_vec()));
-    let mut relevant_variables: FxHashSet<Variable> = FxHashSet::default();
+    let mut variables: FxHashSet<(usize, Variable)> = FxHashSet::default();
+    let mut called: FxHashSet<u32> = FxHashSet::default();
+    let mut watchdog = false;
     loop {
         let mut grew = false;
-        // The instructions the cone needs: those that write it (or a
-        // variable it needs), then everything they depend on.
-        let mut needed: FxHashSet<(usize, usize)> = FxHashSet::default();
-        let mut needed_blocks: FxHashSet<usize> = FxHashSet::default();
-        let mut work: Vec<Value> = Vec::new();
-        let visit_block = |b: usize, work: &mut Vec<Value>, needed_blocks: &mut FxHashSet<usize>| {
-            let mut pending = vec![b];
-            while let Some(b) = pending.pop() {
-                if !needed_blocks.insert(b) {
-                    continue;
-                }
-                for branch in &dependences[b] {
-                    if let Terminator::Branch { condition, .. } = function.block(*branch).terminator {
-                        work.push(condition);
+        // The instructions the cone needs, by (function, block, position):
+        // those that write it (or a variable, a subroutine, the watchdog it
+        // needs), then everything they depend on.
+        let mut needed: FxHashSet<(usize, usize, usize)> = FxHashSet::default();
+        let mut needed_blocks: FxHashSet<(usize, usize)> = FxHashSet::default();
+        let mut work: Vec<(usize, Value)> = Vec::new();
+        for (f, part) in parts.iter().enumerate() {
+            for (b, list) in part.accesses.iter().enumerate() {
+                for (i, (_, writes)) in list.iter().enumerate() {
+                    let inst = &part.function.blocks[b].insts[i].1;
+                    let seed = writes.as_ref().is_some_and(|w| cone.touches(w))
+                        || variable_written(inst).is_some_and(|v| variables.contains(&(f, v)))
+                        || matches!(inst, Inst::CallSubroutine { subroutine } if called.contains(subroutine))
+                        || (watchdog
+                            && matches!(
+                                inst,
+                                Inst::Call {
+                                    helper: Helper::LoopRepeat,
+                                    ..
+                                }
+                            ));
+                    if seed {
+                        needed.insert((f, b, i));
+                        work.extend(inst.operands().into_iter().map(|v| (f, v)));
+                        visit_block(part, f, b, &mut work, &mut needed_blocks);
                     }
-                    pending.push(branch.0 as usize);
-                }
-            }
-        };
-        for (b, list) in instructions.iter().enumerate() {
-            for (i, (_, writes)) in list.iter().enumerate() {
-                let inst = &function.blocks[b].insts[i].1;
-                let writes_cone = writes.as_ref().is_some_and(|w| cone.touches(w));
-                let writes_variable = variable_written(inst).is_some_and(|v| relevant_variables.contains(&v));
-                if writes_cone || writes_variable {
-                    needed.insert((b, i));
-                    work.extend(inst.operands());
-                    visit_block(b, &mut work, &mut needed_blocks);
                 }
             }
         }
-        while let Some(value) = work.pop() {
-            let Some((b, i)) = definition.get(value.0 as usize).copied().flatten() else {
+        while let Some((f, value)) = work.pop() {
+            let part = &parts[f];
+            let Some((b, i)) = part.definition.get(value.0 as usize).copied().flatten() else {
                 continue;
             };
-            if !needed.insert((b, i)) {
+            if !needed.insert((f, b, i)) {
                 continue;
             }
-            let inst = &function.blocks[b].insts[i].1;
-            work.extend(inst.operands());
-            visit_block(b, &mut work, &mut needed_blocks);
+            let inst = &part.function.blocks[b].insts[i].1;
+            work.extend(inst.operands().into_iter().map(|v| (f, v)));
+            visit_block(part, f, b, &mut work, &mut needed_blocks);
         }
-        for &(b, i) in &needed {
-            let inst = &function.blocks[b].insts[i].1;
+        for &(f, b, i) in &needed {
+            let part = &parts[f];
+            let inst = &part.function.blocks[b].insts[i].1;
             if let Some(v) = variable_read(inst) {
-                grew |= relevant_variables.insert(v);
+                grew |= variables.insert((f, v));
             }
-            if let Some(reads) = &instructions[b][i].0 {
+            if let Some(reads) = &part.accesses[b][i].0 {
                 grew |= cone.add(reads);
+            }
+            if f > 0 {
+                grew |= called.insert(f as u32 - 1);
+            }
+            if matches!(
+                inst,
+                Inst::Call {
+                    helper: Helper::LoopRepeat,
+                    ..
+                }
+            ) && !watchdog
+            {
+                watchdog = true;
+                grew = true;
             }
         }
         // The scan around the program: step 2 turns OFF the states a
@@ -402,4 +513,27 @@ pub fn cone(program: &Program, roots: &[(Array, u32)], machine: MachineUse) -> O
         cone.arrays.insert(Array::InputImage);
     }
     Some(cone)
+}
+
+/// Marks block `b` of function `f` needed, with the branches it depends on
+/// (their conditions go to `work`), transitively.
+fn visit_block(
+    part: &Part,
+    f: usize,
+    b: usize,
+    work: &mut Vec<(usize, Value)>,
+    needed_blocks: &mut FxHashSet<(usize, usize)>,
+) {
+    let mut pending = vec![b];
+    while let Some(b) = pending.pop() {
+        if !needed_blocks.insert((f, b)) {
+            continue;
+        }
+        for branch in &part.dependences[b] {
+            if let Terminator::Branch { condition, .. } = part.function.block(*branch).terminator {
+                work.push((f, condition));
+            }
+            pending.push(branch.0 as usize);
+        }
+    }
 }

@@ -93,7 +93,7 @@ impl<'p> Model<'p> {
         let layout = compact_layout(checked, ir, &host_devices);
         let machine = machine_use(checked, ir, &host_devices);
         let ranges = match &cone {
-            Some(cone) => cone_ranges(cone),
+            Some(cone) => cone_ranges(cone, machine),
             None => layout_ranges(&layout, machine),
         };
         let merged = merge(ranges);
@@ -266,8 +266,10 @@ fn layout_ranges(layout: &Layout, machine: MachineUse) -> Vec<(usize, usize)> {
     ranges
 }
 
-/// The byte ranges of a cone of influence, with the scalars it needs.
-fn cone_ranges(cone: &crate::coi::Cone) -> Vec<(usize, usize)> {
+/// The byte ranges of a cone of influence, with the scalars it needs: the
+/// clocks only when the scan keeps the relays or the calendar that show
+/// them (`machine`) and the cone holds those devices.
+fn cone_ranges(cone: &crate::coi::Cone, machine: MachineUse) -> Vec<(usize, usize)> {
     let mut ranges = Vec::new();
     for &array in &cone.arrays {
         let Some(offset) = FULL.offset(array, array.first()) else {
@@ -288,7 +290,9 @@ fn cone_ranges(cone: &crate::coi::Cone) -> Vec<(usize, usize)> {
         || cone.elements.iter().any(|(array, _)| *array == Array::StlPendingOff);
     let m = |range: std::ops::RangeInclusive<u32>| range.into_iter().any(|n| cone.holds(Array::M, n));
     let d = |range: std::ops::RangeInclusive<u32>| range.into_iter().any(|n| cone.holds(Array::D, n));
-    ranges.extend(scalar_ranges(pending, m(8011..=8014), m(8015..=8019) || d(8013..=8019)));
+    let clock_relays = machine.contains(MachineUse::CLOCK_RELAYS) && m(8011..=8014);
+    let calendar = machine.contains(MachineUse::CALENDAR) && (m(8015..=8019) || d(8013..=8019));
+    ranges.extend(scalar_ranges(pending, clock_relays, calendar));
     ranges
 }
 

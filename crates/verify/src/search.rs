@@ -11,6 +11,7 @@
 use crate::model::{Choice, Model};
 use crate::property::Claim;
 use rustc_hash::FxHashMap;
+use std::rc::Rc;
 use std::time::{Duration, Instant};
 
 /// How far a search may go before it answers `unknown`.
@@ -23,6 +24,8 @@ pub struct Limits {
     pub states: usize,
     /// Choices per scan the search enumerates.
     pub branching: u64,
+    /// Bytes of the states kept.
+    pub memory: usize,
 }
 
 impl Default for Limits {
@@ -32,6 +35,7 @@ impl Default for Limits {
             timeout: Duration::from_secs(60),
             states: 2_000_000,
             branching: 4096,
+            memory: 1 << 30,
         }
     }
 }
@@ -63,7 +67,7 @@ pub struct Searched {
 }
 
 struct Node {
-    key: Box<[u8]>,
+    key: Rc<[u8]>,
     monitor: u32,
     parent: usize,
     choice: usize,
@@ -86,7 +90,9 @@ pub fn search(model: &Model, claim: &Claim, limits: &Limits) -> (Outcome, Search
     let choices = model.choices();
     let started = Instant::now();
     let mut nodes: Vec<Node> = Vec::new();
-    let mut seen: FxHashMap<(Box<[u8]>, u32), ()> = FxHashMap::default();
+    // Each state's bytes once, shared by its node and the set of seen ones.
+    let mut seen: FxHashMap<(Rc<[u8]>, u32), ()> = FxHashMap::default();
+    let bytes_per_state = model.state_size() + std::mem::size_of::<Node>() + 64;
     let mut before = model.power_up.clone();
     let mut work = model.power_up.clone();
     // The power-up image is not a state after a scan: it is expanded first
@@ -150,8 +156,8 @@ pub fn search(model: &Model, claim: &Claim, limits: &Limits) -> (Outcome, Search
                     stats.states = nodes.len();
                     return (Outcome::Found { path }, stats);
                 }
-                let key = model.key(&work);
-                if seen.contains_key(&(key.clone(), monitor)) {
+                let key: Rc<[u8]> = Rc::from(model.key(&work));
+                if seen.contains_key(&(Rc::clone(&key), monitor)) {
                     continue;
                 }
                 if nodes.len() >= limits.states {
@@ -161,7 +167,19 @@ pub fn search(model: &Model, claim: &Claim, limits: &Limits) -> (Outcome, Search
                         stats,
                     );
                 }
-                seen.insert((key.clone(), monitor), ());
+                if nodes.len().saturating_mul(bytes_per_state) >= limits.memory {
+                    stats.states = nodes.len();
+                    return (
+                        Outcome::Unknown(format!(
+                            "{} states of {} bytes fill the search's {} MB",
+                            nodes.len(),
+                            model.state_size(),
+                            limits.memory >> 20
+                        )),
+                        stats,
+                    );
+                }
+                seen.insert((Rc::clone(&key), monitor), ());
                 nodes.push(Node {
                     key,
                     monitor,

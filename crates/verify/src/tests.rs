@@ -327,7 +327,8 @@ fn garbage_is_diagnosed_never_a_panic() {
 mod random {
     //! Verdicts against exhaustive simulation: small random programs over
     //! three inputs (bit logic, edges, timers, a counter, a counted word,
-    //! an STL sequence), every input sequence up to a depth simulated on the
+    //! an STL sequence, a subroutine, a block move), every input sequence
+    //! up to a depth simulated on the
     //! interpreter from power-up (no states merged, no cone); the
     //! verifier's verdict must agree with what the simulation sees.
 
@@ -368,8 +369,35 @@ mod random {
     /// outputs (coils, SET/RST, PLS, timers, a counter, INCP), and at times
     /// an STL sequence after them.
     fn program(rng: &mut Rng) -> String {
+        let count = 2 + rng.below(5);
+        let mut text = rungs(rng, count);
+        // The counted word stays small, so that proofs stay quick.
+        text.push_str("LD> D0 K4\nMOV K0 D0\n");
+        if rng.below(2) == 0 {
+            text.push_str(&format!(
+                "LD M8002\nSET S20\nSTL S20\nLD {}\nSET S21\nSTL S21\nOUT Y2\nLD {}\nSET S20\nRET\n",
+                bit(rng),
+                bit(rng)
+            ));
+        }
+        // At times some rungs in a subroutine, called on a condition, and
+        // a block move.
+        if rng.below(3) == 0 {
+            text.push_str(&format!(
+                "LD {}\nCALL P0\nLD {}\nBMOV K1Y0 K1M0 K1\nFEND\nP0\n",
+                bit(rng),
+                bit(rng)
+            ));
+            let count = 1 + rng.below(2);
+            text.push_str(&rungs(rng, count));
+            text.push_str("SRET\n");
+        }
+        text
+    }
+
+    fn rungs(rng: &mut Rng, count: u64) -> String {
         let mut text = String::new();
-        for _ in 0..2 + rng.below(5) {
+        for _ in 0..count {
             if rng.below(5) == 0 {
                 text.push_str(&format!("LD> D0 K{}\n", rng.below(4)));
             } else {
@@ -392,15 +420,6 @@ mod random {
                 6 => text.push_str("RST C0\n"),
                 _ => text.push_str(&format!("OUT {target}{n}\n")),
             }
-        }
-        // The counted word stays small, so that proofs stay quick.
-        text.push_str("LD> D0 K4\nMOV K0 D0\n");
-        if rng.below(2) == 0 {
-            text.push_str(&format!(
-                "LD M8002\nSET S20\nSTL S20\nLD {}\nSET S21\nSTL S21\nOUT Y2\nLD {}\nSET S20\nRET\n",
-                bit(rng),
-                bit(rng)
-            ));
         }
         text
     }
