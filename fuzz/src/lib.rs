@@ -34,6 +34,22 @@ pub fn front_end(data: &[u8]) {
     let _ = render_all(&file, &diagnostics, ladder_front::diagnostics::Shown::All);
 }
 
+/// A property file (`ladderc verify`): diagnosed or checked, never a
+/// panic; inline programs are searched within tight limits.
+pub fn properties(data: &[u8]) {
+    let file = SourceFile::from_bytes("fuzz.prop", data);
+    let options = ladder_verify::Options {
+        limits: ladder_verify::search::Limits {
+            depth: 50,
+            timeout: std::time::Duration::from_millis(200),
+            states: 20_000,
+            branching: 256,
+            memory: 64 << 20,
+        },
+    };
+    let _ = ladder_verify::verify_source(std::path::Path::new("fuzz.prop"), &file, &options);
+}
+
 pub fn scenario(data: &[u8]) {
     let text = String::from_utf8_lossy(data);
     let Ok(scenario) = parse_scenario(std::path::Path::new("fuzz.scn"), &text) else {

@@ -54,6 +54,19 @@ fn scenario_takes_scenario_files() {
 }
 
 #[test]
+fn properties_takes_property_files() {
+    let mut found = Vec::new();
+    files(&workspace().join("testsuite/properties"), "prop", &mut found);
+    assert!(found.len() >= 12, "found the property files");
+    // Inline programs only: the target names its file `fuzz.prop`, so a
+    // `program FILE` is not found, which is one of the errors it takes.
+    for path in &found {
+        ladderc_fuzz::properties(&std::fs::read(path).unwrap());
+    }
+    ladderc_fuzz::properties(b"program <<\nLD X0\nOUT Y0\n>>\nnever Y0 & \xff\xfe\n");
+}
+
+#[test]
 fn modbus_takes_requests_and_garbage() {
     let seeds: [&[u8]; 6] = [
         b"\x01\x00\x01\x00\x00\x00\x06\x01\x03\x00\x00\x00\x0a",

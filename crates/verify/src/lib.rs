@@ -92,6 +92,13 @@ pub fn witness_path(dir: &Path, file: &Path, line: u32) -> PathBuf {
 /// Checks every property of the file at `path`.
 pub fn verify_file(path: &Path, options: &Options) -> Result<Vec<PropertyReport>, FileError> {
     let source = SourceFile::read(path).map_err(|e| FileError::Read(format!("{}: {e}", path.display())))?;
+    verify_source(path, &source, options)
+}
+
+/// Checks every property of a property file's text; `path` names it (and
+/// a `program FILE` is found beside it).
+pub fn verify_source(path: &Path, source: &SourceFile, options: &Options) -> Result<Vec<PropertyReport>, FileError> {
+    let source = source.clone();
     let file = property::parse_file(path, &source).map_err(|d| FileError::Invalid(render(&source, &d)))?;
     let program_source = match &file.program {
         ProgramSource::File(program) => {
