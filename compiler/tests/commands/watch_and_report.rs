@@ -5,11 +5,6 @@
 //! `test --junit` (checked for the JUnit structure CI tools need), `test
 //! --vcd`, and the `print` directive.
 
-// The VCD commands and XML events read back are the vcd and quick-xml
-// crates' enums (vcd's is non-exhaustive): each reader takes the few it
-// checks and passes over the rest.
-#![allow(clippy::wildcard_enum_match_arm)]
-
 use crate::common::tools::{self, ladderc, scratch, workspace};
 use std::path::Path;
 
@@ -126,6 +121,8 @@ type Signal = (String, u32);
 type Change = (u64, String, String);
 
 /// The signals of a VCD file and its value changes.
+// vcd's `Command` is non-exhaustive: the reader takes the few it checks.
+#[allow(clippy::wildcard_enum_match_arm)]
 fn parse_vcd(path: &Path) -> (Vec<Signal>, Vec<Change>) {
     let mut parser = vcd::Parser::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
     let header = parser.parse_header().unwrap();
@@ -159,6 +156,8 @@ fn parse_vcd(path: &Path) -> (Vec<Signal>, Vec<Change>) {
 }
 
 /// The last timestamp of a VCD file: where a viewer's time axis ends.
+// vcd's `Command` is non-exhaustive: the reader takes the few it checks.
+#[allow(clippy::wildcard_enum_match_arm)]
 fn last_timestamp(path: &Path) -> u64 {
     let mut parser = vcd::Parser::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
     parser.parse_header().unwrap();
@@ -308,6 +307,8 @@ fn test_html_shows_the_ladder_and_waveform_at_a_failure() {
 /// The structure JUnit consumers require: `testsuites` of `testsuite`
 /// (name, tests, failures, errors) of `testcase` (name, classname), a
 /// failure with its message.
+// quick-xml's events: the reader takes the elements and passes over the rest.
+#[allow(clippy::wildcard_enum_match_arm)]
 fn check_junit(xml: &str) {
     use quick_xml::events::Event;
     let mut reader = quick_xml::Reader::from_str(xml);
