@@ -79,9 +79,15 @@ pub fn search(model: &Model, claim: &Claim, limits: &Limits) -> (Outcome, Search
     let mut stats = Searched::default();
     let branching = model.branching();
     if branching > limits.branching {
+        let choices = if branching == u64::MAX {
+            "more than 10^19".to_string()
+        } else {
+            branching.to_string()
+        };
         return (
             Outcome::Unknown(format!(
-                "{branching} choices of inputs per scan; the explicit-state search takes at most {} (name fewer inputs with `input`, or narrow their ranges)",
+                "{choices} choices of inputs per scan from {} inputs that reach the property; the explicit-state search takes at most {} (name fewer inputs with `input`, or narrow their ranges)",
+                model.inputs.len(),
                 limits.branching
             )),
             stats,
