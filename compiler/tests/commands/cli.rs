@@ -4,7 +4,8 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-fn ladderc(args: &[&str], dir: &Path) -> Output {
+/// Runs `ladderc` with `args` in `dir` (other command tests use it too).
+pub(crate) fn ladderc(args: &[&str], dir: &Path) -> Output {
     Command::new(env!("CARGO_BIN_EXE_ladderc"))
         .args(args)
         .current_dir(dir)
@@ -18,7 +19,7 @@ fn temp_dir(name: &str) -> PathBuf {
     dir
 }
 
-fn text(bytes: &[u8]) -> String {
+pub(crate) fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
 }
 

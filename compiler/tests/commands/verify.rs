@@ -3,26 +3,15 @@
 //! engine, the JUnit report, diagnostics of a broken file (exit 2, nothing
 //! written), `explain` of the property codes.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use crate::cli::{ladderc, text};
+use std::path::PathBuf;
 
-fn ladderc(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_ladderc"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("ladderc runs")
-}
-
+/// A fresh folder of this test's own.
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("ladderc-verify-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
 }
 
 const INTERLOCK: &str = "program <<
