@@ -88,6 +88,12 @@ pub fn write_junit(path: &Path, results: &[FileReport], inputs: &[&Path]) -> Res
         }
         report.add_test_suite(suite);
     }
+    write_report(path, &report, inputs)
+}
+
+/// Writes a JUnit report at `path`, never over one of `inputs`, whole or
+/// not at all (`test --junit`, `verify --junit`).
+pub fn write_report(path: &Path, report: &Report, inputs: &[&Path]) -> Result<(), String> {
     let xml = report
         .to_string()
         .map_err(|e| format!("cannot write the JUnit report: {e}"))?;

@@ -155,10 +155,5 @@ fn write_junit(
         }
         report.add_test_suite(suite);
     }
-    let xml = report
-        .to_string()
-        .map_err(|e| format!("cannot write the JUnit report: {e}"))?;
-    let target = super::output::prepare(path, inputs).map_err(|e| e.to_string())?;
-    super::output::write_atomically(&target, xml.as_bytes())
-        .map_err(|e| format!("cannot write {}: {e}", path.display()))
+    super::report::write_report(path, &report, inputs)
 }
