@@ -3,7 +3,9 @@
 
 use super::status;
 use ladder_verify::search::Limits;
-use ladder_verify::{collect_files, verify_file, witness_path, FileError, Options, PropertyReport};
+use ladder_verify::{
+    collect_files, emit_aiger as aiger_of, verify_file, witness_path, Engine, FileError, Options, PropertyReport,
+};
 use quick_junit::{NonSuccessKind, Report, TestCase, TestCaseStatus, TestSuite};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -26,10 +28,45 @@ pub struct VerifyArgs {
     /// Write a JUnit report (one test case per property).
     #[arg(long)]
     pub junit: Option<PathBuf>,
+    /// Which engines decide: the explicit-state search, then the SAT-based
+    /// ones when it cannot answer (auto); either alone.
+    #[arg(long, value_enum, default_value_t = EngineArg::Auto)]
+    pub engine: EngineArg,
+    /// Instead of checking: write one property (`--property LINE`) of one
+    /// property file as a binary AIGER model to `-o FILE`, its output ON
+    /// after a scan that breaks the property.
+    #[arg(long, value_enum, requires_all = ["output", "property"])]
+    pub emit: Option<EmitArg>,
+    /// The file `--emit` writes.
+    #[arg(short = 'o', long = "output", requires = "emit")]
+    pub output: Option<PathBuf>,
+    /// The line of the property `--emit` writes.
+    #[arg(long, requires = "emit")]
+    pub property: Option<u32>,
+}
+
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EngineArg {
+    Auto,
+    Explicit,
+    Sat,
+}
+
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EmitArg {
+    Aiger,
 }
 
 pub fn run(args: &VerifyArgs) -> u8 {
+    if let (Some(EmitArg::Aiger), Some(output), Some(line)) = (args.emit, &args.output, args.property) {
+        return emit_aiger(&args.paths, output, line);
+    }
     let options = Options {
+        engine: match args.engine {
+            EngineArg::Auto => Engine::Auto,
+            EngineArg::Explicit => Engine::Explicit,
+            EngineArg::Sat => Engine::Symbolic,
+        },
         limits: Limits {
             depth: args.depth,
             timeout: Duration::from_secs(args.timeout),
@@ -107,6 +144,32 @@ pub fn run(args: &VerifyArgs) -> u8 {
         status::FAILED
     } else {
         status::OK
+    }
+}
+
+/// `--emit aiger`: one property of one file, written only when it can be
+/// made whole (an existing file is left as it was otherwise).
+fn emit_aiger(paths: &[PathBuf], output: &Path, line: u32) -> u8 {
+    let [path] = paths else {
+        say_err!("error: --emit aiger takes one property file");
+        return status::UNUSABLE;
+    };
+    match aiger_of(path, line) {
+        Ok(bytes) => match super::output::write_atomically(output, &bytes) {
+            Ok(()) => status::OK,
+            Err(error) => {
+                say_err!("error: cannot write {}: {error}", output.display());
+                status::UNUSABLE
+            }
+        },
+        Err(FileError::Read(message)) => {
+            say_err!("error: {message}");
+            status::UNUSABLE
+        }
+        Err(FileError::Invalid(rendered)) => {
+            super::write_raw(true, &rendered);
+            status::UNUSABLE
+        }
     }
 }
 

@@ -12,6 +12,7 @@ pub mod expr;
 pub mod model;
 pub mod property;
 pub mod search;
+pub mod symbolic;
 pub mod witness;
 
 use ladder_engine::pipeline::Lowered;
@@ -81,6 +82,20 @@ pub enum FileError {
 #[derive(Clone, Debug, Default)]
 pub struct Options {
     pub limits: Limits,
+    pub engine: Engine,
+}
+
+/// Which engines decide a property.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Engine {
+    /// The explicit-state search, then (when it cannot answer) the
+    /// SAT-based engines.
+    #[default]
+    Auto,
+    /// The explicit-state search alone.
+    Explicit,
+    /// The SAT-based engines alone (BMC, k-induction, IC3).
+    Symbolic,
 }
 
 /// The witness file of a property: `DIR/NAME-LINE.scn`.
@@ -97,7 +112,15 @@ pub fn verify_file(path: &Path, options: &Options) -> Result<Vec<PropertyReport>
 
 /// Checks every property of a property file's text; `path` names it (and
 /// a `program FILE` is found beside it).
-pub fn verify_source(path: &Path, source: &SourceFile, options: &Options) -> Result<Vec<PropertyReport>, FileError> {
+/// A property file read and its program compiled.
+struct Loaded {
+    file: property::PropertyFile,
+    program_source: SourceFile,
+    checked: ladder_front::program::CheckedProgram,
+}
+
+/// Parses a property file's text and compiles its program.
+fn load(path: &Path, source: &SourceFile) -> Result<Loaded, FileError> {
     let source = source.clone();
     let file = property::parse_file(path, &source).map_err(|d| FileError::Invalid(render(&source, &d)))?;
     let program_source = match &file.program {
@@ -127,16 +150,36 @@ pub fn verify_source(path: &Path, source: &SourceFile, options: &Options) -> Res
             Shown::default(),
         )));
     };
+    Ok(Loaded {
+        file,
+        program_source,
+        checked,
+    })
+}
+
+pub fn verify_source(path: &Path, source: &SourceFile, options: &Options) -> Result<Vec<PropertyReport>, FileError> {
+    let Loaded {
+        file,
+        program_source,
+        checked,
+    } = load(path, source)?;
     let lowered = Lowered::new(&checked);
     let mut reports = Vec::new();
     for property in &file.properties {
         // A model per property: its cone, and only the inputs in it.
         let model =
             Model::new(&checked, lowered.ir(), &file, Some(&property.claim)).map_err(|e| FileError::Invalid(e.0))?;
-        let (outcome, searched) = search::search(&model, &property.claim, &options.limits);
+        let decided = decide(&model, lowered.ir(), &file, &property.claim, options);
+        let searched = decided.searched;
         let mut warnings = unused_devices(&model, &property.claim);
+        if !decided.unmodelled.is_empty() {
+            warnings.push(format!(
+                "the SAT-based engines took these as arbitrary: {}",
+                decided.unmodelled.join("; ")
+            ));
+        }
         let mut witness = None;
-        let verdict = match (&property.claim, outcome) {
+        let verdict = match (&property.claim, decided.outcome) {
             (Claim::Never(_) | Claim::Always(_) | Claim::Respond { .. }, Outcome::Exhausted) => Verdict::Proved,
             (Claim::Reach(_), Outcome::Exhausted) => Verdict::Unreachable,
             (claim, Outcome::Found { path: choices }) => {
@@ -154,6 +197,12 @@ pub fn verify_source(path: &Path, source: &SourceFile, options: &Options) -> Res
                         witness = Some(text);
                         verdict
                     }
+                    // A model that took something as arbitrary may find a
+                    // counterexample the program cannot follow.
+                    Err(why) if !decided.unmodelled.is_empty() => Verdict::Unknown(format!(
+                        "a counterexample needs {}, and it does not replay ({why})",
+                        decided.unmodelled.join("; ")
+                    )),
                     Err(why) => Verdict::Unknown(format!("a bug of the verifier: its witness does not replay ({why})")),
                 }
             }
@@ -182,6 +231,140 @@ pub fn verify_source(path: &Path, source: &SourceFile, options: &Options) -> Res
         });
     }
     Ok(reports)
+}
+
+/// The property at `line` of the file at `path` as a binary AIGER model
+/// (`ladderc verify --emit aiger`): its output is ON after a scan that
+/// breaks the property (for `reach`: that shows its condition).
+pub fn emit_aiger(path: &Path, line: u32) -> Result<Vec<u8>, FileError> {
+    let source = SourceFile::read(path).map_err(|e| FileError::Read(format!("{}: {e}", path.display())))?;
+    let Loaded { file, checked, .. } = load(path, &source)?;
+    let Some(property) = file.properties.iter().find(|p| p.line == line) else {
+        let lines: Vec<String> = file.properties.iter().map(|p| p.line.to_string()).collect();
+        return Err(FileError::Read(format!(
+            "{}: no property on line {line} (properties are on lines {})",
+            path.display(),
+            lines.join(", ")
+        )));
+    };
+    let lowered = Lowered::new(&checked);
+    let model =
+        Model::new(&checked, lowered.ir(), &file, Some(&property.claim)).map_err(|e| FileError::Invalid(e.0))?;
+    let system = symbolic::system::build(&model, lowered.ir(), &file, &property.claim).map_err(|e| {
+        FileError::Read(format!(
+            "{}:{line}: the property cannot be written as AIGER: {}",
+            path.display(),
+            e.0
+        ))
+    })?;
+    let nodes = &system.aig.nodes;
+    let names: Vec<(u32, String)> = model
+        .inputs
+        .iter()
+        .zip(&system.inputs)
+        .flat_map(|(input, bits)| {
+            let (device, width) = model::input_device(*input);
+            let name = witness::name(ladder_front::host_device::HostDevice { device, width }).0;
+            let several = bits.len() > 1;
+            bits.iter().enumerate().filter_map(move |(i, bit)| {
+                let number = match nodes.get(bit.node() as usize) {
+                    Some(symbolic::aig::Node::Input(n)) => *n,
+                    _ => return None,
+                };
+                Some((number, if several { format!("{name}[{i}]") } else { name.clone() }))
+            })
+        })
+        .collect();
+    Ok(symbolic::aiger::write(&system, &names))
+}
+
+/// What the engines found of one property.
+struct Decided {
+    outcome: Outcome,
+    searched: Searched,
+    /// What the SAT-based engines took as arbitrary, when they answered.
+    unmodelled: Vec<String>,
+}
+
+/// Decides a property: the explicit-state search first (exact, and the
+/// shortest counterexample), then, when it cannot answer, the SAT-based
+/// engines with the time left.
+fn decide(
+    model: &Model,
+    ir: &ladder_ir::Program,
+    file: &property::PropertyFile,
+    claim: &Claim,
+    options: &Options,
+) -> Decided {
+    let start = std::time::Instant::now();
+    let mut explicit_reason = None;
+    if options.engine != Engine::Symbolic {
+        let mut limits = options.limits;
+        if options.engine == Engine::Auto {
+            // Half the time, so the SAT-based engines get the rest.
+            limits.timeout /= 2;
+        }
+        let (outcome, searched) = search::search(model, claim, &limits);
+        match outcome {
+            Outcome::Unknown(why) if options.engine == Engine::Auto => explicit_reason = Some(why),
+            Outcome::Exhausted | Outcome::Found { .. } | Outcome::Unknown(_) => {
+                return Decided {
+                    outcome,
+                    searched,
+                    unmodelled: Vec::new(),
+                }
+            }
+        }
+    }
+    let deadline = start + options.limits.timeout;
+    let unknown = |why: String| Decided {
+        outcome: Outcome::Unknown(why),
+        searched: Searched::default(),
+        unmodelled: Vec::new(),
+    };
+    let system = match symbolic::system::build(model, ir, file, claim) {
+        Ok(system) => system,
+        Err(symbolic::encode::Unsupported(why)) => {
+            return unknown(match explicit_reason {
+                Some(explicit) => format!("{explicit}; the SAT-based engines cannot take it: {why}"),
+                None => format!("the SAT-based engines cannot take it: {why}"),
+            })
+        }
+    };
+    let answer = symbolic::check(&system, options.limits.depth, deadline);
+    let mut searched = Searched {
+        transitions: 1,
+        ..Searched::default()
+    };
+    let outcome = match answer {
+        symbolic::bmc::Answer::Holds => {
+            // Vacuity: can the condition be true at all?
+            if let Some(condition) = system.condition {
+                let question = symbolic::System {
+                    bad: condition,
+                    ..system.clone()
+                };
+                let seen = symbolic::check(&question, options.limits.depth, deadline);
+                searched.condition_seen = !matches!(seen, symbolic::bmc::Answer::Holds);
+            }
+            Outcome::Exhausted
+        }
+        symbolic::bmc::Answer::Fails(frames) => {
+            searched.depth = frames.len() as u32;
+            Outcome::Found {
+                path: symbolic::choices(model, &frames),
+            }
+        }
+        symbolic::bmc::Answer::Unknown(why) => Outcome::Unknown(match explicit_reason {
+            Some(explicit) => format!("{explicit}; the SAT-based engines: {why}"),
+            None => why,
+        }),
+    };
+    Decided {
+        outcome,
+        searched,
+        unmodelled: system.unmodelled,
+    }
 }
 
 fn render(source: &SourceFile, diagnostics: &[Diagnostic]) -> String {

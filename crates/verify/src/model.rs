@@ -35,7 +35,7 @@ pub struct Model<'p> {
     ranges: Vec<(usize, usize)>,
     pub inputs: Vec<Input>,
     pub scan_time: ScanTime,
-    assumes: Vec<Expr>,
+    pub assumes: Vec<Expr>,
     /// The image before scan 1: power-up with `init` and `force` applied.
     pub power_up: Box<Memory>,
     /// The program's own layout (no host devices): what it reads or
@@ -119,6 +119,11 @@ impl<'p> Model<'p> {
             program_layout,
             cone: cone.is_some(),
         })
+    }
+
+    /// The parts of the machine around the program the scan keeps.
+    pub fn machine(&self) -> MachineUse {
+        self.machine
     }
 
     /// Bytes of a state.

@@ -1,0 +1,214 @@
+//! And-inverter graphs: the bit-level form of one scan that the SAT-based
+//! engines unroll and `--emit aiger` writes. A literal is a node number
+//! times two, plus one when negated; node 0 is the constant FALSE. AND
+//! nodes are hashed structurally and folded with constants, so building
+//! the same gate twice gives the same literal.
+
+use rustc_hash::FxHashMap;
+
+/// A literal: `2 * node + negated`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Lit(pub u32);
+
+impl Lit {
+    pub const FALSE: Lit = Lit(0);
+    pub const TRUE: Lit = Lit(1);
+
+    pub fn node(self) -> u32 {
+        self.0 >> 1
+    }
+
+    pub fn negated(self) -> bool {
+        self.0 & 1 == 1
+    }
+
+    pub fn constant(value: bool) -> Lit {
+        if value {
+            Lit::TRUE
+        } else {
+            Lit::FALSE
+        }
+    }
+}
+
+impl std::ops::Not for Lit {
+    type Output = Lit;
+    fn not(self) -> Lit {
+        Lit(self.0 ^ 1)
+    }
+}
+
+/// A node of the graph.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Node {
+    False,
+    /// Free input number `n` (chosen anew each scan).
+    Input(u32),
+    /// Latch number `n` (its value in the current state).
+    Latch(u32),
+    And(Lit, Lit),
+}
+
+/// A state bit: its value in the initial state and its value in the next.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Latch {
+    pub node: u32,
+    pub init: bool,
+    pub next: Lit,
+}
+
+#[derive(Clone, Debug)]
+pub struct Aig {
+    pub nodes: Vec<Node>,
+    hashed: FxHashMap<(Lit, Lit), Lit>,
+    /// Node of each input, by input number.
+    pub inputs: Vec<u32>,
+    pub latches: Vec<Latch>,
+}
+
+impl Default for Aig {
+    fn default() -> Aig {
+        Aig::new()
+    }
+}
+
+impl Aig {
+    pub fn new() -> Aig {
+        Aig {
+            nodes: vec![Node::False],
+            hashed: FxHashMap::default(),
+            inputs: Vec::new(),
+            latches: Vec::new(),
+        }
+    }
+
+    pub fn input(&mut self) -> Lit {
+        let node = self.nodes.len() as u32;
+        self.nodes.push(Node::Input(self.inputs.len() as u32));
+        self.inputs.push(node);
+        Lit(node * 2)
+    }
+
+    /// A latch with `init`; its next value is set later (`set_next`),
+    /// until then it keeps its value.
+    pub fn latch(&mut self, init: bool) -> Lit {
+        let node = self.nodes.len() as u32;
+        self.nodes.push(Node::Latch(self.latches.len() as u32));
+        self.latches.push(Latch {
+            node,
+            init,
+            next: Lit(node * 2),
+        });
+        Lit(node * 2)
+    }
+
+    /// Sets the next value of the latch whose current value is `latch`.
+    pub fn set_next(&mut self, latch: Lit, next: Lit) {
+        if let Some(Node::Latch(n)) = self.nodes.get(latch.node() as usize) {
+            self.latches[*n as usize].next = next;
+        }
+    }
+
+    pub fn and(&mut self, a: Lit, b: Lit) -> Lit {
+        if a == Lit::FALSE || b == Lit::FALSE || a == !b {
+            return Lit::FALSE;
+        }
+        if a == Lit::TRUE || a == b {
+            return b;
+        }
+        if b == Lit::TRUE {
+            return a;
+        }
+        let key = if a < b { (a, b) } else { (b, a) };
+        if let Some(&lit) = self.hashed.get(&key) {
+            return lit;
+        }
+        let node = self.nodes.len() as u32;
+        self.nodes.push(Node::And(key.0, key.1));
+        self.hashed.insert(key, Lit(node * 2));
+        Lit(node * 2)
+    }
+
+    pub fn or(&mut self, a: Lit, b: Lit) -> Lit {
+        !self.and(!a, !b)
+    }
+
+    pub fn xor(&mut self, a: Lit, b: Lit) -> Lit {
+        let one = self.and(a, !b);
+        let other = self.and(!a, b);
+        self.or(one, other)
+    }
+
+    pub fn iff(&mut self, a: Lit, b: Lit) -> Lit {
+        !self.xor(a, b)
+    }
+
+    pub fn implies(&mut self, a: Lit, b: Lit) -> Lit {
+        self.or(!a, b)
+    }
+
+    /// `condition ? if_true : if_false`.
+    pub fn mux(&mut self, condition: Lit, if_true: Lit, if_false: Lit) -> Lit {
+        if condition == Lit::TRUE || if_true == if_false {
+            return if_true;
+        }
+        if condition == Lit::FALSE {
+            return if_false;
+        }
+        let t = self.and(condition, if_true);
+        let f = self.and(!condition, if_false);
+        self.or(t, f)
+    }
+
+    pub fn and_all(&mut self, lits: impl IntoIterator<Item = Lit>) -> Lit {
+        lits.into_iter().fold(Lit::TRUE, |acc, l| self.and(acc, l))
+    }
+
+    pub fn or_all(&mut self, lits: impl IntoIterator<Item = Lit>) -> Lit {
+        lits.into_iter().fold(Lit::FALSE, |acc, l| self.or(acc, l))
+    }
+
+    /// The nodes `roots` depend on through AND gates and latches' next
+    /// values (the cone of influence), as a mark per node.
+    pub fn cone(&self, roots: &[Lit]) -> Vec<bool> {
+        let mut marked = vec![false; self.nodes.len()];
+        let mut stack: Vec<u32> = roots.iter().map(|l| l.node()).collect();
+        while let Some(node) = stack.pop() {
+            let Some(mark) = marked.get_mut(node as usize) else {
+                continue;
+            };
+            if *mark {
+                continue;
+            }
+            *mark = true;
+            match self.nodes[node as usize] {
+                Node::False | Node::Input(_) => {}
+                Node::Latch(n) => stack.push(self.latches[n as usize].next.node()),
+                Node::And(a, b) => {
+                    stack.push(a.node());
+                    stack.push(b.node());
+                }
+            }
+        }
+        marked
+    }
+
+    /// Values of every node, given the inputs' and latches' values.
+    pub fn simulate(&self, inputs: &[bool], latches: &[bool]) -> Vec<bool> {
+        let mut values = vec![false; self.nodes.len()];
+        for (n, node) in self.nodes.iter().enumerate() {
+            values[n] = match *node {
+                Node::False => false,
+                Node::Input(i) => inputs.get(i as usize).copied().unwrap_or(false),
+                Node::Latch(l) => latches.get(l as usize).copied().unwrap_or(false),
+                Node::And(a, b) => value_of(&values, a) && value_of(&values, b),
+            };
+        }
+        values
+    }
+}
+
+/// A literal's value among simulated node values.
+pub fn value_of(values: &[bool], lit: Lit) -> bool {
+    values.get(lit.node() as usize).copied().unwrap_or(false) != lit.negated()
+}
