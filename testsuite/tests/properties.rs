@@ -4,11 +4,15 @@
 //! the scenario runner on every engine (the verifier replays it on the
 //! interpreter before it reports it; this runs the compiled engines too).
 //! One test per property file: `cargo test -p ladderc-testsuite --test
-//! properties -- dialect::stl_transfer`.
+//! properties -- dialect::stl_transfer`. Each file also runs with the
+//! SAT-based engines alone (`sat::dialect::stl_transfer`): every verdict
+//! they reach must be the expected one (they may run out of time, or
+//! decline a program they do not encode, but never disagree).
 
 use ladder_engine::aot::toolchain::c_compiler;
 use ladder_engine::scenario::{load_program, parse_scenario, run_scenario, EngineKind, RunOptions};
-use ladder_verify::{collect_files, verify_file, witness_path, Options};
+use ladder_verify::search::Limits;
+use ladder_verify::{collect_files, verify_file, witness_path, Engine, Options};
 use libtest_mimic::{Arguments, Failed, Trial};
 use std::path::{Path, PathBuf};
 
@@ -94,6 +98,41 @@ fn check(file: &Path, engines: &[EngineKind]) -> Result<(), Failed> {
     }
 }
 
+/// The file with the SAT-based engines alone: a decided verdict is the
+/// expected one, with a witness that replays on the interpreter (the
+/// verifier checks that before it reports).
+fn check_sat(file: &Path) -> Result<(), Failed> {
+    let text = std::fs::read_to_string(file).map_err(|e| format!("{}: {e}", file.display()))?;
+    let options = Options {
+        engine: Engine::Symbolic,
+        limits: Limits {
+            timeout: std::time::Duration::from_secs(3),
+            ..Limits::default()
+        },
+    };
+    let reports = verify_file(file, &options).map_err(|e| format!("{}: {e:?}", file.display()))?;
+    let mut problems = Vec::new();
+    for report in &reports {
+        let got = report.verdict.text();
+        if got.starts_with("unknown") {
+            continue;
+        }
+        match expected(&text, report.line) {
+            Some(want) if want == got => {}
+            want => problems.push(format!(
+                "{}:{}: expected {want:?}, the SAT-based engines say {got}",
+                file.display(),
+                report.line
+            )),
+        }
+    }
+    if problems.is_empty() {
+        Ok(())
+    } else {
+        Err(problems.join("\n").into())
+    }
+}
+
 fn main() {
     let args = Arguments::from_args();
     let dir = properties_dir();
@@ -108,11 +147,15 @@ fn main() {
     };
     let trials = files
         .into_iter()
-        .map(|file| {
+        .flat_map(|file| {
             let relative = file.strip_prefix(&dir).unwrap_or(&file).with_extension("");
             let name = relative.to_string_lossy().replace(['/', '\\'], "::");
             let engines = engines.clone();
-            Trial::test(name, move || check(&file, &engines))
+            let sat_file = file.clone();
+            [
+                Trial::test(name.clone(), move || check(&file, &engines)),
+                Trial::test(format!("sat::{name}"), move || check_sat(&sat_file)),
+            ]
         })
         .collect();
     libtest_mimic::run(&args, trials).exit();

@@ -155,8 +155,16 @@ fn emit_aiger(paths: &[PathBuf], output: &Path, line: u32) -> u8 {
         return status::UNUSABLE;
     };
     match aiger_of(path, line) {
-        Ok(bytes) => match super::output::write_atomically(output, &bytes) {
-            Ok(()) => status::OK,
+        Ok((bytes, arbitrary)) => match super::output::write_atomically(output, &bytes) {
+            Ok(()) => {
+                if !arbitrary.is_empty() {
+                    say_err!(
+                        "warning: the model takes these as arbitrary (a counterexample may need them): {}",
+                        arbitrary.join("; ")
+                    );
+                }
+                status::OK
+            }
             Err(error) => {
                 say_err!("error: cannot write {}: {error}", output.display());
                 status::UNUSABLE

@@ -235,8 +235,10 @@ pub fn verify_source(path: &Path, source: &SourceFile, options: &Options) -> Res
 
 /// The property at `line` of the file at `path` as a binary AIGER model
 /// (`ladderc verify --emit aiger`): its output is ON after a scan that
-/// breaks the property (for `reach`: that shows its condition).
-pub fn emit_aiger(path: &Path, line: u32) -> Result<Vec<u8>, FileError> {
+/// breaks the property (for `reach`: that shows its condition). With it,
+/// what the model takes as arbitrary values (a model checker's
+/// counterexample may need them; its proof stays a proof).
+pub fn emit_aiger(path: &Path, line: u32) -> Result<(Vec<u8>, Vec<String>), FileError> {
     let source = SourceFile::read(path).map_err(|e| FileError::Read(format!("{}: {e}", path.display())))?;
     let Loaded { file, checked, .. } = load(path, &source)?;
     let Some(property) = file.properties.iter().find(|p| p.line == line) else {
@@ -275,7 +277,7 @@ pub fn emit_aiger(path: &Path, line: u32) -> Result<Vec<u8>, FileError> {
             })
         })
         .collect();
-    Ok(symbolic::aiger::write(&system, &names))
+    Ok((symbolic::aiger::write(&system, &names), system.unmodelled.clone()))
 }
 
 /// What the engines found of one property.
@@ -356,6 +358,8 @@ fn decide(
             }
         }
         symbolic::bmc::Answer::Unknown(why) => Outcome::Unknown(match explicit_reason {
+            // Both stopped at the same limit: said once.
+            Some(explicit) if explicit == why => why,
             Some(explicit) => format!("{explicit}; the SAT-based engines: {why}"),
             None => why,
         }),

@@ -506,7 +506,14 @@ mod random {
             .unwrap_or(0x5EED);
         let mut rng = Rng(seed);
         let depth = 3;
-        let (mut violated, mut proved) = (0, 0);
+        let (mut violated, mut proved, mut sat_decided) = (0, 0, 0);
+        let sat = Options {
+            engine: Engine::Symbolic,
+            limits: Limits {
+                timeout: std::time::Duration::from_secs(5),
+                ..Limits::default()
+            },
+        };
         for case in 0..200 {
             let text = program(&mut rng);
             let (a_area, a_n, a_name) = atom(&mut rng);
@@ -540,7 +547,21 @@ mod random {
                 "proved" => proved += 1,
                 _ => violated += 1,
             }
+            // The SAT-based engines: the same verdict (both report the
+            // shortest counterexample), or none within their time.
+            let by_sat = &verdicts(&file, &sat)[0].1;
+            if !by_sat.starts_with("unknown") {
+                assert_eq!(
+                    by_sat, verdict,
+                    "seed {seed}, case {case}: `never {condition}` by the SAT-based engines\n{text}"
+                );
+                sat_decided += 1;
+            }
         }
+        assert!(
+            sat_decided >= 180,
+            "seed {seed}: the SAT-based engines decided {sat_decided} of 200"
+        );
         // Both answers are exercised (else the comparison says little).
         assert!(
             violated >= 20 && proved >= 20,

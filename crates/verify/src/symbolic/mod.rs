@@ -33,7 +33,7 @@ pub fn check(system: &System, depth: u32, deadline: Instant) -> Answer {
     let mut k = 0u32;
     loop {
         if k >= depth {
-            return Answer::Unknown(format!("no answer within {depth} scans (--depth)"));
+            return Answer::Unknown(format!("depth {depth} reached (--depth)"));
         }
         k += 1;
         if let Some(answer) = bmc.step(k, k <= INDUCTION_DEPTH) {
@@ -96,3 +96,6 @@ fn signed(bits: u64, width: u32) -> i64 {
     let shift = 64 - width.clamp(1, 64);
     ((bits << shift) as i64) >> shift
 }
+
+#[cfg(test)]
+mod tests;
