@@ -14,10 +14,12 @@
 use super::aig::{Aig, Lit};
 use super::words::{self, Word};
 use ladder_ir::{BinOp, Cell, Function, Index, Inst, Program, Terminator, Type, UnaryOp, Value};
-use ladder_runtime::device::FIRST_WIDE_COUNTER;
+use ladder_runtime::device::{COUNTER_COUNT, FIRST_WIDE_COUNTER, MAX_TRANSFER_UNITS};
 use ladder_runtime::helpers::Helper;
+use ladder_runtime::hsc::FIRST_HSC;
 use ladder_runtime::layout::{Array, FULL};
-use ladder_runtime::special::{D_ERROR_CODE, D_ERROR_LINE, M_OPERATION_ERROR};
+use ladder_runtime::place::Place;
+use ladder_runtime::special::{D_ERROR_CODE, D_ERROR_LINE, M_COUNTER_DIRECTION_BASE, M_OPERATION_ERROR};
 use ladder_runtime::Memory;
 use rustc_hash::{FxHashMap, FxHashSet};
 
@@ -227,6 +229,18 @@ fn run_function(
         }
     }
     Ok(())
+}
+
+/// The instruction a helper runs, as its declaration's text names it
+/// first (`ZRST (`on` 0) ...` is ZRST), else the helper's C name.
+fn instruction_name(helper: Helper) -> String {
+    let decl = helper.decl();
+    let first = decl.doc.trim_start().split([' ', ':', ',', '(']).next().unwrap_or("");
+    if first.len() >= 2 && first.chars().all(|c| c.is_ascii_uppercase() || c.is_ascii_digit()) {
+        first.to_string()
+    } else {
+        decl.name.to_string()
+    }
 }
 
 fn reverse_postorder(function: &Function) -> Vec<usize> {
@@ -490,6 +504,92 @@ impl State<'_, '_> {
         }
     }
 
+    /// `OUT Cn preset` as the runtime's coil runs it (`counter.rs`; no
+    /// forces here): 16-bit counters count rising edges up to the preset,
+    /// 32-bit ones up or down (M8200+) with wrap-around; the contact is ON
+    /// at or above the preset.
+    fn counter_coil(&mut self, counter: u32, coil: Lit, preset: &[Lit]) {
+        if counter >= COUNTER_COUNT {
+            return;
+        }
+        let guard = self.guard;
+        let was = self.image.read((Array::CounterCoilWasOn, counter))[0];
+        let rising = self.image.aig.and(coil, !was);
+        self.image.write((Array::CounterCoilWasOn, counter), guard, &[coil]);
+        let value = if counter >= FIRST_WIDE_COUNTER {
+            let old = self.image.read((Array::WideCounterValue, counter));
+            let new = if counter < FIRST_HSC {
+                let down = self
+                    .image
+                    .read((Array::M, M_COUNTER_DIRECTION_BASE + counter - FIRST_WIDE_COUNTER))[0];
+                let aig = &mut *self.image.aig;
+                let step = words::mux(aig, down, &words::constant(-1, 32), &words::constant(1, 32));
+                let counted = words::add(aig, &old, &step);
+                words::mux(aig, rising, &counted, &old)
+            } else {
+                old
+            };
+            self.image.write((Array::WideCounterValue, counter), guard, &new);
+            new
+        } else {
+            let old = words::resize(&self.image.read((Array::CounterValue, counter)), 32, true);
+            let aig = &mut *self.image.aig;
+            let below = words::less_signed(aig, &old, preset);
+            let counts = aig.and(rising, below);
+            let counted = words::add(aig, &old, &words::constant(1, 32));
+            let new = words::mux(aig, counts, &counted, &old);
+            self.image.write((Array::CounterValue, counter), guard, &new[..16]);
+            new
+        };
+        let reached = !words::less_signed(self.image.aig, &value, preset);
+        self.image.write((Array::CounterContact, counter), guard, &[reached]);
+    }
+
+    /// BMOV and FMOV between fixed word places inside their areas, as the
+    /// runtime moves them: every value read before any is written, at
+    /// most 512 units. `None` (not encoded here) for anything else.
+    fn block_move(&mut self, helper: Helper, args: &[Value]) -> Option<()> {
+        let constant = |s: &Self, i: usize| args.get(i).and_then(|&a| s.constant(a));
+        let fill = matches!(helper, Helper::Fill);
+        let (destination, n, width) = if fill {
+            (constant(self, 0)?, constant(self, 1)?, constant(self, 2)?)
+        } else {
+            (constant(self, 1)?, constant(self, 2)?, constant(self, 3)?)
+        };
+        if !(1..=2).contains(&width) {
+            return None;
+        }
+        let count = u32::try_from(n).ok()?.min(MAX_TRANSFER_UNITS) * width as u32;
+        let words_of = |packed: i64| match Place::unpack(packed as u32)? {
+            Place::Word(area, start) if start.checked_add(count)? <= area.count() => {
+                Some((Array::of_words(area), start))
+            }
+            Place::Word(..)
+            | Place::WordBit(..)
+            | Place::Bit(..)
+            | Place::Digits(..)
+            | Place::WideCounter(_)
+            | Place::Constant(_) => None,
+        };
+        let (to, at) = words_of(destination)?;
+        let values: Vec<Word> = if fill {
+            let value = words::resize(&self.get(*args.get(3)?), 32, true);
+            (0..count)
+                .map(|k| {
+                    let half = if width == 2 && k % 2 == 1 { 16 } else { 0 };
+                    value[half..half + 16].to_vec()
+                })
+                .collect()
+        } else {
+            let (from, start) = words_of(constant(self, 0)?)?;
+            (0..count).map(|k| self.image.read((from, start + k))).collect()
+        };
+        for (k, value) in (0..count).zip(values) {
+            self.image.write((to, at + k), self.guard, &value);
+        }
+        Some(())
+    }
+
     fn record_error(&mut self, code: i64, line: i64) {
         let guard = self.guard;
         self.image.write((Array::M, M_OPERATION_ERROR), guard, &[Lit::TRUE]);
@@ -533,6 +633,17 @@ impl State<'_, '_> {
                 self.image.write((Array::CounterContact, counter), guard, &[Lit::FALSE]);
                 return Ok(None);
             }
+        } else if matches!(helper, Helper::CounterCoil) {
+            if let (Some(counter), Some(&coil), Some(&preset)) = (first, args.get(1), args.get(2)) {
+                let coil = self.get(coil)[0];
+                let preset = words::resize(&self.get(preset), 32, true);
+                self.counter_coil(counter, coil, &preset);
+                return Ok(None);
+            }
+        } else if matches!(helper, Helper::BlockMove | Helper::Fill) {
+            if self.block_move(helper, args).is_some() {
+                return Ok(None);
+            }
         } else if matches!(helper, Helper::RecordError) {
             let line = args.get(1).and_then(|&a| self.constant(a));
             if let (Some(code), Some(line)) = (first, line) {
@@ -546,8 +657,10 @@ impl State<'_, '_> {
         // so everything is taken as written, except by the helpers that
         // only compute their result from their arguments.
         let decl = helper.decl();
-        self.image
-            .note(format!("{} (its results are taken as arbitrary)", decl.name));
+        self.image.note(format!(
+            "{} (its results are taken as arbitrary)",
+            instruction_name(helper)
+        ));
         let pure = matches!(
             helper,
             Helper::RealFunction | Helper::RealToDecimal | Helper::DecimalToReal | Helper::Segments

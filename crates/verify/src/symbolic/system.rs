@@ -16,11 +16,14 @@ use crate::property::{Claim, Input, PropertyFile, ScanTime};
 use ladder_front::host_device::HostDevice;
 use ladder_runtime::layout::{Array, FULL};
 use ladder_runtime::special::{
-    M_ALWAYS_OFF, M_ALWAYS_ON, M_FIRST_SCAN, M_NOT_FIRST_SCAN, SM_ALWAYS_OFF, SM_ALWAYS_ON, SM_FIRST_SCAN,
-    SM_NOT_FIRST_SCAN,
+    CLOCK_CYCLE_MS, CLOCK_RELAYS, M_ALWAYS_OFF, M_ALWAYS_ON, M_FIRST_SCAN, M_NOT_FIRST_SCAN, SM_ALWAYS_OFF,
+    SM_ALWAYS_ON, SM_FIRST_SCAN, SM_NOT_FIRST_SCAN,
 };
 use ladder_runtime::{BitArea, Device, MachineUse, Width, WordArea};
 use rustc_hash::{FxHashMap, FxHashSet};
+
+/// Bits of the clock's milliseconds (below a minute).
+const CLOCK_BITS: u32 = 16;
 
 /// A property's transition system.
 #[derive(Clone)]
@@ -185,11 +188,31 @@ fn build_once(
             image.write((Array::Sm, n), Lit::TRUE, &[value]);
         }
     }
-    // The clock relays, the calendar and the scan-time registers follow
-    // real time: arbitrary here.
-    let timed = MachineUse::CLOCK_RELAYS
-        .with(MachineUse::CALENDAR)
-        .with(MachineUse::SCAN_TIME);
+    // The clock relays follow the elapsed times exactly (M8011-M8014 from
+    // the milliseconds the scan keeps, within a one-minute cycle).
+    let clock = if machine.contains(MachineUse::CLOCK_RELAYS) {
+        let init = words::constant(i64::from(power_up.clock_ms), CLOCK_BITS);
+        let clock: Word = init.iter().map(|&b| image.aig.latch(b == Lit::TRUE)).collect();
+        let aig = &mut *image.aig;
+        let wide = |w: &[Lit]| words::resize(w, 34, false);
+        let sum = words::add(aig, &wide(&clock), &wide(&image.elapsed));
+        let (_, now) = words::divide_unsigned(aig, &sum, &words::constant(i64::from(CLOCK_CYCLE_MS), 34));
+        let mut relays = Vec::new();
+        for (relay, period) in CLOCK_RELAYS {
+            let (_, phase) = words::divide_unsigned(aig, &now, &words::constant(i64::from(period), 34));
+            let first_half = words::less_signed(aig, &phase, &words::constant(i64::from(period / 2), 34));
+            relays.push((relay, !first_half));
+        }
+        for (relay, on) in relays {
+            image.write((Array::M, relay), Lit::TRUE, &[on]);
+        }
+        Some((clock, now[..CLOCK_BITS as usize].to_vec()))
+    } else {
+        None
+    };
+    // The calendar and the scan-time registers follow real time:
+    // arbitrary here.
+    let timed = MachineUse::CALENDAR.with(MachineUse::SCAN_TIME);
     for &(array, n) in &keys {
         let part = match (bit_area(array), word_area(array)) {
             (Some(area), _) => MachineUse::of_bits(area, n, n + 1),
@@ -222,6 +245,11 @@ fn build_once(
     let next_bad = aig.and(now_ok, broken);
     aig.set_next(bad, next_bad);
     aig.set_next(started, Lit::TRUE);
+    if let Some((clock, now)) = clock {
+        for (&l, &n) in clock.iter().zip(&now) {
+            aig.set_next(l, n);
+        }
+    }
     aig.set_next(ok, now_ok);
     for (key, latch) in &latches {
         let Some(value) = memory.get(key) else { continue };
