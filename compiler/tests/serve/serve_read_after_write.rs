@@ -6,9 +6,11 @@
 //! read-modify-writes of bits of one register lose no bit
 //! (`read_after_write.py`). The scans keep their period meanwhile (a write
 //! does not wait a period), and in STOP or paused no scan runs. Where a
-//! client cannot be installed the test says why it skipped.
+//! client cannot be installed the test says why it skipped. And with
+//! scans that take most of the period (the interpreter on a loop), writes
+//! that come during a scan are answered at its end, read back at once.
 
-use crate::common::server::{http, json, Server};
+use crate::common::server::{http, json, modbus_connect, modbus_request, Server};
 use crate::common::tools::{ensure, ensure_python_module, skip};
 use crate::serve_modbus_rtu::PtyPair;
 use std::time::{Duration, Instant};
@@ -194,4 +196,58 @@ fn read_after_write_over_opcua() {
     let (server, web) = start(&["--opcua", "127.0.0.1:0", "--opcua-devices", "D0..D399"]);
     let opcua = server.opcua.expect("an OPC UA address").to_string();
     check(test, "opcua", web, &opcua, server.dir.path(), &MODES);
+}
+
+/// Some 80 ms of a 100 ms period in the interpreter: most writes come
+/// while a scan runs.
+const SLOW_PROGRAM: &str = "LD M8000\nINC D0\nFOR K30000\nFOR K100\nLD M8000\nINC D1\nNEXT\nNEXT\n";
+
+/// A write that comes while a scan runs is applied at that scan's end (END
+/// processing) and answered then: it waits for the rest of the scan, not a
+/// period, and the read after it sees it; two clients taking turns at
+/// read-modify-writes lose no bit.
+#[test]
+fn a_write_during_a_scan_is_answered_at_its_end() {
+    let server = Server::start_program(SLOW_PROGRAM, &["--scan-ms", "100", "--engine", "interp"]);
+    let (mut first, mut second) = (modbus_connect(server.address), modbus_connect(server.address));
+    let register = |stream: &mut std::net::TcpStream, address: u16| -> u16 {
+        let answer = modbus_request(stream, &[0x03, 0, address as u8, 0, 1]);
+        u16::from_be_bytes([answer[2], answer[3]])
+    };
+    let write = |stream: &mut std::net::TcpStream, address: u16, value: u16| {
+        let [high, low] = value.to_be_bytes();
+        let pdu = [0x06, 0, address as u8, high, low];
+        assert_eq!(modbus_request(stream, &pdu), pdu, "the write is answered as applied");
+    };
+    // Writes spread over the period (a write answered at a scan's end
+    // leaves the next one in the wait between scans unless it waits).
+    let (mut misses, mut during, mut longest) = (0, 0, Duration::ZERO);
+    for i in 0..40u16 {
+        std::thread::sleep(Duration::from_millis(u64::from(i * 37 % 100)));
+        let value = i * 7 + 1;
+        let began = Instant::now();
+        write(&mut first, 100, value);
+        let waited = began.elapsed();
+        during += usize::from(waited > Duration::from_millis(5));
+        longest = longest.max(waited);
+        if register(&mut first, 100) != value {
+            misses += 1;
+        }
+    }
+    let mut lost = 0;
+    for _ in 0..4 {
+        write(&mut first, 200, 0);
+        for bit in 0..16 {
+            let stream = if bit % 2 == 0 { &mut first } else { &mut second };
+            let value = register(stream, 200) | 1 << bit;
+            write(stream, 200, value);
+        }
+        lost += register(&mut first, 200).count_zeros();
+    }
+    println!("{during} of 40 writes waited for a scan's end, {longest:?} at most");
+    assert_eq!((misses, lost), (0, 0), "reads that missed their write, bits lost");
+    // Many writes came during a scan and waited for its end, none a whole
+    // period after it (a loaded machine may stretch a scan).
+    assert!(during >= 10, "{during} of 40 writes came during a scan");
+    assert!(longest < Duration::from_secs(1), "{longest:?}");
 }

@@ -88,7 +88,11 @@ impl Acks {
     /// Blocks the calling thread until `ticket` is applied (at most
     /// `WRITE_WAIT`).
     pub fn wait(&self, ticket: Ticket) -> Result<(), NotApplied> {
-        let deadline = Instant::now() + WRITE_WAIT;
+        self.wait_within(ticket, WRITE_WAIT)
+    }
+
+    fn wait_within(&self, ticket: Ticket, within: Duration) -> Result<(), NotApplied> {
+        let deadline = Instant::now() + within;
         let mut applied = lock_applied(&self.applied);
         loop {
             if *applied >= ticket.0 {
@@ -166,6 +170,12 @@ mod tests {
         assert_eq!(runtime.block_on(task).ok(), Some(Err(NotApplied::Stopping)));
         let _ = stopper.join();
         assert_eq!(acks.wait(Ticket(9)), Err(NotApplied::Stopping));
+        let running = Acks::default();
+        assert_eq!(
+            running.wait_within(Ticket(1), Duration::from_millis(20)),
+            Err(NotApplied::TimedOut),
+            "a batch never applied"
+        );
         assert_eq!(acks.wait(Ticket(5)), Ok(()), "what was applied stays applied");
     }
 }

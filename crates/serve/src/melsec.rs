@@ -315,3 +315,44 @@ pub async fn serve(
     })
     .await;
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A binary 3E batch write of D100 = 1234, as the manuals lay it out.
+    const WRITE_D100: [u8; 23] = [
+        0x50, 0x00, 0x00, 0xFF, 0xFF, 0x03, 0x00, 0x0E, 0x00, 0x10, 0x00, 0x01, 0x14, 0x00, 0x00, 0x64, 0x00, 0x00,
+        0xA8, 0x01, 0x00, 0xD2, 0x04,
+    ];
+
+    fn end_code(reply: &[u8]) -> u16 {
+        u16::from_le_bytes([reply[9], reply[10]])
+    }
+
+    #[test]
+    fn a_write_is_answered_once_applied_and_busy_when_it_cannot_be() {
+        let shared = Arc::new(Shared::default());
+        let runtime = tokio::runtime::Builder::new_current_thread()
+            .enable_all()
+            .build()
+            .unwrap();
+        let end_processing = {
+            let shared = Arc::clone(&shared);
+            std::thread::spawn(move || {
+                while !shared.writes_waiting() {
+                    std::thread::sleep(Duration::from_millis(1));
+                }
+                let writes = shared.take_writes();
+                shared.acknowledge();
+                writes
+            })
+        };
+        let reply = runtime.block_on(answer_applied(&shared, true, &WRITE_D100));
+        assert_eq!(reply.as_deref().map(end_code), Some(0));
+        assert_eq!(end_processing.join().ok().map(|writes| writes.len()), Some(1));
+        shared.stop();
+        let reply = runtime.block_on(answer_applied(&shared, true, &WRITE_D100));
+        assert_eq!(reply.as_deref().map(end_code), Some(0xCEE0), "not applied: busy");
+    }
+}

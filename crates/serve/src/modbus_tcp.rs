@@ -150,3 +150,29 @@ pub async fn serve(
     })
     .await;
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::Arc;
+
+    #[test]
+    fn a_write_is_answered_once_applied_and_exception_04_when_it_cannot_be() {
+        let shared = Arc::new(Shared::default());
+        let service = Service {
+            shared: Arc::clone(&shared),
+            may_write: true,
+        };
+        let read = respond(&service, &[0x03, 0, 1, 0, 1]);
+        assert!(read.ticket.is_none(), "a read waits for nothing");
+        let write = respond(&service, &[0x06, 0, 1, 0, 5]);
+        assert!(write.ticket.is_some());
+        // The scan thread's END processing: taken, applied, published.
+        let _ = shared.take_writes();
+        shared.acknowledge();
+        assert_eq!(write.settle(&shared), [0x06, 0, 1, 0, 5]);
+        let write = respond(&service, &[0x06, 0, 1, 0, 6]);
+        shared.stop();
+        assert_eq!(write.settle(&shared), [0x86, 0x04], "the server stopped first");
+    }
+}
