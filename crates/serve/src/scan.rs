@@ -159,7 +159,7 @@ enum Due {
     Scan { step: bool },
     /// STOP: writes apply, no scan; `entering` turns every Y OFF.
     Stopped { entering: bool },
-    /// Paused: no scan until a step (writes apply, as in STOP).
+    /// Paused: no scan until a step (writes apply at once all the same).
     Paused,
 }
 
@@ -196,10 +196,9 @@ fn run(
                 end_processing(engine, shared);
                 idle(clock, began);
             }
-            Due::Paused => {
-                end_processing(engine, shared);
-                idle(clock, began);
-            }
+            // Writes while paused wake the thread and apply at once
+            // (`Woken::Writes`); a due time passes without a scan.
+            Due::Paused => idle(clock, began),
             Due::Scan { step } => {
                 // STOP→RUN as an FX does it: the non-latched devices
                 // cleared, and the first scan the first again (M8002).
