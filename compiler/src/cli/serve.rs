@@ -18,7 +18,8 @@ const MAPPING: &str = "Modbus TCP mapping:
   holding registers 0-8511     D0-D8511 (read/write; 32-bit values low word first)
   input registers 0-511        timer current values T0-T511
   input registers 1000-1199    counter current values C0-C199
-A write acts like a host write before the next scan.
+A write acts like a host write at the end of the scan in progress (at once
+between scans, in STOP or paused) and is answered once applied.
 HTTP (--http): / the live monitor page; GET /api/devices?watch=Y0,D0 and
 /api/stats; GET /api/events?watch=... pushes the devices (server-sent events);
 POST /api/set, /api/force, /api/unforce with {\"device\": \"Y0\", \"value\": 1};
@@ -117,7 +118,7 @@ pub struct ServeArgs {
     /// controls (DNS rebinding).
     #[arg(long, value_name = "NAME[:PORT]")]
     allowed_host: Vec<String>,
-    /// Host writes (devices) that may wait for the next scan; a write
+    /// Host writes (devices) that may wait to be applied; a write
     /// beyond gets Modbus exception 06 (busy), HTTP 503 or OPC UA
     /// BadTooManyOperations. A write of a device already waiting replaces it.
     #[arg(long, default_value_t = ladder_serve::Limits::default().queued_writes, value_name = "N")]

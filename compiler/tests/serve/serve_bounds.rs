@@ -1,7 +1,8 @@
 //! `ladderc serve` left to clients that misbehave, each on the real binary:
 //! idle Modbus connections time out and make room for a working client,
-//! writes that wait for a paused PLC are coalesced per device and refused
-//! as "busy" (Modbus exception 06, HTTP 503) beyond the limit, event
+//! writes while paused apply at once (memory stays flat) and a request of
+//! more devices than the queue of writes holds is refused as "busy"
+//! (Modbus exception 06, HTTP 503), event
 //! streams are bounded in number and a client that stops reading is
 //! dropped; and the switch: a resume after a long step goes on at once,
 //! STOP→RUN starts over as an FX does, RUN ends a pause.
@@ -117,49 +118,67 @@ fn idle_modbus_connections_make_room_and_time_out() {
 }
 
 #[test]
-fn writes_while_paused_are_coalesced_per_device_and_refused_as_busy_beyond_the_limit() {
+fn writes_while_paused_apply_at_once_and_more_than_the_queue_holds_is_busy() {
     let server = Server::start(&["--http", "127.0.0.1:0", "--max-queued-writes", "8"]);
     let web = server.web.unwrap();
     assert_eq!(control(web, r#"{"action":"pause"}"#)["paused"], true);
+    std::thread::sleep(Duration::from_millis(50));
+    let paused_at = scan(web);
     let mut modbus = connect(server.address);
     let before = resident_kb(server.child.id());
-    // 20,000 writes of the same four registers: four waiting writes.
+    // 20,000 writes of the same four registers, each answered once
+    // applied: read back at once, with no scan.
     for round in 0..20_000i32 {
         let value = (round % 30_000) as i16;
         let answer = write_registers(&mut modbus, 0, &[value, value, value, value]);
         assert_eq!(answer[0], 0x10, "write {round} is taken: {answer:?}");
+        if round % 1000 == 0 {
+            let [high, low] = value.to_be_bytes();
+            assert_eq!(request(&mut modbus, &[0x03, 0, 3, 0, 1]), [0x03, 2, high, low]);
+        }
     }
     let grown = resident_kb(server.child.id()).saturating_sub(before);
     assert!(grown < 16 * 1024, "RSS grew by {grown} kB for writes of four devices");
-    // Four more devices fill the queue; a ninth is "busy" (exception 06).
-    assert_eq!(write_registers(&mut modbus, 10, &[1, 2, 3, 4])[0], 0x10);
+    // A request of nine devices, where eight may wait: "busy" (exception
+    // 06), and none of it applied.
     assert_eq!(
-        request(&mut modbus, &[0x06, 0, 20, 0, 9]),
-        [0x86, 0x06],
-        "FC06 to a ninth device"
-    );
-    assert_eq!(
-        write_registers(&mut modbus, 30, &[5]),
+        write_registers(&mut modbus, 20, &[1, 2, 3, 4, 5, 6, 7, 8, 9]),
         [0x90, 0x06],
-        "FC16 to a ninth device"
+        "FC16 of nine devices"
     );
-    let (status, body) = http(web, "POST", "/api/set", r#"{"device":"D21","value":"5"}"#);
+    assert_eq!(
+        request(&mut modbus, &[0x0F, 0x03, 0xE8, 0, 9, 2, 0xFF, 0x01]),
+        [0x8F, 0x06],
+        "FC15 of nine relays"
+    );
+    assert_eq!(value(web, "D20"), 0, "the refused write did not happen");
+    assert_eq!(value(web, "M0"), 0, "the refused write did not happen");
+    // Over HTTP: nine forced inputs, unforced in one request: 503.
+    for n in 0..9 {
+        let body = format!(r#"{{"device": "X{n:o}", "value": 1}}"#);
+        let (status, answer) = http(web, "POST", "/api/force", &body);
+        assert_eq!(status, 200, "{answer}");
+    }
+    let (status, body) = http(web, "POST", "/api/unforce-all", "");
     assert_eq!(status, 503, "{body}");
-    assert!(body.contains("waiting for the next scan"), "{body}");
-    // A device already waiting can still be written (its write replaced).
-    assert_eq!(write_registers(&mut modbus, 0, &[-7])[0], 0x10);
+    assert!(body.contains("waiting"), "{body}");
+    assert_eq!(
+        json(&http(web, "GET", "/api/forces", "").1)["forces"]
+            .as_array()
+            .map(Vec::len),
+        Some(9)
+    );
+    // Eight devices are taken, and applied at once.
+    assert_eq!(write_registers(&mut modbus, 20, &[1, 2, 3, 4, 5, 6, 7, 8])[0], 0x10);
+    assert_eq!(value(web, "D27"), 8);
+    assert_eq!(scan(web), paused_at, "no scan ran while paused");
     control(web, r#"{"action":"resume"}"#);
     let deadline = Instant::now() + Duration::from_secs(5);
-    while value(web, "D13") != 4 {
-        assert!(Instant::now() < deadline, "the waiting writes reach the program");
+    while scan(web) == paused_at {
+        assert!(Instant::now() < deadline, "the scans go on after a resume");
         std::thread::sleep(Duration::from_millis(20));
     }
-    assert_eq!(value(web, "D0"), -7, "the last write of D0");
-    assert_eq!(value(web, "D1"), 19_999, "the last write of D1");
-    assert_eq!(value(web, "D20"), 0, "the refused write did not happen");
-    assert_eq!(value(web, "D30"), 0, "the refused write did not happen");
-    // After the scan the queue is empty: the ninth device is taken now.
-    assert_eq!(write_registers(&mut modbus, 30, &[5])[0], 0x10);
+    assert_eq!(value(web, "D0"), 19_999, "the last write of D0");
     server.stop();
 }
 

@@ -2,7 +2,8 @@
 //! on the real binary: what one frame kind writes the program sees and
 //! every other protocol reads back; remote STOP and RUN; the access rules;
 //! and frames that are malformed, cut short, or idle connections by the
-//! hundred, none of which stops the server answering.
+//! hundred, none of which stops the server answering; every frame kind's
+//! write read back at once (answered once applied).
 
 use crate::common::server::{modbus_connect, modbus_request, Server};
 use std::io::{Read, Write};
@@ -270,4 +271,77 @@ fn a_hundred_idle_connections_leave_the_server_answering() {
     let mut stream = connect(melsec);
     eventually("scanning", || read_d(&mut stream, 0) > 0);
     drop(idle);
+}
+
+/// Each frame kind and transport, at `--scan-ms 100`: a write of D300 is
+/// answered once applied, so the read right after it sees it, 1,000 times
+/// each (3E binary over TCP and UDP, 1E binary, 4E ASCII) in well under
+/// the 400 s that waiting a period for every write would take.
+#[test]
+fn every_frame_kind_reads_back_its_write_at_once() {
+    let (_server, melsec) = start(&["--melsec-udp", "--scan-ms", "100"]);
+    let mut stream = connect(melsec);
+    let udp = std::net::UdpSocket::bind("127.0.0.1:0").unwrap();
+    udp.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
+    let over_udp = |frame: &[u8]| -> Vec<u8> {
+        udp.send_to(frame, melsec).unwrap();
+        let mut datagram = [0u8; 64];
+        let n = udp.recv(&mut datagram).expect("a UDP answer");
+        datagram[..n].to_vec()
+    };
+    let began = Instant::now();
+    let mut misses = Vec::new();
+    for i in 0..1000u16 {
+        let value = (i.wrapping_mul(7919) % 30_000) as i16;
+        let [low, high] = value.to_le_bytes();
+        // 3E binary over TCP.
+        let (end, _) = ask_3e(
+            &mut stream,
+            &format!("1000 0114 0000 2C0100 A8 0100 {low:02X}{high:02X}"),
+        );
+        assert_eq!(end, 0);
+        if read_d(&mut stream, 300) != value {
+            misses.push(("3E", i));
+        }
+        // 3E binary over UDP.
+        let value = value.wrapping_add(1);
+        let [low, high] = value.to_le_bytes();
+        let answer = over_udp(&e3(&format!("1000 0114 0000 2C0100 A8 0100 {low:02X}{high:02X}")));
+        assert_eq!(answer, hex("D000 00 FF FF03 00 0200 0000"));
+        let answer = over_udp(&e3("1000 0104 0000 2C0100 A8 0100"));
+        if answer[answer.len() - 2..] != [low, high] {
+            misses.push(("3E UDP", i));
+        }
+        // 1E binary.
+        let value = value.wrapping_add(1);
+        let [low, high] = value.to_le_bytes();
+        let mut write = hex("03 FF 0A00 2C010000 2044 01 00");
+        write.extend([low, high]);
+        assert_eq!(ask_1e(&mut stream, &write, 2), [0x83, 0x00]);
+        let answer = ask_1e(&mut stream, &hex("01 FF 0A00 2C010000 2044 01 00"), 4);
+        if answer != [0x81, 0x00, low, high] {
+            misses.push(("1E", i));
+        }
+        // 4E ASCII.
+        let value = value.wrapping_add(1);
+        let body = format!("001014010000D*0003000001{:04X}", value as u16);
+        let frame = format!("54001234000000FF03FF00{:04X}{body}", body.len());
+        stream.write_all(frame.as_bytes()).unwrap();
+        let mut answer = [0u8; 30];
+        stream.read_exact(&mut answer).unwrap();
+        assert_eq!(&answer, b"D4001234000000FF03FF0000040000");
+        let body = "001004010000D*0003000001";
+        stream
+            .write_all(format!("54001234000000FF03FF00{:04X}{body}", body.len()).as_bytes())
+            .unwrap();
+        let mut answer = [0u8; 34];
+        stream.read_exact(&mut answer).unwrap();
+        if answer[30..] != *format!("{:04X}", value as u16).as_bytes() {
+            misses.push(("4E", i));
+        }
+    }
+    let took = began.elapsed();
+    println!("4,000 MELSEC write-then-read pairs in {took:?}");
+    assert_eq!(misses, [], "reads that missed their write");
+    assert!(took < Duration::from_secs(40), "{took:?}");
 }

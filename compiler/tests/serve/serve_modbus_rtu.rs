@@ -16,10 +16,10 @@ const CLIENT: &str = include_str!("modbus_rtu_client.py");
 const PROGRAM: &str = "LD M8000\nMOV D100 D101\nLD M5\nOUT Y7\n";
 
 /// A socat pty pair: `plc` for the server, `client` for the client.
-struct PtyPair(Child);
+pub(crate) struct PtyPair(Child);
 
 impl PtyPair {
-    fn open(plc: &Path, client: &Path) -> PtyPair {
+    pub(crate) fn open(plc: &Path, client: &Path) -> PtyPair {
         let link = |path: &Path| format!("pty,raw,echo=0,link={}", path.display());
         let child = Command::new("socat")
             .args([link(plc), link(client)])

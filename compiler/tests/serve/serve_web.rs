@@ -4,7 +4,10 @@
 //! rebinding) gets nothing, a program upload cannot be a request a browser
 //! sends unasked; and the monitor on a program of 10,000 rungs: on screen
 //! within a second, the browser's main thread mostly idle while it runs,
-//! a timer's preset apart from its value, the trend alive at a 1 ms scan.
+//! a timer's preset apart from its value, the trend alive at a 1 ms scan;
+//! on a ladder wider than its pane, every rung's right rail in view, the
+//! device table starting with the program's outputs and inputs, CJK fonts
+//! named for text in Japanese.
 
 use crate::common;
 
@@ -404,5 +407,65 @@ fn http2_writes_refused_for_want_of_a_token_get_their_answer() {
         answers.push(String::from_utf8_lossy(&output.stdout).into_owned());
     }
     assert!(answers.iter().all(|a| a == "2 401"), "{answers:?}");
+    server.stop();
+}
+
+/// An elevator's rungs as a new user's program has them: a call registered
+/// through a chain of conditions wider than the pane, with a comment in
+/// Japanese, a 32-bit move on the right rail, outputs and inputs.
+const WIDE_PROGRAM: &str = "\
+; 呼び出し階の登録 (call registration)
+LD X0\nAND X1\nAND X2\nAND X3\nAND X4\nAND X5\nAND X6\nAND X7\nAND X10\nAND X11\nAND X12\nOUT Y5
+LD X1\nAND X2\nAND X3\nAND X4\nAND X5\nAND X6\nAND X7\nAND X10\nDMOV K100000 D10
+LD X13\nOR Y2\nANI X14\nOUT Y2
+LD M8000\nINC D0
+";
+
+#[test]
+fn the_monitor_fits_a_wide_ladder_and_starts_with_the_programs_devices() {
+    let test = "the_monitor_fits_a_wide_ladder_and_starts_with_the_programs_devices";
+    let server = Server::start_program(WIDE_PROGRAM, &["--http", "127.0.0.1:0", "--scan-ms", "100"]);
+    let web = server.web.unwrap();
+    // A laptop's window: the ladder's pane is some 820 pixels wide, the
+    // widest rung 1,048.
+    let mut browser = match Browser::open(&format!("http://{web}/"), 1280, 800) {
+        Ok(browser) => browser,
+        Err(why) => {
+            skipped(test, &why);
+            server.stop();
+            return;
+        }
+    };
+    let wait = Duration::from_secs(10);
+    assert!(browser.wait_for("document.querySelectorAll('#ladder svg.ladder').length >= 4", wait));
+    assert!(browser.wait_for("document.getElementById('row-D0')", wait));
+    // Every rung's right rail (its drawing's right edge) is inside the pane.
+    let outside = browser.eval(
+        "(() => { const pane = document.getElementById('ladder').getBoundingClientRect(); \
+           return [...document.querySelectorAll('#ladder svg.ladder')] \
+             .filter(s => s.getBoundingClientRect().right > pane.right + 0.5).map(s => s.id); })()",
+    );
+    assert_eq!(outside, serde_json::json!([]), "rungs cut off at the right");
+    // The table starts with the program's outputs, then its inputs.
+    let names = browser.eval("[...document.querySelectorAll('#devices td.name')].map(td => td.textContent)");
+    let names: Vec<&str> = names.as_array().unwrap().iter().map(|n| n.as_str().unwrap()).collect();
+    assert_eq!(
+        names[..6],
+        ["Y002", "Y005", "X000", "X001", "X002", "X003"],
+        "{names:?}"
+    );
+    assert!(names.contains(&"D10") && names.contains(&"D0"), "{names:?}");
+    // Text in Japanese falls back to CJK fonts, in the page and the ladder.
+    let fonts = browser.eval(
+        "[getComputedStyle(document.body).fontFamily, \
+          getComputedStyle(document.querySelector('#ladder text.comment')).fontFamily]",
+    );
+    for font in fonts.as_array().unwrap() {
+        assert!(font.as_str().unwrap().contains("Noto Sans CJK JP"), "{fonts}");
+    }
+    let shots = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("monitor");
+    std::fs::create_dir_all(&shots).unwrap();
+    browser.screenshot(&shots.join("wide-ladder.png"));
+    println!("screenshot in {}", shots.join("wide-ladder.png").display());
     server.stop();
 }

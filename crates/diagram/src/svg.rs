@@ -27,9 +27,11 @@ const GAP: u32 = 10;
 /// The wire runs this far below the top of its row.
 const WIRE: u32 = 28;
 
-/// The look of the drawing, shared by every page that shows it.
+/// The look of the drawing, shared by every page that shows it. Comments
+/// in Japanese or Chinese fall back to CJK fonts where the system has them.
 pub const STYLE: &str = "\
-.ladder{font-family:'DejaVu Sans Mono',Consolas,monospace;font-size:12px}\
+.ladder{font-family:'DejaVu Sans Mono',Consolas,'Noto Sans Mono CJK JP','Noto Sans CJK JP','Noto Sans JP',\
+'Source Han Sans','Microsoft YaHei','MS Gothic',monospace;font-size:12px}\
 .ladder .rail,.ladder .wire,.ladder .sym{stroke:#222;stroke-width:1.5;fill:none}\
 .ladder .rail{stroke-width:3}\
 .ladder text{fill:#111;stroke:none}\
@@ -91,9 +93,15 @@ pub fn rung_document(index: usize, rung: &Rung, laid: &RungLayout) -> String {
     rung_drawing(index, rung, laid).0
 }
 
+/// A rung's drawing's width in pixels: the margin, its cells, the right
+/// rail and a little room after it.
+pub fn rung_width(laid: &RungLayout) -> u32 {
+    MARGIN + laid.columns * CELL + 24
+}
+
 /// A rung's `<svg>` and its height in pixels.
 pub fn rung_drawing(index: usize, rung: &Rung, laid: &RungLayout) -> (String, u32) {
-    let width = MARGIN + laid.columns * CELL + 24;
+    let width = rung_width(laid);
     let mut body = String::new();
     let height = rung_svg(&mut body, index, rung, laid, GAP / 2, None) + GAP;
     let drawing = format!(

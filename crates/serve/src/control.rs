@@ -10,7 +10,8 @@
 //!   inputs, forces, the clock and the modules' buffer memory stay. The
 //!   first scan reports one period, not the time stopped. RUN also ends a
 //!   pause.
-//! - Pause: no scans; host writes wait and take effect at the next step.
+//! - Pause: no scans; host writes apply at once, as in STOP (the program
+//!   sees them at the next step).
 //! - Step N: N scans, each reporting the configured period.
 //! - A breakpoint is a condition over devices (`Y2 == 1`, `D0 > 100`,
 //!   `M5 rises`); the scan thread pauses at the end of the scan in which it

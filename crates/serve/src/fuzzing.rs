@@ -36,6 +36,45 @@ fn started() -> Arc<Shared> {
     shared
 }
 
+/// Stands in for the scan thread's END processing while it lives: takes
+/// every queued write and answers its writer, so that a write request is
+/// answered as applied rather than after the wait for a scan runs out.
+struct EndProcessing {
+    done: Arc<std::sync::atomic::AtomicBool>,
+    thread: Option<std::thread::JoinHandle<()>>,
+}
+
+impl EndProcessing {
+    fn start(shared: &Arc<Shared>) -> EndProcessing {
+        let done = Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let thread = {
+            let (shared, done) = (Arc::clone(shared), Arc::clone(&done));
+            std::thread::spawn(move || {
+                while !done.load(std::sync::atomic::Ordering::Relaxed) {
+                    if shared.writes_waiting() {
+                        let _ = shared.take_writes();
+                        shared.acknowledge();
+                    }
+                    std::thread::sleep(std::time::Duration::from_micros(200));
+                }
+            })
+        };
+        EndProcessing {
+            done,
+            thread: Some(thread),
+        }
+    }
+}
+
+impl Drop for EndProcessing {
+    fn drop(&mut self) {
+        self.done.store(true, std::sync::atomic::Ordering::Relaxed);
+        if let Some(thread) = self.thread.take() {
+            let _ = thread.join();
+        }
+    }
+}
+
 /// The first byte's bit 0 (writes allowed), and the bytes after it.
 fn flags(data: &[u8]) -> Option<(bool, &[u8])> {
     data.split_first().map(|(&flags, rest)| (flags & 1 != 0, rest))
@@ -148,7 +187,7 @@ pub fn modbus_rtu_frames(data: &[u8]) {
     const UNIT: u8 = 1;
     while let Some((&length, tail)) = rest.split_first() {
         let frame = &tail[..usize::from(length).min(tail.len())];
-        if let Some(reply) = super::modbus_rtu::answer(&service, UNIT, frame) {
+        if let Some(reply) = super::modbus_rtu::answer(&service, UNIT, frame, false) {
             assert_eq!(frame.first(), Some(&UNIT), "only the server's unit is answered");
             assert_eq!(reply[0], UNIT, "the answer is from the server's unit");
             assert!(
@@ -216,7 +255,9 @@ pub fn http_request(data: &[u8]) {
         read_only: data.get(1).is_some_and(|b| b & 4 != 0),
         hosts: super::access::Hosts::of(([127, 0, 0, 1], 8080).into(), false, &[]),
     };
-    let router = super::http::router(started(), false).layer(axum::middleware::from_fn_with_state(
+    let shared = started();
+    let _end_processing = EndProcessing::start(&shared);
+    let router = super::http::router(shared, false).layer(axum::middleware::from_fn_with_state(
         Arc::new(access),
         super::access::check,
     ));

@@ -1,13 +1,14 @@
 //! `ladderc serve`: a soft PLC. A scan thread runs the program at a fixed
 //! period with the real elapsed time (so timers run in real time) and
 //! publishes the image after every scan; the servers (Modbus TCP and RTU,
-//! MELSEC, HTTP, OPC UA) read that copy and queue writes for the next scan.
+//! MELSEC, HTTP, OPC UA) read that copy and queue writes, answered once applied.
 //! Ctrl-C or SIGTERM stops it cleanly and prints the scan statistics. This
 //! file is the crate root: the options, and `serve`, the start-up in its
 //! steps (retain file, listeners, scan thread, helper threads, servers,
 //! stop).
 
 pub mod access;
+pub mod acks;
 mod change;
 mod connections;
 mod control;
@@ -45,7 +46,7 @@ use std::time::Duration;
 /// take memory or places without end (`serve --help` names the flags).
 #[derive(Clone, Copy, Debug)]
 pub struct Limits {
-    /// Host writes (devices) waiting for the next scan; beyond, Modbus
+    /// Host writes (devices) waiting to be applied; beyond, Modbus
     /// exception 06, HTTP 503, OPC UA BadTooManyOperations.
     pub queued_writes: usize,
     /// Modbus TCP connections, and how long one may be idle.

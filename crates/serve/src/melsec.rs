@@ -3,7 +3,9 @@
 //! port), answered by
 //! the `ladder-melsec` crate over the soft PLC's image. Reads see the
 //! image the latest scan published; writes go to the same queue of host
-//! writes as Modbus and HTTP (applied before the next scan); remote
+//! writes as Modbus and HTTP, applied at the end of the scan in progress
+//! and answered once applied (a write not applied in time is answered
+//! with the busy end code, as a full queue is); remote
 //! RUN/STOP/PAUSE move the same switch as the monitor's buttons (and SD203
 //! reports it, as on an iQ-F: 0 RUN, 2 STOP, 3 PAUSE). Writes
 //! and remote operations follow the Modbus rules: refused with
@@ -15,6 +17,7 @@
 //! start a frame, or a header whose length cannot be right, close the
 //! connection (a stream cannot find the next frame after them).
 
+use crate::acks::Ticket;
 use crate::connections::{accept, ConnectionLimits, Open, Permission};
 use crate::shared::{HostWrite, Shared};
 use ladder_front::host_device::HostDevice;
@@ -37,6 +40,11 @@ pub struct Station {
     pub shared: Arc<Shared>,
     pub image: Arc<Memory>,
     pub may_write: bool,
+    /// The writes of this request, queued: the answer waits for them.
+    pub ticket: Option<Ticket>,
+    /// Its writes were queued once and not applied in time: answering
+    /// again, every write is refused as busy.
+    pub not_applied: bool,
 }
 
 /// Where a family's devices are in the image.
@@ -136,6 +144,9 @@ impl Plc for Station {
         if !self.may_write {
             return Err(Refusal::NotAllowed);
         }
+        if self.not_applied {
+            return Err(Refusal::Busy);
+        }
         let mut queued = Vec::with_capacity(writes.len());
         for write in writes {
             let (device, value) = match write {
@@ -150,11 +161,9 @@ impl Plc for Station {
             };
             queued.push(HostWrite::Set(device, value));
         }
-        if self.shared.queue(queued) {
-            Ok(())
-        } else {
-            Err(Refusal::Busy)
-        }
+        let ticket = self.shared.queue(queued).ok_or(Refusal::Busy)?;
+        self.ticket = Some(ticket);
+        Ok(())
     }
 
     fn remote(&mut self, operation: Remote) -> Result<(), Refusal> {
@@ -174,14 +183,44 @@ impl Plc for Station {
     }
 }
 
-/// The answer to one frame, from the latest image.
+/// The answer to one frame, from the latest image, without waiting for
+/// its writes to be applied (the fuzzing harness has no scan thread).
+#[cfg(feature = "fuzzing")]
 pub fn answer(shared: &Arc<Shared>, may_write: bool, frame: &[u8]) -> Option<Vec<u8>> {
+    answer_queued(shared, may_write, frame).0
+}
+
+/// The answer to one frame and the ticket of the writes it queued.
+fn answer_queued(shared: &Arc<Shared>, may_write: bool, frame: &[u8]) -> (Option<Vec<u8>>, Option<Ticket>) {
     let mut station = Station {
         shared: Arc::clone(shared),
         image: shared.image(),
         may_write,
+        ticket: None,
+        not_applied: false,
     };
-    ladder_melsec::answer(frame, &mut station)
+    let reply = ladder_melsec::answer(frame, &mut station);
+    (reply, station.ticket)
+}
+
+/// The answer to one frame, sent once its writes are applied (a read
+/// after it sees them); the busy end code when they were not in time.
+async fn answer_applied(shared: &Arc<Shared>, may_write: bool, frame: &[u8]) -> Option<Vec<u8>> {
+    let (reply, ticket) = answer_queued(shared, may_write, frame);
+    let Some(ticket) = ticket else {
+        return reply;
+    };
+    if shared.applied(ticket).await.is_ok() {
+        return reply;
+    }
+    let mut refusing = Station {
+        shared: Arc::clone(shared),
+        image: shared.image(),
+        may_write,
+        ticket: None,
+        not_applied: true,
+    };
+    ladder_melsec::answer(frame, &mut refusing)
 }
 
 async fn serve_connection(
@@ -203,7 +242,7 @@ async fn serve_connection(
                 // What arrived after the frame starts the next one now.
                 started = tokio::time::Instant::now();
                 open.touch();
-                if let Some(reply) = answer(&shared, may_write, &frame) {
+                if let Some(reply) = answer_applied(&shared, may_write, &frame).await {
                     if tokio::time::timeout(FRAME_TIMEOUT, stream.write_all(&reply))
                         .await
                         .is_err()
@@ -260,7 +299,9 @@ pub async fn serve(
                 if ladder_melsec::frame_length(frame) != Length::Frame(n) {
                     continue;
                 }
-                if let Some(reply) = answer(&shared, permission.may_write(peer), frame) {
+                // Answered in turn: a datagram's write is applied before
+                // the next datagram is read, as the CPU answers them.
+                if let Some(reply) = answer_applied(&shared, permission.may_write(peer), frame).await {
                     let _ = socket.send_to(&reply, peer).await;
                 }
             }
@@ -273,4 +314,45 @@ pub async fn serve(
         async move { serve_connection(stream, shared, may_write, &open, idle).await }
     })
     .await;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A binary 3E batch write of D100 = 1234, as the manuals lay it out.
+    const WRITE_D100: [u8; 23] = [
+        0x50, 0x00, 0x00, 0xFF, 0xFF, 0x03, 0x00, 0x0E, 0x00, 0x10, 0x00, 0x01, 0x14, 0x00, 0x00, 0x64, 0x00, 0x00,
+        0xA8, 0x01, 0x00, 0xD2, 0x04,
+    ];
+
+    fn end_code(reply: &[u8]) -> u16 {
+        u16::from_le_bytes([reply[9], reply[10]])
+    }
+
+    #[test]
+    fn a_write_is_answered_once_applied_and_busy_when_it_cannot_be() {
+        let shared = Arc::new(Shared::default());
+        let runtime = tokio::runtime::Builder::new_current_thread()
+            .enable_all()
+            .build()
+            .unwrap();
+        let end_processing = {
+            let shared = Arc::clone(&shared);
+            std::thread::spawn(move || {
+                while !shared.writes_waiting() {
+                    std::thread::sleep(Duration::from_millis(1));
+                }
+                let writes = shared.take_writes();
+                shared.acknowledge();
+                writes
+            })
+        };
+        let reply = runtime.block_on(answer_applied(&shared, true, &WRITE_D100));
+        assert_eq!(reply.as_deref().map(end_code), Some(0));
+        assert_eq!(end_processing.join().ok().map(|writes| writes.len()), Some(1));
+        shared.stop();
+        let reply = runtime.block_on(answer_applied(&shared, true, &WRITE_D100));
+        assert_eq!(reply.as_deref().map(end_code), Some(0xCEE0), "not applied: busy");
+    }
 }

@@ -1,10 +1,14 @@
 //! The Modbus TCP side of `ladderc serve` (tokio-modbus): the documented
 //! mapping of Modbus addresses to devices. Reads come from the image as the
-//! latest scan left it; writes are queued and applied as host writes before
-//! the next scan. Bad addresses and unsupported functions get exception
-//! responses; nothing a client sends stops the scan loop. The framing is
+//! latest scan left it; writes are queued, applied as host writes at the
+//! end of the scan in progress, and answered once applied (`acks`). Bad
+//! addresses and unsupported functions get exception responses; a write
+//! the queue cannot take gets 06 (server device busy), one not applied in
+//! time 04 (server device failure); nothing a client sends stops the scan
+//! loop. The framing is
 //! in `modbus_tcp`.
 
+use super::acks::Ticket;
 use super::shared::{HostWrite, Shared};
 use std::sync::Arc;
 use tokio_modbus::prelude::{ExceptionCode, Request, Response};
@@ -44,7 +48,9 @@ impl Service {
     // The match on tokio-modbus's requests: every function this map does
     // not serve (and any it adds) is exception 01.
     #[allow(clippy::wildcard_enum_match_arm)]
-    pub fn respond(&self, request: Request<'_>) -> Result<Response, ExceptionCode> {
+    /// The response to a request, and for a write the ticket to wait for
+    /// before sending it.
+    pub fn respond(&self, request: Request<'_>) -> Result<(Response, Option<Ticket>), ExceptionCode> {
         use ExceptionCode::{IllegalDataAddress, IllegalFunction, ServerDeviceBusy};
         let writes = matches!(
             request,
@@ -70,72 +76,74 @@ impl Service {
                 .map(|&w| w as u16)
                 .collect()
         };
-        // A full queue of writes for the next scan (a paused PLC, a client
-        // writing faster than it scans): exception 06, server device busy.
-        let write = |writes: Vec<HostWrite>| -> Result<(), ExceptionCode> {
-            if self.shared.queue(writes) {
-                Ok(())
-            } else {
-                Err(ServerDeviceBusy)
-            }
+        // A full queue of writes (clients writing faster than the scan
+        // thread applies them): exception 06, server device busy.
+        let write = |writes: Vec<HostWrite>| -> Result<Option<Ticket>, ExceptionCode> {
+            self.shared.queue(writes).map(Some).ok_or(ServerDeviceBusy)
         };
         match request {
             Request::ReadDiscreteInputs(address, count) => {
                 let offset = within(INPUTS, address, count).ok_or(IllegalDataAddress)?;
-                Ok(Response::ReadDiscreteInputs(bits(&image().x, offset, count)))
+                Ok((Response::ReadDiscreteInputs(bits(&image().x, offset, count)), None))
             }
             Request::ReadCoils(address, count) => {
                 let image = image();
                 if let Some(offset) = within(OUTPUTS, address, count) {
-                    Ok(Response::ReadCoils(bits(&image.y, offset, count)))
+                    Ok((Response::ReadCoils(bits(&image.y, offset, count)), None))
                 } else if let Some(offset) = within(RELAYS, address, count) {
-                    Ok(Response::ReadCoils(bits(&image.m, offset, count)))
+                    Ok((Response::ReadCoils(bits(&image.m, offset, count)), None))
                 } else if let Some(offset) = within(INPUT_IMAGE, address, count) {
-                    Ok(Response::ReadCoils(bits(&image.input_image, offset, count)))
+                    Ok((Response::ReadCoils(bits(&image.input_image, offset, count)), None))
                 } else {
                     Err(IllegalDataAddress)
                 }
             }
             Request::WriteSingleCoil(address, on) => {
-                write(vec![coil_write(address, 1).ok_or(IllegalDataAddress)?(0, on)])?;
-                Ok(Response::WriteSingleCoil(address, on))
+                let ticket = write(vec![coil_write(address, 1).ok_or(IllegalDataAddress)?(0, on)])?;
+                Ok((Response::WriteSingleCoil(address, on), ticket))
             }
             Request::WriteMultipleCoils(address, values) => {
                 let count = u16::try_from(values.len()).map_err(|_| IllegalDataAddress)?;
                 let make = coil_write(address, count).ok_or(IllegalDataAddress)?;
-                write(values.iter().enumerate().map(|(i, &on)| make(i, on)).collect())?;
-                Ok(Response::WriteMultipleCoils(address, count))
+                let ticket = write(values.iter().enumerate().map(|(i, &on)| make(i, on)).collect())?;
+                Ok((Response::WriteMultipleCoils(address, count), ticket))
             }
             Request::ReadHoldingRegisters(address, count) => {
                 let offset = within(DATA, address, count).ok_or(IllegalDataAddress)?;
-                Ok(Response::ReadHoldingRegisters(words(&image().d, offset, count)))
+                Ok((Response::ReadHoldingRegisters(words(&image().d, offset, count)), None))
             }
             Request::ReadInputRegisters(address, count) => {
                 let image = image();
                 if let Some(offset) = within(TIMERS, address, count) {
-                    Ok(Response::ReadInputRegisters(words(&image.timer_value, offset, count)))
+                    Ok((
+                        Response::ReadInputRegisters(words(&image.timer_value, offset, count)),
+                        None,
+                    ))
                 } else if let Some(offset) = within(COUNTERS, address, count) {
-                    Ok(Response::ReadInputRegisters(words(&image.counter_value, offset, count)))
+                    Ok((
+                        Response::ReadInputRegisters(words(&image.counter_value, offset, count)),
+                        None,
+                    ))
                 } else {
                     Err(IllegalDataAddress)
                 }
             }
             Request::WriteSingleRegister(address, value) => {
                 let offset = within(DATA, address, 1).ok_or(IllegalDataAddress)?;
-                write(vec![HostWrite::Data(offset as u32, value as i16)])?;
-                Ok(Response::WriteSingleRegister(address, value))
+                let ticket = write(vec![HostWrite::Data(offset as u32, value as i16)])?;
+                Ok((Response::WriteSingleRegister(address, value), ticket))
             }
             Request::WriteMultipleRegisters(address, values) => {
                 let count = u16::try_from(values.len()).map_err(|_| IllegalDataAddress)?;
                 let offset = within(DATA, address, count).ok_or(IllegalDataAddress)?;
-                write(
+                let ticket = write(
                     values
                         .iter()
                         .enumerate()
                         .map(|(i, &value)| HostWrite::Data((offset + i) as u32, value as i16))
                         .collect(),
                 )?;
-                Ok(Response::WriteMultipleRegisters(address, count))
+                Ok((Response::WriteMultipleRegisters(address, count), ticket))
             }
             _ => Err(IllegalFunction),
         }

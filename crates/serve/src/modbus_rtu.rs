@@ -68,10 +68,20 @@ pub fn open(line: &Line) -> Result<Serial, String> {
     })
 }
 
-/// What the server does with one frame: the bytes to send back, if any.
-pub fn answer(service: &Service, unit: u8, bytes: &[u8]) -> Option<Vec<u8>> {
+/// What the server does with one frame: the bytes to send back, if any,
+/// once a write it carries is applied (`settle` waits on this thread; the
+/// fuzzing harness, without a scan thread, does not).
+pub fn answer(service: &Service, unit: u8, bytes: &[u8], settle: bool) -> Option<Vec<u8>> {
     match rtu::frame(bytes) {
-        Frame::Request { unit: to, pdu } if to == unit => Some(rtu::encode(unit, &respond(service, pdu))),
+        Frame::Request { unit: to, pdu } if to == unit => {
+            let reply = respond(service, pdu);
+            let pdu = if settle {
+                reply.settle(&service.shared)
+            } else {
+                reply.pdu
+            };
+            Some(rtu::encode(unit, &pdu))
+        }
         Frame::Request { unit: BROADCAST, pdu } => {
             // Carried out (writes are what a broadcast may carry), not
             // answered.
@@ -112,7 +122,7 @@ impl Serial {
                     if frame == last_reply {
                         // Our own answer, echoed by the adapter.
                         last_reply.clear();
-                    } else if let Some(reply) = answer(service, self.line.unit, &frame) {
+                    } else if let Some(reply) = answer(service, self.line.unit, &frame, true) {
                         let _ = self.port.write_all(&reply);
                         let _ = self.port.flush();
                         last_reply = reply;

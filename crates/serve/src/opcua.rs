@@ -4,8 +4,9 @@
 //! (`ns=2;s=D100`, `ns=2;s=D100:32`, `ns=2;s=D20:float`). Bits are Boolean,
 //! words Int16, pairs and 32-bit counters Int32, real numbers Float. Reads
 //! and subscriptions sample the image the latest scan published (at
-//! intervals down to the scan period); writes are queued as host writes
-//! for the next scan, as Modbus and HTTP writes are.
+//! intervals down to the scan period); writes are queued as host writes,
+//! as Modbus and HTTP writes are, and answered Good once applied (a read
+//! after the answer sees them).
 //!
 //! Access follows the HTTP rules: with `--token-file` an anonymous session
 //! reads only and the user `operator` with the token as password writes;
@@ -14,6 +15,7 @@
 //! beyond loopback without a token is read-only); `--read-only` makes every
 //! variable read-only.
 
+use super::acks::{NotApplied, Ticket};
 use super::shared::{HostWrite, Shared};
 use ladder_engine::waveform::Signal;
 use ladder_runtime::{Device, Width};
@@ -281,11 +283,17 @@ pub fn start(
                 if range.has_range() {
                     return StatusCode::BadIndexRangeInvalid;
                 }
-                match value.value.as_ref().and_then(|v| raw_of(kind, v)) {
-                    Some(raw) if writer.queue(vec![HostWrite::Set(device, raw)]) => StatusCode::Good,
-                    // The queue of writes for the next scan is full.
-                    Some(_) => StatusCode::BadTooManyOperations,
-                    None => StatusCode::BadTypeMismatch,
+                let Some(raw) = value.value.as_ref().and_then(|v| raw_of(kind, v)) else {
+                    return StatusCode::BadTypeMismatch;
+                };
+                let Some(ticket) = writer.queue(vec![HostWrite::Set(device, raw)]) else {
+                    // The queue of writes is full.
+                    return StatusCode::BadTooManyOperations;
+                };
+                match wait_applied(&writer, ticket) {
+                    Ok(()) => StatusCode::Good,
+                    Err(NotApplied::TimedOut) => StatusCode::BadTimeout,
+                    Err(NotApplied::Stopping) => StatusCode::BadShutdown,
                 }
             });
         }
@@ -297,6 +305,19 @@ pub fn start(
         let _handle = handle;
         let _ = server.run_with(listener).await;
     })
+}
+
+/// Waits for a write to be applied in async-opcua's write callback, which
+/// is not async: the runtime is told this worker blocks (bounded by
+/// `acks::WRITE_WAIT`), so its other tasks move on.
+fn wait_applied(shared: &Shared, ticket: Ticket) -> Result<(), NotApplied> {
+    let multi_thread = tokio::runtime::Handle::try_current()
+        .is_ok_and(|handle| handle.runtime_flavor() == tokio::runtime::RuntimeFlavor::MultiThread);
+    if multi_thread {
+        tokio::task::block_in_place(|| shared.wait_applied(ticket))
+    } else {
+        shared.wait_applied(ticket)
+    }
 }
 
 /// The devices of `--opcua-devices` (the watch list's syntax).

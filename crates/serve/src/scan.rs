@@ -1,9 +1,11 @@
 //! The scan thread: it owns the engine (compiled code need not be sent
 //! between threads), scans at a fixed period with the real elapsed time (so
 //! timers run in real time), publishes the image after every scan, applies
-//! the queued host writes before the next one, follows the RUN/STOP switch
-//! and the debugger, and swaps in a program offered for online change
-//! between two scans.
+//! the queued host writes as a CPU's END processing does (at the end of the
+//! scan in progress, or at once while it waits for the next scan, is
+//! stopped or paused) and publishes them before their writers are
+//! answered, follows the RUN/STOP switch and the debugger, and swaps in a
+//! program offered for online change between two scans.
 
 use super::change;
 use super::retain;
@@ -157,7 +159,7 @@ enum Due {
     Scan { step: bool },
     /// STOP: writes apply, no scan; `entering` turns every Y OFF.
     Stopped { entering: bool },
-    /// Paused: nothing until a step (writes wait for it).
+    /// Paused: no scan until a step (writes apply at once all the same).
     Paused,
 }
 
@@ -172,6 +174,14 @@ fn run(
     while !shared.stopping() {
         match wait_until_due(clock, shared) {
             Woken::Due => {}
+            Woken::Writes => {
+                // Between two scans (or stopped, or paused): applied now,
+                // as END processing applies a request that comes while the
+                // CPU waits out its constant scan; the program sees them
+                // at its next scan, as before.
+                end_processing(engine, shared);
+                continue;
+            }
             Woken::Stop => return None,
             Woken::Program(next) => return Some(*next),
         }
@@ -180,17 +190,14 @@ fn run(
         match due {
             Due::Stopped { entering } => {
                 was_stopped = true;
-                for write in shared.take_writes() {
-                    apply(engine, write);
-                }
                 if entering {
                     all_outputs_off(engine);
                 }
-                if let Some(image) = engine.image() {
-                    shared.publish(image);
-                }
+                end_processing(engine, shared);
                 idle(clock, began);
             }
+            // Writes while paused wake the thread and apply at once
+            // (`Woken::Writes`); a due time passes without a scan.
             Due::Paused => idle(clock, began),
             Due::Scan { step } => {
                 // STOP→RUN as an FX does it: the non-latched devices
@@ -216,6 +223,8 @@ fn run(
 enum Woken {
     /// The scan is due (or a step waits).
     Due,
+    /// Host writes wait, and no scan is due yet.
+    Writes,
     /// The server stops.
     Stop,
     /// A program was offered for online change (boxed: it is large, and
@@ -224,7 +233,7 @@ enum Woken {
 }
 
 /// Sleeps until the absolute deadline of the next scan; a stop, a program
-/// offered or a control change wakes it at once.
+/// offered, a control change or a host write wakes it at once.
 fn wait_until_due(clock: &Clock, shared: &Shared) -> Woken {
     loop {
         let generation = shared.generation();
@@ -237,6 +246,9 @@ fn wait_until_due(clock: &Clock, shared: &Shared) -> Woken {
         let now = Instant::now();
         if now >= clock.due || shared.control().step_waiting() {
             return Woken::Due;
+        }
+        if shared.writes_waiting() {
+            return Woken::Writes;
         }
         let wake = clock.due.checked_sub(clock.spin).unwrap_or(clock.due);
         if now >= wake {
@@ -264,9 +276,10 @@ fn decide(shared: &Shared, was_stopped: bool) -> Due {
     }
 }
 
-/// One scan that `began` now: the queued writes, the scan, the published
-/// image, the next due time and the statistics. False when the engine
-/// failed (the server stops).
+/// One scan that `began` now: the queued writes, the scan, the writes
+/// queued during it (END processing), the published image, the next due
+/// time and the statistics. False when the engine failed (the server
+/// stops).
 fn scan(engine: &mut dyn Engine, clock: &mut Clock, shared: &Shared, began: Instant, step: bool) -> bool {
     let late = began.saturating_duration_since(clock.due);
     let elapsed = if step {
@@ -285,10 +298,10 @@ fn scan(engine: &mut dyn Engine, clock: &mut Clock, shared: &Shared, began: Inst
         return false;
     }
     if let Some(image) = engine.image() {
-        shared.publish(image);
         shared.sample(image);
         shared.control().after_scan(image, u64::from(image.scan_count));
     }
+    end_processing(engine, shared);
     let took = began.elapsed();
     clock.due += clock.period;
     let overrun = !step && Instant::now() > clock.due;
@@ -323,6 +336,19 @@ fn idle(clock: &mut Clock, now: Instant) {
     clock.due = now + clock.period;
     clock.previous = now + clock.period;
     clock.carried = Duration::ZERO;
+}
+
+/// END processing of the host writes: those queued since the last batch
+/// applied, the image that shows them published (servers read that copy),
+/// then their writers answered, so a read after the answer sees the write.
+fn end_processing(engine: &mut dyn Engine, shared: &Shared) {
+    for write in shared.take_writes() {
+        apply(engine, write);
+    }
+    if let Some(image) = engine.image() {
+        shared.publish(image);
+    }
+    shared.acknowledge();
 }
 
 /// STOP: every output OFF, as an FX turns its outputs off in STOP.

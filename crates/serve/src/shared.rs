@@ -1,9 +1,10 @@
 //! What the scan thread and the servers share: the image as the latest scan
 //! left it (servers read this copy, never the live image), the host writes
-//! waiting for the next scan, the scan statistics, the RUN/STOP switch and
+//! waiting to be applied (and the writers waiting for them: `acks`), the scan statistics, the RUN/STOP switch and
 //! breakpoints, the drawing of the running program, the recorders of the
 //! trend, and the stop flag.
 
+use super::acks::{Acks, NotApplied, Ticket};
 use super::control::Control;
 use super::scan_lock::{lock, ScanGuard, ScanLock};
 use super::view::LadderView;
@@ -83,7 +84,8 @@ impl Recorder {
     }
 }
 
-/// A write from a client, applied as a host write before the next scan.
+/// A write from a client, applied as a host write at the end of the scan
+/// in progress (or at once when none is), before the next scan.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum HostWrite {
     /// Xn of the input image.
@@ -124,17 +126,19 @@ enum WriteKey {
     Unforce(ladder_runtime::BitArea, u32),
 }
 
-/// The host writes waiting for the next scan, in order. A write of what a
-/// waiting write writes (the same key) replaces it: between two scans only
-/// the last value of a device reaches the program, and writes that partly
+/// The host writes waiting to be applied, in order. A write of what a
+/// waiting write writes (the same key) replaces it: in one batch only the
+/// last value of a device reaches the program, and writes that partly
 /// overlap keep their order, so the image after them is the same. So the
 /// queue holds at most one write per device, and at most `limit` of them
-/// (a client that writes faster than the PLC scans, or while it is
-/// paused, gets "busy" rather than memory without end).
+/// (clients that together write more devices during one scan get "busy"
+/// rather than memory without end).
 struct Pending {
     writes: Vec<Option<HostWrite>>,
     at: std::collections::HashMap<WriteKey, usize>,
     limit: usize,
+    /// Batches taken so far: a write queued now is in batch `taken + 1`.
+    taken: u64,
 }
 
 impl Pending {
@@ -143,6 +147,7 @@ impl Pending {
             writes: Vec::new(),
             at: std::collections::HashMap::new(),
             limit,
+            taken: 0,
         }
     }
 
@@ -178,12 +183,13 @@ impl Pending {
     }
 
     fn take(&mut self) -> Vec<HostWrite> {
+        self.taken += 1;
         self.at.clear();
         std::mem::take(&mut self.writes).into_iter().flatten().collect()
     }
 }
 
-/// How many host writes (devices) may wait for the next scan by default.
+/// How many host writes (devices) may wait to be applied by default.
 pub const DEFAULT_QUEUED_WRITES: usize = 65_536;
 
 /// Wake-up latencies the statistics keep for their percentiles: the
@@ -274,6 +280,11 @@ pub struct Shared {
     /// Programs swapped in so far.
     swaps: std::sync::atomic::AtomicU64,
     writes: ScanLock<Pending>,
+    /// Some write waits in `writes` (read by the scan thread while it
+    /// waits for its next scan, without taking the lock).
+    writes_waiting: AtomicBool,
+    /// The batches of writes applied, and the writers waiting for theirs.
+    acks: Acks,
     stats: ScanLock<Stats>,
     stop: AtomicBool,
     control: ScanLock<Control>,
@@ -300,6 +311,8 @@ impl Default for Shared {
             pending: super::scan_lock::new(None),
             swaps: std::sync::atomic::AtomicU64::new(0),
             writes: super::scan_lock::new(Pending::new(DEFAULT_QUEUED_WRITES)),
+            writes_waiting: AtomicBool::new(false),
+            acks: Acks::default(),
             stats: super::scan_lock::new(Stats::default()),
             stop: AtomicBool::new(false),
             control: super::scan_lock::new(Control::default()),
@@ -370,20 +383,58 @@ impl Shared {
         self.published.load(Ordering::Acquire)
     }
 
-    /// Queues host writes for the next scan; false (none queued) when
-    /// the queue is full (`Pending`): the client is told the PLC is busy.
+    /// Queues host writes: the scan thread applies them at the end of the
+    /// scan in progress, or at once when none is running (it is woken).
+    /// `None` (none queued) when the queue is full (`Pending`): the client
+    /// is told the PLC is busy. Answer the client once the ticket is
+    /// applied (`wait_applied`).
     #[must_use]
-    pub fn queue(&self, writes: Vec<HostWrite>) -> bool {
-        lock(&self.writes).push(&writes)
+    pub fn queue(&self, writes: Vec<HostWrite>) -> Option<Ticket> {
+        let mut pending = lock(&self.writes);
+        if !pending.push(&writes) {
+            return None;
+        }
+        let ticket = Ticket(pending.taken + 1);
+        self.writes_waiting.store(true, Ordering::Release);
+        drop(pending);
+        self.wake();
+        Some(ticket)
     }
 
-    /// How many devices may wait for the next scan (`--max-queued-writes`).
+    /// How many devices may wait to be applied (`--max-queued-writes`).
     pub fn limit_writes(&self, limit: usize) {
         lock(&self.writes).limit = limit.max(1);
     }
 
+    /// The writes queued since the last call, in order: a batch, to be
+    /// marked `acknowledge`d once applied and published.
     pub fn take_writes(&self) -> Vec<HostWrite> {
-        lock(&self.writes).take()
+        let mut pending = lock(&self.writes);
+        self.writes_waiting.store(false, Ordering::Release);
+        pending.take()
+    }
+
+    /// Whether writes wait to be taken.
+    pub fn writes_waiting(&self) -> bool {
+        self.writes_waiting.load(Ordering::Acquire)
+    }
+
+    /// Every batch taken so far is applied and the published image shows
+    /// it: their writers are answered. Called by the scan thread alone
+    /// (which alone takes batches).
+    pub fn acknowledge(&self) {
+        let taken = lock(&self.writes).taken;
+        self.acks.applied(taken);
+    }
+
+    /// Blocks until the write of `ticket` is applied (bounded: `acks`).
+    pub fn wait_applied(&self, ticket: Ticket) -> Result<(), NotApplied> {
+        self.acks.wait(ticket)
+    }
+
+    /// Waits as a task until the write of `ticket` is applied.
+    pub async fn applied(&self, ticket: Ticket) -> Result<(), NotApplied> {
+        self.acks.wait_async(ticket).await
     }
 
     pub fn stats(&self) -> Stats {
@@ -559,6 +610,7 @@ impl Shared {
 
     pub fn stop(&self) {
         self.stop.store(true, Ordering::Relaxed);
+        self.acks.stop();
         self.wake();
     }
 

@@ -58,7 +58,8 @@ pub async fn ladder(State(app): State<App>) -> Response {
 const MOST_DRAWINGS: usize = 500;
 
 /// What the page needs to place every rung before it has any drawing: the
-/// program, the drawing's style and each rung's height.
+/// program, the drawing's style, each rung's height, the widest rung's
+/// width, and the devices the program uses (the device table's start).
 pub async fn ladder_outline(State(app): State<App>) -> Response {
     let Some(view) = app.shared.view() else {
         return error(StatusCode::SERVICE_UNAVAILABLE, "no program runs yet");
@@ -67,6 +68,8 @@ pub async fn ladder_outline(State(app): State<App>) -> Response {
         "program": app.shared.swaps(),
         "style": ladder_diagram::svg::STYLE,
         "heights": view.heights,
+        "width": view.width,
+        "devices": view.devices,
     }))
     .into_response()
 }

@@ -1,7 +1,7 @@
 //! The HTTP side of `ladderc serve` (axum): a live monitor page served by
 //! the binary itself, a JSON API for scripts, and server-sent events that
 //! push device values to the page. Like Modbus, it reads the image the
-//! latest scan published and queues writes for the next scan. This file
+//! latest scan published and queues writes, answered once applied. This file
 //! is the router; the handlers are `devices.rs` (watched devices, events,
 //! statistics), `writes.rs` (writes and forces), `program.rs` (the running
 //! program, online change) and `debug.rs` (the ladder, the switch, the
@@ -66,12 +66,21 @@ pub fn router(shared: Arc<Shared>, native: bool) -> Router {
         .with_state(App { shared, native })
 }
 
-/// The answer to a write when the queue of writes for the next scan is
-/// full (the PLC is paused, or a client writes faster than it scans).
+/// The answer to a write queued but not applied in time (a scan that does
+/// not end, or the server stopping): 503, never an acknowledgement.
+pub fn not_applied() -> Response {
+    error(
+        StatusCode::SERVICE_UNAVAILABLE,
+        "the write was not applied in time (the scan did not end, or the server is stopping)",
+    )
+}
+
+/// The answer to a write when the queue of writes is full (clients write
+/// faster than the scan thread applies them).
 pub fn busy() -> Response {
     let mut response = error(
         StatusCode::SERVICE_UNAVAILABLE,
-        "too many writes are waiting for the next scan; try again",
+        "too many writes are waiting to be applied; try again",
     );
     response.headers_mut().insert(
         axum::http::header::RETRY_AFTER,

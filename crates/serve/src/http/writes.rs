@@ -1,7 +1,8 @@
 //! Writes in the JSON API: set a device, force and unforce a bit, list the
-//! forced devices, unforce them all; each queued for the next scan.
+//! forced devices, unforce them all; each queued, applied at the end of the
+//! scan in progress (or at once when none runs), and answered once applied.
 
-use super::{busy, error, App};
+use super::{busy, error, not_applied, App};
 use crate::shared::HostWrite;
 use axum::extract::State;
 use axum::http::StatusCode;
@@ -20,7 +21,7 @@ pub async fn forces(State(app): State<App>) -> Json<Value> {
     Json(json!({ "forces": list }))
 }
 
-/// Unforces every forced device (at the next scan).
+/// Unforces every forced device.
 pub async fn unforce_all(State(app): State<App>) -> Response {
     let forced = crate::view::forces(&app.shared.image());
     let mut writes = Vec::new();
@@ -32,8 +33,11 @@ pub async fn unforce_all(State(app): State<App>) -> Response {
         }
     }
     let count = writes.len();
-    if !app.shared.queue(writes) {
+    let Some(ticket) = app.shared.queue(writes) else {
         return busy();
+    };
+    if app.shared.applied(ticket).await.is_err() {
+        return not_applied();
     }
     Json(json!({ "unforced": count })).into_response()
 }
@@ -88,8 +92,8 @@ fn forceable(device: HostDevice) -> Result<(BitArea, u32), String> {
 }
 
 /// Runs a write request: refused when read-only, 400 when malformed,
-/// else queued for the next scan.
-fn queue(
+/// else queued and answered once applied.
+async fn queue(
     app: &App,
     body: Result<Json<Write>, axum::extract::rejection::JsonRejection>,
     make: impl FnOnce(HostDevice, Option<i32>) -> Result<HostWrite, String>,
@@ -100,10 +104,13 @@ fn queue(
     };
     match parse_write(&body).and_then(|(device, value)| make(device, value)) {
         Ok(write) => {
-            if !app.shared.queue(vec![write]) {
+            let Some(ticket) = app.shared.queue(vec![write]) else {
                 return busy();
+            };
+            if app.shared.applied(ticket).await.is_err() {
+                return not_applied();
             }
-            Json(json!({ "queued": body.device })).into_response()
+            Json(json!({ "queued": body.device, "applied": true })).into_response()
         }
         Err(message) => error(StatusCode::BAD_REQUEST, message),
     }
@@ -116,6 +123,7 @@ pub async fn set(
     queue(&app, body, |device, value| {
         Ok(HostWrite::Set(device, value.ok_or("a value is needed")?))
     })
+    .await
 }
 
 pub async fn force(
@@ -126,6 +134,7 @@ pub async fn force(
         let (area, index) = forceable(device)?;
         Ok(HostWrite::Force(area, index, value.ok_or("a value is needed")? != 0))
     })
+    .await
 }
 
 pub async fn unforce(
@@ -136,4 +145,5 @@ pub async fn unforce(
         let (area, index) = forceable(device)?;
         Ok(HostWrite::Unforce(area, index))
     })
+    .await
 }
