@@ -8,12 +8,17 @@
 //! verify plant.prop: 14 properties in 409.9 ms, peak heap 3.1 MB
 //! ```
 //!
+//! The plant and the suite again with the SAT-based engines alone
+//! (`[sat]`), and a program whose properties read 17 free input bits (a
+//! 16-bit code on K4X0 and an enable), past the explicit search's 12, which
+//! the default engines hand to the SAT-based ones.
+//!
 //! Marks (issue "Prove it before it runs"): every property of the suite
 //! decided, an interlock of a 1,000-instruction program proved in under
 //! 10 s, peak memory under 1 GB.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use ladder_verify::{collect_files, verify_file, Options};
+use ladder_verify::{collect_files, verify_file, Engine, Options};
 use std::fmt::Write as _;
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
@@ -60,25 +65,34 @@ fn plant_properties(program: &Path) -> String {
     text
 }
 
+/// A code lock: Y0 when the 16 inputs X0-X17 show 12345, Y1 when X20 is
+/// ON too; 17 free input bits reach Y1.
+const CODE_LOCK: &str = "program <<\nLD= K4X0 K12345\nOUT Y0\nLD Y0\nAND X20\nOUT Y1\n>>\n\
+                         never Y1 & !Y0\nreach Y1\nnever Y1 & !X20\n";
+
 /// Verifies `file` once, printing each verdict with its time and states,
 /// and the file's peak heap.
-fn report(file: &Path) {
+fn report(file: &Path, options: &Options) {
     let heap = ladderc_benches::heap::start();
     let start = Instant::now();
-    let reports = verify_file(file, &Options::default()).expect("a property file that checks");
+    let reports = verify_file(file, options).expect("a property file that checks");
     let took = start.elapsed();
     let peak = ladderc_benches::heap::peak_since(heap);
-    let name = file
+    let mut name = file
         .file_name()
         .map_or(String::new(), |n| n.to_string_lossy().into_owned());
+    if options.engine == Engine::Symbolic {
+        name.push_str(" [sat]");
+    }
     for report in &reports {
-        println!(
-            "verify {name}:{}: {} ({} states, {} scans searched)",
-            report.line,
-            report.verdict.text(),
-            report.searched.states,
-            report.searched.transitions
-        );
+        let how = match &report.searched.by_sat {
+            Some(by) => by.clone(),
+            None => format!(
+                "{} states, {} scans searched",
+                report.searched.states, report.searched.transitions
+            ),
+        };
+        println!("verify {name}:{}: {} ({how})", report.line, report.verdict.text());
     }
     println!(
         "verify {name}: {} properties in {:.1} ms, peak heap {:.1} MB",
@@ -99,9 +113,23 @@ fn bench(c: &mut Criterion) {
     std::fs::write(&program, plant()).expect("the plant");
     let properties = work.path().join("plant.prop");
     std::fs::write(&properties, plant_properties(&program)).expect("its properties");
-    let files: Vec<PathBuf> = suite().into_iter().chain([properties.clone()]).collect();
+    let lock = work.path().join("code_lock.prop");
+    std::fs::write(&lock, CODE_LOCK).expect("the code lock");
+    let files: Vec<PathBuf> = suite().into_iter().chain([properties.clone(), lock.clone()]).collect();
     for file in &files {
-        report(file);
+        report(file, &Options::default());
+    }
+    // Ten seconds a property: what the SAT engines do not decide by
+    // then (the traffic light's timers) the explicit search does in ms.
+    let sat = Options {
+        engine: Engine::Symbolic,
+        limits: ladder_verify::search::Limits {
+            timeout: std::time::Duration::from_secs(10),
+            ..Default::default()
+        },
+    };
+    for file in &files {
+        report(file, &sat);
     }
     c.bench_function("verify/suite", |b| {
         b.iter(|| {
@@ -112,6 +140,12 @@ fn bench(c: &mut Criterion) {
     });
     c.bench_function("verify/plant_1140_instructions", |b| {
         b.iter(|| black_box(verify_file(&properties, &Options::default()).expect("checks")))
+    });
+    c.bench_function("verify/plant_1140_instructions_sat", |b| {
+        b.iter(|| black_box(verify_file(&properties, &sat).expect("checks")))
+    });
+    c.bench_function("verify/code_lock_17_inputs", |b| {
+        b.iter(|| black_box(verify_file(&lock, &Options::default()).expect("checks")))
     });
 }
 

@@ -333,9 +333,11 @@ fn decide(
             })
         }
     };
-    let answer = symbolic::check(&system, options.limits.depth, deadline);
+    let decision = symbolic::check(&system, options.limits.depth, deadline);
+    let answer = decision.answer;
     let mut searched = Searched {
         transitions: 1,
+        by_sat: Some(decision.by),
         ..Searched::default()
     };
     let outcome = match answer {
@@ -347,7 +349,7 @@ fn decide(
                     ..system.clone()
                 };
                 let seen = symbolic::check(&question, options.limits.depth, deadline);
-                searched.condition_seen = !matches!(seen, symbolic::bmc::Answer::Holds);
+                searched.condition_seen = !matches!(seen.answer, symbolic::bmc::Answer::Holds);
             }
             Outcome::Exhausted
         }

@@ -55,8 +55,11 @@ pub enum Outcome {
 }
 
 /// Statistics of one search, for reports and benchmarks.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Searched {
+    /// Which SAT-based engine decided, and where (`IC3 in 5 frames`),
+    /// when they did; `None` for the explicit-state search.
+    pub by_sat: Option<String>,
     pub states: usize,
     pub transitions: u64,
     pub depth: u32,

@@ -212,3 +212,77 @@ impl Aig {
 pub fn value_of(values: &[bool], lit: Lit) -> bool {
     values.get(lit.node() as usize).copied().unwrap_or(false) != lit.negated()
 }
+
+impl Aig {
+    /// The same graph with every latch that never changes replaced by its
+    /// value (a latch whose next value is itself, or the constant it
+    /// starts with), until none is left: the devices a scan reads but
+    /// never writes, the validity latch without assumptions. Returns the
+    /// new graph and each old node's literal in it.
+    pub fn without_constant_latches(&self) -> (Aig, Vec<Lit>) {
+        let mut current = self.clone();
+        let mut total: Vec<Lit> = (0..self.nodes.len() as u32).map(|n| Lit(2 * n)).collect();
+        loop {
+            let constant: Vec<Option<bool>> = current
+                .latches
+                .iter()
+                .map(|l| {
+                    let own = Lit(2 * l.node);
+                    (l.next == own || l.next == Lit::constant(l.init)).then_some(l.init)
+                })
+                .collect();
+            if constant.iter().all(Option::is_none) {
+                return (current, total);
+            }
+            let (next, map) = current.rebuild(&constant);
+            total = total
+                .into_iter()
+                .map(|l| {
+                    let m = map[l.node() as usize];
+                    if l.negated() {
+                        !m
+                    } else {
+                        m
+                    }
+                })
+                .collect();
+            current = next;
+        }
+    }
+
+    /// A copy with the latches `constant` names replaced by constants.
+    fn rebuild(&self, constant: &[Option<bool>]) -> (Aig, Vec<Lit>) {
+        let mut new = Aig::new();
+        let mut map = vec![Lit::FALSE; self.nodes.len()];
+        let translate = |map: &[Lit], l: Lit| {
+            let m = map[l.node() as usize];
+            if l.negated() {
+                !m
+            } else {
+                m
+            }
+        };
+        for (n, node) in self.nodes.iter().enumerate() {
+            map[n] = match *node {
+                Node::False => Lit::FALSE,
+                Node::Input(_) => new.input(),
+                Node::Latch(l) => match constant.get(l as usize).copied().flatten() {
+                    Some(value) => Lit::constant(value),
+                    None => new.latch(self.latches[l as usize].init),
+                },
+                Node::And(a, b) => {
+                    let (a, b) = (translate(&map, a), translate(&map, b));
+                    new.and(a, b)
+                }
+            };
+        }
+        for latch in &self.latches {
+            let lit = map[latch.node as usize];
+            if let Some(Node::Latch(_)) = new.nodes.get(lit.node() as usize) {
+                let next = translate(&map, latch.next);
+                new.set_next(lit, next);
+            }
+        }
+        (new, map)
+    }
+}

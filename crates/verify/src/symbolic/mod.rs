@@ -24,42 +24,62 @@ use std::time::Instant;
 /// k-induction first (short counterexamples, k-inductive properties), then
 /// IC3 a frame at a time, with BMC going deeper between its frames (deep
 /// counterexamples, which IC3 finds slowly).
-pub fn check(system: &System, depth: u32, deadline: Instant) -> Answer {
+pub fn check(system: &System, depth: u32, deadline: Instant) -> Decision {
+    let decided = |answer: Answer, by: String| Decision { answer, by };
     if system.bad == aig::Lit::FALSE {
-        return Answer::Holds;
+        return decided(Answer::Holds, "the encoding (the claim folds to true)".to_string());
     }
     let mut bmc = bmc::Bmc::new(system, deadline);
     let mut ic3 = pdr::Ic3::new(system, deadline);
     let mut k = 0u32;
     loop {
         if k >= depth {
-            return Answer::Unknown(format!("depth {depth} reached (--depth)"));
+            return decided(
+                Answer::Unknown(format!("depth {depth} reached (--depth)")),
+                format!("BMC to {k}"),
+            );
         }
         k += 1;
         if let Some(answer) = bmc.step(k, k <= INDUCTION_DEPTH) {
-            return answer;
+            let by = match answer {
+                Answer::Holds => format!("{k}-induction"),
+                Answer::Fails(_) | Answer::Unknown(_) => format!("BMC at {k}"),
+            };
+            return decided(answer, by);
         }
         if k <= INDUCTION_DEPTH {
             continue;
         }
         // IC3's frames are dearer than BMC's: one for every few of them.
         if k.is_multiple_of(IC3_EVERY) {
-            match ic3.step() {
+            let stepped = ic3.step();
+            if std::env::var_os("LADDER_VERIFY_TRACE").is_some() {
+                eprintln!("ic3: bmc {k}, {}", ic3.describe());
+            }
+            let frames = ic3.frames();
+            match stepped {
                 None => {}
-                Some(pdr::Found::Holds) => return Answer::Holds,
+                Some(pdr::Found::Holds) => return decided(Answer::Holds, format!("IC3 in {frames} frames")),
                 Some(pdr::Found::FailsAt(length)) => {
                     // The shortest: BMC from here up to IC3's length.
                     for deeper in k + 1..=length as u32 {
                         if let Some(answer) = bmc.step(deeper, false) {
-                            return answer;
+                            return decided(answer, format!("IC3, then BMC at {deeper}"));
                         }
                     }
-                    return Answer::Unknown(format!("IC3 found a counterexample of {length} scans that BMC did not"));
+                    let why = format!("IC3 found a counterexample of {length} scans that BMC did not");
+                    return decided(Answer::Unknown(why), "IC3".to_string());
                 }
-                Some(pdr::Found::Unknown(why)) => return Answer::Unknown(why),
+                Some(pdr::Found::Unknown(why)) => return decided(Answer::Unknown(why), format!("IC3 at {frames}")),
             }
         }
     }
+}
+
+/// An answer and the engine that gave it (for reports and benchmarks).
+pub struct Decision {
+    pub answer: Answer,
+    pub by: String,
 }
 
 /// BMC frames between two IC3 frames.

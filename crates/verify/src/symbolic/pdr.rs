@@ -141,6 +141,18 @@ impl<'a> Ic3<'a> {
     pub fn frames(&self) -> usize {
         self.k
     }
+
+    /// The frames' sizes, for tracing.
+    pub fn describe(&self) -> String {
+        let sizes: Vec<String> = self.p.frames.iter().skip(1).map(|f| f.len().to_string()).collect();
+        let literals: usize = self.p.frames.iter().flatten().map(Vec::len).sum();
+        format!(
+            "frame {}, {} state bits, clauses per frame [{}], {literals} literals",
+            self.k,
+            self.p.current.len(),
+            sizes.join(" ")
+        )
+    }
 }
 
 /// An obligation: a cube to block at a frame, and how many scans lead
@@ -334,7 +346,7 @@ impl Pdr<'_> {
         let mut general = self.outside_init(cube, core);
         let mut i = 0;
         let mut failures = 0;
-        while i < general.len() && general.len() > 1 && failures < 3 {
+        while i < general.len() && general.len() > 1 && failures < GENERALIZE_FAILURES {
             let mut candidate = general.clone();
             candidate.remove(i);
             if self.meets_init(&candidate) {
@@ -376,3 +388,7 @@ enum Relative {
     Unsat(Cube),
     Stopped,
 }
+
+/// Literals `generalize` tries to drop in a row without success before it
+/// settles for the cube it has.
+const GENERALIZE_FAILURES: usize = usize::MAX;

@@ -62,7 +62,32 @@ pub fn build(
     // knows them all from the start, so an indexed store reaches each.
     let (_, known) = build_once(model, ir, claim, FxHashSet::default())?;
     let (system, _) = build_once(model, ir, claim, known)?;
-    Ok(system)
+    Ok(system.simplified())
+}
+
+impl System {
+    /// The system with its constant latches folded away
+    /// (`Aig::without_constant_latches`): fewer state bits for the engines
+    /// and in AIGER files.
+    pub fn simplified(self) -> System {
+        let (aig, map) = self.aig.without_constant_latches();
+        let at = |l: Lit| {
+            let m = map[l.node() as usize];
+            if l.negated() {
+                !m
+            } else {
+                m
+            }
+        };
+        System {
+            bad: at(self.bad),
+            condition: self.condition.map(at),
+            inputs: self.inputs.iter().map(|w| w.iter().map(|&l| at(l)).collect()).collect(),
+            elapsed: self.elapsed.as_ref().map(|w| w.iter().map(|&l| at(l)).collect()),
+            unmodelled: self.unmodelled,
+            aig,
+        }
+    }
 }
 
 fn build_once(
