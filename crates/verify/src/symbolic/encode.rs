@@ -3,8 +3,10 @@
 //! by bit into an AIG. Blocks are visited in reverse postorder with the
 //! condition under which each runs; a store in a block keeps the old value
 //! where the block does not run (`mux`). Because one path through an
-//! acyclic function runs per scan, that is exact; a function with a cycle
-//! (FOR/NEXT, a backward CJ) is not encoded (`Unsupported`).
+//! acyclic function runs per scan, that is exact. A loop (FOR/NEXT, a CJ
+//! backwards) is unrolled, a copy of the blocks per repetition, up to 256
+//! repetitions in a scan; where it may repeat more, every device is taken
+//! as arbitrary.
 //!
 //! What is not modelled exactly becomes a fresh free input each scan
 //! (`havoc`): real numbers, indexed devices, helpers without a model. Such
@@ -19,7 +21,9 @@ use ladder_runtime::helpers::Helper;
 use ladder_runtime::hsc::FIRST_HSC;
 use ladder_runtime::layout::{Array, FULL};
 use ladder_runtime::place::Place;
-use ladder_runtime::special::{D_ERROR_CODE, D_ERROR_LINE, M_COUNTER_DIRECTION_BASE, M_OPERATION_ERROR};
+use ladder_runtime::special::{
+    OperationError, D_ERROR_CODE, D_ERROR_LINE, LOOP_REPETITION_LIMIT, M_COUNTER_DIRECTION_BASE, M_OPERATION_ERROR,
+};
 use ladder_runtime::Memory;
 use rustc_hash::{FxHashMap, FxHashSet};
 
@@ -97,6 +101,9 @@ pub struct Image<'a> {
     pub known: FxHashSet<Key>,
     /// The elapsed time of this scan (32 bits).
     pub elapsed: Word,
+    /// The loop watchdog's count of repetitions in this scan (32 bits,
+    /// from 0 at the scan's start).
+    pub loop_repetitions: Word,
     /// What was taken as arbitrary, said once each.
     pub unmodelled: Vec<String>,
     /// Makes the value of an element not touched before.
@@ -170,66 +177,95 @@ fn run_function(
     for (i, b) in order.iter().enumerate() {
         position[*b] = i;
     }
-    for &b in &order {
-        for successor in function.blocks[b].terminator.successors() {
-            if position.get(successor.0 as usize).is_none_or(|&p| p <= position[b]) {
-                return Err(Unsupported("a loop (FOR/NEXT or a jump back)".to_string()));
-            }
-        }
-    }
     let mut values: Vec<Option<Word>> = vec![None; function.value_types.len()];
     let mut locals: Vec<Lit> = vec![Lit::FALSE; usize::from(function.locals)];
     let mut loop_counts: Vec<Word> = vec![words::constant(0, 32); usize::from(function.loop_levels)];
-    let mut block_reach = vec![Lit::FALSE; function.blocks.len()];
+    // Loops are unrolled: copy c + 1 of the blocks is entered by the jumps
+    // back out of copy c. Copies run in order, each in reverse postorder,
+    // which is an order of execution: a block of a copy is reached from
+    // earlier blocks of its copy or from the copy before.
+    let mut block_reach = vec![vec![Lit::FALSE; function.blocks.len()]];
     if let Some(&entry) = order.first() {
-        block_reach[entry] = reach;
+        block_reach[0][entry] = reach;
     }
-    for &b in &order {
-        let guard = block_reach[b];
-        if guard == Lit::FALSE {
-            continue;
-        }
-        let block = &function.blocks[b];
-        for (result, inst) in &block.insts {
-            let mut state = State {
-                image,
-                program,
-                function,
-                values: &mut values,
-                locals: &mut locals,
-                loop_counts: &mut loop_counts,
-                guard,
-                depth,
-            };
-            let value = state.inst(inst)?;
-            if let (Some(result), Some(value)) = (result, value) {
-                if let Some(slot) = values.get_mut(result.0 as usize) {
-                    *slot = Some(value);
+    // Where a repetition past the last copy would begin.
+    let mut beyond = Lit::FALSE;
+    let mut copy = 0;
+    while copy < block_reach.len() {
+        for &b in &order {
+            let guard = block_reach[copy][b];
+            if guard == Lit::FALSE {
+                continue;
+            }
+            let block = &function.blocks[b];
+            for (result, inst) in &block.insts {
+                let mut state = State {
+                    image,
+                    program,
+                    function,
+                    values: &mut values,
+                    locals: &mut locals,
+                    loop_counts: &mut loop_counts,
+                    guard,
+                    depth,
+                };
+                let value = state.inst(inst)?;
+                if let (Some(result), Some(value)) = (result, value) {
+                    if let Some(slot) = values.get_mut(result.0 as usize) {
+                        *slot = Some(value);
+                    }
                 }
             }
-        }
-        match block.terminator {
-            Terminator::Jump(target) => {
-                let t = target.0 as usize;
-                block_reach[t] = image.aig.or(block_reach[t], guard);
+            let edges: Vec<(usize, Lit)> = match block.terminator {
+                Terminator::Jump(target) => vec![(target.0 as usize, guard)],
+                Terminator::Branch {
+                    condition,
+                    then,
+                    otherwise,
+                } => {
+                    let c = value_bit(image, &values, condition);
+                    let taken = image.aig.and(guard, c);
+                    let not_taken = image.aig.and(guard, !c);
+                    vec![(then.0 as usize, taken), (otherwise.0 as usize, not_taken)]
+                }
+                Terminator::Return => Vec::new(),
+            };
+            for (target, condition) in edges {
+                if condition == Lit::FALSE || target >= function.blocks.len() {
+                    continue;
+                }
+                let back = position[target] <= position[b];
+                let into = if back { copy + 1 } else { copy };
+                if into >= LOOP_COPIES {
+                    beyond = image.aig.or(beyond, condition);
+                    continue;
+                }
+                if into == block_reach.len() {
+                    block_reach.push(vec![Lit::FALSE; function.blocks.len()]);
+                }
+                block_reach[into][target] = image.aig.or(block_reach[into][target], condition);
             }
-            Terminator::Branch {
-                condition,
-                then,
-                otherwise,
-            } => {
-                let c = value_bit(image, &values, condition);
-                let taken = image.aig.and(guard, c);
-                let not_taken = image.aig.and(guard, !c);
-                let (t, o) = (then.0 as usize, otherwise.0 as usize);
-                block_reach[t] = image.aig.or(block_reach[t], taken);
-                block_reach[o] = image.aig.or(block_reach[o], not_taken);
-            }
-            Terminator::Return => {}
         }
+        copy += 1;
+    }
+    if beyond != Lit::FALSE {
+        // What the rest of the function would do is not encoded: where it
+        // would run, every element takes an arbitrary value (sound, and
+        // moot where the inputs' ranges keep the count low).
+        image.note(format!(
+            "loops repeating more than {LOOP_COPIES} times in a scan (then every device is taken as arbitrary)"
+        ));
+        image.havoc(beyond, &Array::ALL);
+        let arbitrary = image.fresh(32);
+        image.loop_repetitions = words::mux(image.aig, beyond, &arbitrary, &image.loop_repetitions.clone());
     }
     Ok(())
 }
+
+/// Repetitions of a loop in one scan that are unrolled (a FOR/NEXT of a
+/// constant count up to this many is exact; past them everything is
+/// taken as arbitrary).
+const LOOP_COPIES: usize = 256;
 
 /// The instruction a helper runs, as its declaration's text names it
 /// first (`ZRST (`on` 0) ...` is ZRST), else the helper's C name.
@@ -590,6 +626,27 @@ impl State<'_, '_> {
         Some(())
     }
 
+    /// NEXT's question to the loop watchdog (`scan.rs`): 1 and one more
+    /// repetition counted while fewer than the limit were made in this
+    /// scan, else 0 with 6509H recorded.
+    fn loop_repeat(&mut self, line: u32) -> Word {
+        let guard = self.guard;
+        let count = self.image.loop_repetitions.clone();
+        let aig = &mut *self.image.aig;
+        let wide = words::resize(&count, 34, false);
+        let limit = words::constant(i64::from(LOOP_REPETITION_LIMIT), 34);
+        let allowed = words::less_signed(aig, &wide, &limit);
+        let counted = words::add(aig, &count, &words::constant(1, 32));
+        let counts = aig.and(guard, allowed);
+        self.image.loop_repetitions = words::mux(aig, counts, &counted, &count);
+        let refused = aig.and(guard, !allowed);
+        let saved = self.guard;
+        self.guard = refused;
+        self.record_error(i64::from(OperationError::LoopWatchdog.code()), i64::from(line as u16));
+        self.guard = saved;
+        words::resize(&[allowed], 32, false)
+    }
+
     fn record_error(&mut self, code: i64, line: i64) {
         let guard = self.guard;
         self.image.write((Array::M, M_OPERATION_ERROR), guard, &[Lit::TRUE]);
@@ -643,6 +700,10 @@ impl State<'_, '_> {
         } else if matches!(helper, Helper::BlockMove | Helper::Fill) {
             if self.block_move(helper, args).is_some() {
                 return Ok(None);
+            }
+        } else if matches!(helper, Helper::LoopRepeat) {
+            if let Some(line) = first {
+                return Ok(Some(self.loop_repeat(line)));
             }
         } else if matches!(helper, Helper::RecordError) {
             let line = args.get(1).and_then(|&a| self.constant(a));

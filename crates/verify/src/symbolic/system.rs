@@ -116,6 +116,7 @@ fn build_once(
         memory: FxHashMap::default(),
         known: known.clone(),
         elapsed: Vec::new(),
+        loop_repetitions: words::constant(0, 32),
         unmodelled: Vec::new(),
         fresh_element: &mut fresh_element,
     };
