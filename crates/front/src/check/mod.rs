@@ -31,6 +31,36 @@ use rustc_hash::FxHashMap;
 /// Parses and checks a source file. The program is returned only when there
 /// are no errors; the diagnostics may hold warnings either way.
 pub fn compile_source(file: &SourceFile) -> (Option<CheckedProgram>, Vec<Diagnostic>) {
+    // A binary project file that cannot be decoded: its one error.
+    if let Some(message) = &file.decode_error {
+        let diagnostic = Diagnostic::new(Code::UndecodableProject, Span::new(0, 0), message.clone())
+            .with_label("this file")
+            .with_note("nothing of the project is compiled; `ladderc explain E0053` says what is read");
+        return (None, vec![diagnostic]);
+    }
+    let (program, diagnostics) = compile_text(file);
+    match &file.listing_of {
+        None => (program, diagnostics),
+        Some(name) => (
+            program,
+            diagnostics.into_iter().map(|d| with_step(file, name, d)).collect(),
+        ),
+    }
+}
+
+/// A diagnostic on a project's listing names the step as GX Developer
+/// shows it (`MAIN.wpg step 125`): the step number starts the line.
+fn with_step(file: &SourceFile, name: &str, diagnostic: Diagnostic) -> Diagnostic {
+    let line = file.line_of(diagnostic.span.start) as usize;
+    let start = file.line_starts().get(line.saturating_sub(1)).copied().unwrap_or(0);
+    let step: String = file.text[start..].chars().take_while(char::is_ascii_digit).collect();
+    if step.is_empty() {
+        return diagnostic;
+    }
+    diagnostic.with_note(format!("at {name} step {step}"))
+}
+
+fn compile_text(file: &SourceFile) -> (Option<CheckedProgram>, Vec<Diagnostic>) {
     // A NUL byte means this is not a program text: one error, not a cascade.
     if let Some(nul) = file.text.find('\0') {
         let diagnostic = Diagnostic::new(Code::BinaryInput, Span::new(nul, nul + 1), "this is not a text file")

@@ -339,6 +339,18 @@ inputs written: there is no previous scan to look at there.
 
 Say it of the inputs themselves, or state it as a property instead.";
 
+    UndecodableProject = "E0053", Error, "a GX Developer file that cannot be decoded",
+"A GX Developer project (the folder with Gppw.gps, its .gps file, or its
+Pou/Body/MAIN.wpg) is read from its binary files: the program MAIN.wpg,
+the device comments Others/COMMENT.wcd and the parameters param.wpa. One of
+them is cut short or holds bytes ladderc cannot read at the offset the
+message names: a record whose two length bytes differ, an operand code
+ladderc does not know, an instruction code outside the table ladderc reads
+(docs/language.md, GX Developer projects), or a file of another MELSEC
+family. Nothing of the project is compiled. Open the project in GX
+Developer and save it again, or export the program as an instruction list
+(CSV), which ladderc reads as well.";
+
     CodeAfterEnd = "W0001", Warning, "code after END",
 "Instructions after END are never executed.";
 
