@@ -30,6 +30,8 @@ pub fn build(program: &CheckedProgram, source: &SourceFile) -> Ladder {
     let steps = steps(program, source);
     let comments = comment_lines(source);
     let notes = notes(source);
+    let device_comments: super::DeviceComments =
+        std::sync::Arc::new(ladder_front::gxdev::listing::device_comments(&source.text));
     let element = |index: usize| {
         let instruction = &program.instructions[index];
         Element {
@@ -134,6 +136,7 @@ pub fn build(program: &CheckedProgram, source: &SourceFile) -> Ladder {
             state: in_state,
             mc_levels,
             body,
+            device_comments: device_comments.clone(),
         });
         if let Op::Output(Output::MasterControl { level, .. }) = &program.instructions[index + used - 1].op {
             mc_levels |= 1 << level;

@@ -6,6 +6,7 @@
 
 mod app;
 mod blocks;
+pub mod cpu;
 mod devices;
 mod index_registers;
 mod lints;
@@ -90,6 +91,13 @@ fn compile_text(file: &SourceFile) -> (Option<CheckedProgram>, Vec<Diagnostic>) 
     // there is to say (no "the program is empty" beside it).
     if diagnostics.has_errors() && parsed.statements.is_empty() {
         return (None, diagnostics.into_sorted());
+    }
+    // The CPU a GX Developer project's parameters name (or any IL's
+    // `//@ cpu` line): what it does not have is an error.
+    if let Some(cpu) = crate::gxdev::listing::directives(&file.text).cpu {
+        for diagnostic in cpu::check(&parsed, &cpu).iter() {
+            diagnostics.push(diagnostic.clone());
+        }
     }
     let parse_failed = diagnostics.has_errors();
     let (program, check_diagnostics) = check(&parsed, &file.name, file.text.len());

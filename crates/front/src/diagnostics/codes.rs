@@ -351,6 +351,19 @@ family. Nothing of the project is compiled. Open the project in GX
 Developer and save it again, or export the program as an instruction list
 (CSV), which ladderc reads as well.";
 
+    NotOnThisCpu = "E0054", Error, "an instruction or device the program's CPU does not have",
+"The program names its CPU (`//@ cpu FX2N`, written by ladderc from a GX
+Developer project's parameters), and the instruction or device is not one
+that CPU has: the FX2N, FX1N and earlier series have no file registers (R),
+no buffer-memory operands (Un\\Gm), no bits of words (D0.1) and none of the
+instructions the FX3 series added (MEP, MEF, EMOV, EXP, SCL, ...).
+
+    //@ cpu FX2N
+    LD X0
+    MOV K1 R0        // error: R is an FX3-series device
+
+Change the CPU in the project's parameters, or rewrite the rung for the CPU.";
+
     CodeAfterEnd = "W0001", Warning, "code after END",
 "Instructions after END are never executed.";
 

@@ -68,6 +68,50 @@ pub fn directives(text: &str) -> Directives {
     found
 }
 
+/// The device comments of an IL text (`//@ comment` lines), keyed by the
+/// device's name as the vendor editors show it (`X000`, `M100`, `D10`), so
+/// that `X0` and `X000` find the same comment.
+pub fn device_comments(text: &str) -> std::collections::BTreeMap<String, String> {
+    directives(text)
+        .comments
+        .into_iter()
+        .filter(|(_, comment)| !comment.is_empty())
+        .map(|(device, comment)| (canonical_device(&device).unwrap_or(device), comment))
+        .collect()
+}
+
+/// A device's name as the vendor editors show it: X and Y in three octal
+/// digits, the others in decimal.
+pub fn canonical_device(name: &str) -> Option<String> {
+    use crate::syntax::{OperandSyntax, Prefix};
+    let operand = crate::syntax::operand::parse_operand(name, 0).ok()?;
+    let OperandSyntax::Device(device) = operand.syntax else {
+        return None;
+    };
+    if device.digits.is_some() || device.bit.is_some() || device.offset.is_some() {
+        return None;
+    }
+    let prefix = match device.prefix {
+        Prefix::X | Prefix::Y => return Some(format!("{}{:03o}", device.prefix.as_str(), device.number)),
+        Prefix::Ts | Prefix::Tn => "T",
+        Prefix::Cs | Prefix::Cn => "C",
+        Prefix::M
+        | Prefix::S
+        | Prefix::Sm
+        | Prefix::T
+        | Prefix::C
+        | Prefix::D
+        | Prefix::Sd
+        | Prefix::R
+        | Prefix::P
+        | Prefix::N
+        | Prefix::V
+        | Prefix::Z
+        | Prefix::U => device.prefix.as_str(),
+    };
+    Some(format!("{prefix}{}", device.number))
+}
+
 /// The listing of a decoded project.
 pub fn write(directives: &Directives, lines: &[Line], encoding: Encoding) -> String {
     let mut text = String::new();
@@ -124,6 +168,13 @@ mod tests {
         assert_eq!(found.memory, Some(2000));
         assert_eq!(found.encoding, Some(Encoding::Big5));
         assert_eq!(found.comments, [("X000".to_string(), "start  button".to_string())]);
+        assert_eq!(
+            device_comments("//@ comment X10 ten\n//@ comment TS3 t")
+                .get("X010")
+                .unwrap(),
+            "ten"
+        );
+        assert_eq!(canonical_device("TS3").as_deref(), Some("T3"));
         assert_eq!(
             write(&found, &[], Encoding::ShiftJis),
             "//@ cpu FX2N\n//@ memory 2000\n//@ encoding Big5\n//@ comment X000 start  button\n"

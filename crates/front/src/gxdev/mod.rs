@@ -130,10 +130,16 @@ pub fn listing_of(
             .as_ref()
             .and_then(|p| p.memory)
             .or(Some(program_file.capacity)),
-        latch: parameters
-            .as_ref()
-            .map(|p| p.latched.join(","))
-            .filter(|l| !l.is_empty()),
+        latch: parameters.as_ref().map(|p| {
+            let fixed = fixed_latched(wpa::cpu_name(program_file.cpu).unwrap_or_default());
+            let all: Vec<&str> = p
+                .latched
+                .iter()
+                .map(String::as_str)
+                .chain(fixed.iter().copied())
+                .collect();
+            all.join(",")
+        }),
         encoding: non_ascii.then_some(encoding),
         comments: comments
             .iter()
@@ -142,6 +148,17 @@ pub fn listing_of(
             .collect(),
     };
     Ok(listing::write(&directives, &program_file.lines, encoding))
+}
+
+/// The ranges a CPU keeps through a power cut whatever its parameters say
+/// (the FX2N and FX3U programming manuals' device tables); the parameters
+/// set the others.
+fn fixed_latched(cpu: &str) -> &'static [&'static str] {
+    match cpu {
+        "FX2N" => &["M1024-M3071", "T246-T255", "D512-D7999"],
+        "FX3U" => &["M1024-M7679", "S1000-S4095", "T246-T255", "D512-D7999", "R0-R32767"],
+        _ => &[],
+    }
 }
 
 /// Reads the project's files (a missing comment or parameter file is no

@@ -236,8 +236,14 @@ fn constant(number: u32, bytes: usize, wide: bool) -> i64 {
 /// Why an operand cannot be written to a program file.
 pub type EncodeError = String;
 
-/// The operand records of `operand` (`wide`: of a 32-bit instruction).
-pub fn encode_operand(out: &mut Vec<u8>, operand: &OperandSyntax, wide: bool) -> Result<(), EncodeError> {
+/// The operand records of `operand` (`wide`: of a 32-bit instruction;
+/// `wide_value`: a 32-bit value, as a 32-bit counter's preset is).
+pub fn encode_operand(
+    out: &mut Vec<u8>,
+    operand: &OperandSyntax,
+    wide: bool,
+    wide_value: bool,
+) -> Result<(), EncodeError> {
     let record = |out: &mut Vec<u8>, code: u8, number: u32| {
         let mut payload = vec![code];
         payload.extend(value_bytes(number));
@@ -251,17 +257,14 @@ pub fn encode_operand(out: &mut Vec<u8>, operand: &OperandSyntax, wide: bool) ->
                 (true, false) => code::H,
                 (true, true) => code::H32,
             };
-            let bits = match (value < 0, wide) {
-                (true, false) => u32::from(value as i16 as u16),
-                _ => value as u32,
-            };
+            // A negative value fills its word, or its double word when it
+            // is 32-bit or does not fit a word.
+            let bits = value as u32;
             let mut payload = vec![code];
-            if value < 0 {
-                payload.extend(if wide {
-                    bits.to_le_bytes().to_vec()
-                } else {
-                    bits.to_le_bytes()[..2].to_vec()
-                });
+            if value < 0 && (wide || wide_value || value < i64::from(i16::MIN)) {
+                payload.extend(bits.to_le_bytes());
+            } else if value < 0 {
+                payload.extend(&bits.to_le_bytes()[..2]);
             } else {
                 payload.extend(value_bytes(bits));
             }
@@ -364,7 +367,7 @@ mod tests {
         let encode = |text: &str, wide: bool| {
             let operand = crate::syntax::operand::parse_operand(text, 0).unwrap();
             let mut out = Vec::new();
-            encode_operand(&mut out, &operand.syntax, wide).unwrap();
+            encode_operand(&mut out, &operand.syntax, wide, wide).unwrap();
             let records = split(&out, 0).unwrap();
             (out.clone(), operand_text(&records, wide).unwrap())
         };

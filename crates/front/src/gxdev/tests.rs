@@ -28,7 +28,8 @@ fn the_sample_reads_as_a_listing() {
     let lines: Vec<&str> = listing.lines().collect();
     assert!(lines.contains(&"//@ cpu FX2N"), "{listing}");
     assert!(lines.contains(&"//@ memory 2000"));
-    assert!(lines.contains(&"//@ latch M500-M1023,S500-S999,C100-C199,C220-C255,D200-D511"));
+    assert!(lines
+        .contains(&"//@ latch M500-M1023,S500-S999,C100-C199,C220-C255,D200-D511,M1024-M3071,T246-T255,D512-D7999"));
     assert!(lines.contains(&"//@ encoding Big5"));
     assert!(lines.contains(&"0\tLD\tM99"));
     assert!(lines.contains(&"1\tMC\tN0 M100"));

@@ -239,7 +239,8 @@ pub fn decode(bytes: &[u8]) -> Result<Program, DecodeError> {
                 {
                     index += 1;
                 }
-                let operands = operands(&records[first..index], mnemonic_is_wide(&mnemonic))?;
+                let own = &records[first..index];
+                let operands = operands(own, mnemonic_is_wide(&mnemonic) || long_counter(&mnemonic, own))?;
                 let line = Line {
                     step,
                     at: record.at,
@@ -311,6 +312,14 @@ fn mnemonic_is_wide(mnemonic: &str) -> bool {
         Some(crate::isa::Mnemonic::Bit(spec)) => spec.width == ladder_runtime::Width::Double,
         None => false,
     }
+}
+
+/// Is this the coil of a 32-bit counter (C200-C255), whose preset is a
+/// 32-bit value?
+fn long_counter(mnemonic: &str, operands: &[Record]) -> bool {
+    let first = operands.first().map(|r| r.payload);
+    let number = |bytes: &[u8]| bytes.iter().rev().fold(0u32, |a, &b| (a << 8) | u32::from(b));
+    mnemonic == "OUT" && matches!(first, Some([code::C, value @ ..]) if number(value) >= 200)
 }
 
 /// The operands of an instruction from its operand records.
@@ -396,10 +405,15 @@ fn encode_instruction(out: &mut Vec<u8>, instruction: &InstructionSyntax) -> Res
     let operands: Vec<&OperandSyntax> = instruction.operands.iter().map(|o| &o.syntax).collect();
     let wide = mnemonic_is_wide(name);
     let steps = steps(name, &operands, wide);
+    let long_counter = name == "OUT"
+        && matches!(bit_device(operands.first()), Some((Prefix::C | Prefix::Cs | Prefix::Cn, n, _)) if n >= 200);
     let no_code =
         || format!("{name} has no known code in a GX Developer program (docs/language.md lists those ladderc writes)");
     let steps_byte = u8::try_from(steps).map_err(|_| format!("{name} takes too many steps"))?;
-    let opcode: Vec<u8> = if let Some((_, group, which, _)) = APPLIED
+    // NOP is the empty record.
+    let opcode: Vec<u8> = if name == "NOP" && operands.is_empty() {
+        Vec::new()
+    } else if let Some((_, group, which, _)) = APPLIED
         .iter()
         .map(|(g, w, n)| ((), *g, *w, *n))
         .find(|(_, _, _, n)| *n == name)
@@ -425,7 +439,7 @@ fn encode_instruction(out: &mut Vec<u8>, instruction: &InstructionSyntax) -> Res
     };
     records::push(out, &opcode);
     for operand in operands {
-        records::encode_operand(out, operand, wide)?;
+        records::encode_operand(out, operand, wide, wide || long_counter)?;
     }
     Ok(steps)
 }
