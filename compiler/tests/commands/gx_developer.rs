@@ -202,3 +202,40 @@ fn testsuite_programs_go_through_main_wpg_and_back() {
         "{written} programs written, {without_code} without codes"
     );
 }
+
+#[test]
+fn a_gx_works2_comment_export_beside_il_gives_its_comments() {
+    let dir = scratch("gx-comment-csv");
+    let csv = workspace().join("testsuite/programs/exports/device_comments.csv");
+    std::fs::copy(csv, dir.path().join("names.csv")).unwrap();
+    let program = dir.path().join("conveyor.il");
+    std::fs::write(&program, "//@ comments names.csv\nLD X0\nOR Y0\nANI X1\nOUT Y0\n").unwrap();
+    let output = ladderc(&["run", program.to_str().unwrap(), "--scans", "1", "--watch", "X0,Y0"]);
+    let (stdout, stderr) = text(&output);
+    assert!(output.status.success(), "{stderr}");
+    assert!(
+        stdout.starts_with("# X0: Start button\n# Y0: Conveyor motor\n"),
+        "{stdout}"
+    );
+    std::fs::remove_file(dir.path().join("names.csv")).unwrap();
+    let output = ladderc(&["check", program.to_str().unwrap()]);
+    assert_eq!(
+        output.status.code(),
+        Some(2),
+        "a comment file that cannot be read: {}",
+        text(&output).1
+    );
+}
+
+#[test]
+fn the_cpu_of_the_parameters_rules_out_fx3_devices_and_instructions() {
+    let dir = scratch("gx-cpu");
+    let program = dir.path().join("fx2n.il");
+    std::fs::write(&program, "//@ cpu FX2N\nLD X0\nMEP\nMOV K1 R0\nMOV K1 D0\n").unwrap();
+    let output = ladderc(&["check", program.to_str().unwrap()]);
+    let (_, stderr) = text(&output);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert_eq!(stderr.matches("error[E0054]").count(), 2, "{stderr}");
+    std::fs::write(&program, "//@ cpu FX3U\nLD X0\nMEP\nMOV K1 R0\nMOV K1 D0\n").unwrap();
+    assert!(ladderc(&["check", program.to_str().unwrap()]).status.success());
+}

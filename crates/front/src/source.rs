@@ -137,7 +137,23 @@ impl SourceFile {
             return Ok(SourceFile::decoded(&name, crate::gxdev::read(&project)));
         }
         let bytes = read_bounded(path)?;
-        Ok(SourceFile::from_bytes(path.display().to_string(), &bytes))
+        let mut file = SourceFile::from_bytes(path.display().to_string(), &bytes);
+        // `//@ comments FILE`: the comments of a GX Works2 device-comment
+        // export beside the program, added after it (spans stay).
+        if let Some(name) = crate::gxdev::listing::directives(&file.text).comment_file {
+            let csv = path.parent().unwrap_or(std::path::Path::new("")).join(&name);
+            let (text, _, _) = decode(&read_bounded(&csv)?);
+            let mut all = file.text.clone();
+            if !all.is_empty() && !all.ends_with('\n') {
+                all.push('\n');
+            }
+            all.push_str(&crate::gxdev::listing::comments_from_csv(&text));
+            file = SourceFile {
+                undecodable_at: file.undecodable_at,
+                ..SourceFile::new(file.name, all)
+            };
+        }
+        Ok(file)
     }
 
     /// The listing of a binary program, or the error that it cannot be

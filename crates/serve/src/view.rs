@@ -18,6 +18,8 @@ pub struct LadderView {
     pub heights: Vec<u32>,
     /// The elements (instruction indices) of each rung.
     pub rungs: Vec<Vec<usize>>,
+    /// The program's device comments (`X000` → text), for the table.
+    pub comments: ladder::DeviceComments,
 }
 
 impl LadderView {
@@ -38,6 +40,7 @@ impl LadderView {
             drawings,
             heights,
             rungs,
+            comments: std::sync::Arc::new(ladder_front::gxdev::listing::device_comments(&source.text)),
         }
     }
 

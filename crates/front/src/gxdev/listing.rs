@@ -30,6 +30,9 @@ pub struct Directives {
     pub encoding: Option<Encoding>,
     /// `//@ comment DEV text`: device comments, devices as written.
     pub comments: Vec<(String, String)>,
+    /// `//@ comments FILE`: a GX Works2 device-comment CSV export to read
+    /// the comments from (beside the program).
+    pub comment_file: Option<String>,
 }
 
 const MARK: &str = "//@";
@@ -54,6 +57,7 @@ pub fn directives(text: &str) -> Directives {
             "memory" => found.memory = value.parse().ok(),
             "latch" => found.latch = Some(value.to_string()),
             "encoding" => found.encoding = Encoding::from_name(value),
+            "comments" if !value.is_empty() => found.comment_file = Some(value.to_string()),
             "comment" => {
                 let (device, comment) = value.split_once(char::is_whitespace).unwrap_or((value, ""));
                 if !device.is_empty() {
@@ -66,6 +70,29 @@ pub fn directives(text: &str) -> Directives {
         }
     }
     found
+}
+
+/// The `//@ comment` lines of a GX Works2 device-comment CSV export (the
+/// device in the first field, its comment in the second; fields separated
+/// by commas or tabs, quoted or not; rows whose first field is not a device,
+/// such as the column titles, are skipped).
+pub fn comments_from_csv(text: &str) -> String {
+    let mut lines = String::new();
+    for row in text.lines() {
+        let row = row.trim_start_matches('\u{feff}');
+        let separator = if row.contains('\t') { '\t' } else { ',' };
+        let mut fields = row.split(separator).map(|f| f.trim().trim_matches('"').trim());
+        let (Some(device), Some(comment)) = (fields.next(), fields.next()) else {
+            continue;
+        };
+        let Some(device) = canonical_device(device) else {
+            continue;
+        };
+        if !comment.is_empty() {
+            lines.push_str(&format!("{MARK} comment {device} {comment}\n"));
+        }
+    }
+    lines
 }
 
 /// The device comments of an IL text (`//@ comment` lines), keyed by the
@@ -175,6 +202,15 @@ mod tests {
             "ten"
         );
         assert_eq!(canonical_device("TS3").as_deref(), Some("T3"));
+        let csv = "Device,Comment,Comment 2\r\nX000,Start button,green\r\n\"Y0\"\t\"Motor\"\r\nD1,\r\n";
+        assert_eq!(
+            comments_from_csv(csv),
+            "//@ comment X000 Start button\n//@ comment Y000 Motor\n"
+        );
+        assert_eq!(
+            directives("//@ comments names.csv").comment_file.as_deref(),
+            Some("names.csv")
+        );
         assert_eq!(
             write(&found, &[], Encoding::ShiftJis),
             "//@ cpu FX2N\n//@ memory 2000\n//@ encoding Big5\n//@ comment X000 start  button\n"

@@ -146,6 +146,7 @@ pub fn listing_of(
             .flat_map(|c| &c.entries)
             .filter_map(|(device, number, bytes)| Some((wcd::device_name(*device, *number)?, encoding.decode(bytes))))
             .collect(),
+        comment_file: None,
     };
     Ok(listing::write(&directives, &program_file.lines, encoding))
 }
