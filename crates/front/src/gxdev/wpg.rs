@@ -27,6 +27,9 @@ use crate::syntax::{InstructionSyntax, OperandSyntax, Prefix};
 /// The four bytes after the header.
 const SUBHEADER: [u8; 4] = [0x04, 0x00, 0xFF, 0xFF];
 
+/// The largest program memory of an FX CPU (FX3U: 64000 steps).
+const MOST_STEPS: u32 = 64_000;
+
 const STATEMENT: u8 = 0x80;
 const NOTE: u8 = 0x82;
 const LABEL: u8 = 0x3C;
@@ -378,6 +381,12 @@ pub fn encode(items: &[Item], cpu: u8, capacity: u32, encoding: Encoding) -> Res
             payload.extend(encoding.encode(note).map_err(fail)?);
             push_text(&mut out, &payload).map_err(fail)?;
         }
+    }
+    if capacity > MOST_STEPS {
+        return Err((
+            items.len(),
+            format!("{capacity} steps of program memory: an FX CPU has at most {MOST_STEPS}"),
+        ));
     }
     if steps > capacity {
         return Err((
