@@ -405,7 +405,8 @@ fn step_size(op: &Op) -> u32 {
 
 /// Comment lines of the source: `//` or `;` lines of IL and the title of
 /// a `NETWORK n // title` line, line statements of an export's comment
-/// rows. (line, text).
+/// rows. (line, text). `//@` lines (a project's CPU, parameters and device
+/// comments) are not rung comments.
 fn comment_lines(source: &SourceFile) -> Vec<(u32, String)> {
     if ladder_front::syntax::export::is_export(&source.text) {
         return ladder_front::syntax::export::comment_rows(source);
@@ -416,6 +417,9 @@ fn comment_lines(source: &SourceFile) -> Vec<(u32, String)> {
         .enumerate()
         .filter_map(|(index, line)| {
             let trimmed = line.trim_start_matches('\u{feff}').trim();
+            if ladder_front::gxdev::listing::is_directive(trimmed) {
+                return None;
+            }
             let text = match trimmed.strip_prefix("//").or_else(|| trimmed.strip_prefix(';')) {
                 Some(text) => text,
                 None if starts_with_word(trimmed, "NETWORK") => trailing_comment(trimmed)?,

@@ -337,12 +337,22 @@ fn cell_svg(
     // whole comment is in the element's title).
     let device_comment = |out: &mut String, device: &str| {
         if let Some(comment) = comments.get(device) {
-            let room = (width / 6) as usize;
-            let shown: String = comment.chars().take(room).collect();
+            // About six pixels a character at this size, twice that for
+            // the wide (CJK) ones.
+            let mut room = (width / 6) as usize;
+            let shown: String = comment
+                .chars()
+                .take_while(|c| {
+                    let needs = if (*c as u32) < 0x1100 { 1 } else { 2 };
+                    let fits = needs <= room;
+                    room = room.saturating_sub(needs);
+                    fits
+                })
+                .collect();
             let _ = write!(
                 out,
                 "<text class=\"dcomment\" x=\"{middle}\" y=\"{}\" text-anchor=\"middle\">{}<title>{}</title></text>",
-                wire + 34,
+                wire + 31,
                 escape(shown.as_str()),
                 escape(comment.as_str())
             );
