@@ -87,10 +87,12 @@ fn every_truncation_and_corruption_is_one_error() {
         decode(original).unwrap();
         for cut in (0..original.len()).step_by(7) {
             let data = &original[..cut];
-            // A cut at a record boundary of the program's NOP padding is a
-            // shorter program memory, still a program.
-            if let Err(error) = decode(data) {
-                assert!(error.offset <= cut, "{which} cut at {cut}: {error:?}");
+            // A cut in the program's NOP padding (after END) is a smaller
+            // program memory, still the whole program; any other cut is an
+            // error inside the file.
+            match decode(data) {
+                Err(error) => assert!(error.offset <= cut, "{which} cut at {cut}: {error:?}"),
+                Ok(()) => assert!(which == 0 && cut >= 0x46D, "{which} cut at {cut} decodes"),
             }
         }
         for at in 0..original.len().min(600) {
@@ -111,4 +113,16 @@ fn every_truncation_and_corruption_is_one_error() {
         "{}",
         diagnostics[0].message
     );
+}
+
+#[test]
+fn a_program_without_end_is_written_with_one() {
+    let file = SourceFile::new("t.il", "LD M0\nWAND D0 D2 D4\n");
+    let defaults = write::Defaults {
+        cpu: None,
+        memory: Some(100),
+    };
+    let (main, _) = write::encode(&file, &defaults).unwrap();
+    let listing = listing_of(("MAIN.wpg", &main), None, None).unwrap();
+    assert!(listing.ends_with("0\tLD\tM0\n1\tWAND\tD0 D2 D4\n8\tEND\n"), "{listing}");
 }

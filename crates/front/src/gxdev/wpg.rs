@@ -260,6 +260,17 @@ pub fn decode(bytes: &[u8]) -> Result<Program, DecodeError> {
             kind,
         });
     }
+    // GX Developer always writes END: a file without one was cut short at
+    // a record's end, and its first part is not the program.
+    let ends = lines
+        .iter()
+        .any(|line| matches!(&line.kind, LineKind::Instruction { mnemonic, .. } if mnemonic == "END"));
+    if !ends {
+        return Err(DecodeError::new(
+            bytes.len(),
+            format!("more of the program: the file ends after step {step} without END (cut short?)"),
+        ));
+    }
     Ok(Program {
         cpu,
         lines,

@@ -1,7 +1,8 @@
 //! An IL program written as a GX Developer project's MAIN.wpg and
 //! COMMENT.wcd: `//` comment lines right above an instruction become its
 //! line statements, the comment after it its note, the `//@` lines the CPU,
-//! program memory, code page and device comments.
+//! program memory, code page and device comments; a program without END
+//! gets one at its end.
 
 use super::records::code;
 use super::text::Encoding;
@@ -69,6 +70,26 @@ pub fn encode(file: &SourceFile, defaults: &Defaults) -> Result<(Vec<u8>, Vec<u8
             },
         };
         items.push(item);
+    }
+    // GX Developer's programs end with END (ladderc's need not): one is
+    // added after the last instruction when the program has none.
+    let end = crate::syntax::InstructionSyntax {
+        mnemonic: "END".into(),
+        mnemonic_span: crate::source::Span::default(),
+        operands: Vec::new(),
+        malformed: false,
+    };
+    let has_end = parsed
+        .statements
+        .iter()
+        .any(|s| matches!(&s.kind, StatementKind::Instruction(i) if i.mnemonic == "END"));
+    if !has_end {
+        items.push(Item {
+            instruction: Some(&end),
+            label: None,
+            statements: Vec::new(),
+            note: None,
+        });
     }
     let program =
         wpg::encode(&items, cpu, memory, encoding).map_err(|(index, message)| match parsed.statements.get(index) {
