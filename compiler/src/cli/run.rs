@@ -140,6 +140,7 @@ pub fn run(args: &RunArgs, shown: Shown) -> u8 {
         }
     }
     let mut printer = Printer::new(args, watched.clone());
+    printer.place = source.listing_of.clone();
     if let Some(target) = &vcd {
         // A comment joins the signal's name where the name may hold it
         // (VCD names hold no blanks).
@@ -411,6 +412,9 @@ struct Printer {
     /// The operation error last seen (code, line), to report new ones.
     error: Option<(u16, u16)>,
     recorder: Option<(Recorder, PathBuf)>,
+    /// How an error's D8069 reads: `line 12`, or `MAIN.wpg step 125` for a
+    /// GX Developer project (D8069 holds the step there).
+    place: Option<String>,
 }
 
 impl Printer {
@@ -440,6 +444,7 @@ impl Printer {
             widths,
             error: None,
             recorder: None,
+            place: None,
         };
         let headers: Vec<String> = std::iter::once("scan".to_string())
             .chain(printer.watched.iter().map(|signal| signal.name.clone()))
@@ -503,7 +508,10 @@ impl Observer for Printer {
                     .collect();
                 say!("{}", self.line(cells));
                 if let Some((code, line)) = error {
-                    say_err!("scan {scan}: operation error {code:04X}H at line {line}");
+                    match &self.place {
+                        Some(file) => say_err!("scan {scan}: operation error {code:04X}H at {file} step {line}"),
+                        None => say_err!("scan {scan}: operation error {code:04X}H at line {line}"),
+                    }
                 }
             }
             Format::Json => {

@@ -239,3 +239,38 @@ fn the_cpu_of_the_parameters_rules_out_fx3_devices_and_instructions() {
     std::fs::write(&program, "//@ cpu FX3U\nLD X0\nMEP\nMOV K1 R0\nMOV K1 D0\n").unwrap();
     assert!(ladderc(&["check", program.to_str().unwrap()]).status.success());
 }
+
+#[test]
+fn d8069_records_the_step_of_a_project() {
+    let dir = scratch("gx-d8069");
+    let program = dir.path().join("index.il");
+    // The third instruction is at line 3 and at step 6 (MOV takes 5 steps).
+    std::fs::write(&program, "LD M8000\nMOV K9000 Z0\nMOV K1 D0Z0\nEND\n").unwrap();
+    let project = dir.path().join("project");
+    let output = ladderc(&[
+        "import",
+        program.to_str().unwrap(),
+        "--to-gx-developer",
+        project.to_str().unwrap(),
+    ]);
+    assert!(output.status.success(), "{}", text(&output).1);
+    for (path, expected, place) in [(&program, "3", "at line 3"), (&project, "6", "at MAIN.wpg step 6")] {
+        let output = ladderc(&[
+            "run",
+            path.to_str().unwrap(),
+            "--scans",
+            "1",
+            "--watch",
+            "D8069",
+            "--format",
+            "csv",
+        ]);
+        let (stdout, stderr) = text(&output);
+        assert_eq!(
+            stdout.lines().nth(1),
+            Some(format!("1,{expected}").as_str()),
+            "{stdout}"
+        );
+        assert!(stderr.contains(place), "{stderr}");
+    }
+}

@@ -42,23 +42,36 @@ pub fn compile_source(file: &SourceFile) -> (Option<CheckedProgram>, Vec<Diagnos
     let (program, diagnostics) = compile_text(file);
     match &file.listing_of {
         None => (program, diagnostics),
-        Some(name) => (
-            program,
-            diagnostics.into_iter().map(|d| with_step(file, name, d)).collect(),
-        ),
+        Some(name) => {
+            // D8069 records the instruction's step, as on the PLC.
+            let program = program.map(|mut program| {
+                for instruction in &mut program.instructions {
+                    instruction.step = listed_step(file, instruction.line);
+                }
+                program
+            });
+            (
+                program,
+                diagnostics.into_iter().map(|d| with_step(file, name, d)).collect(),
+            )
+        }
     }
+}
+
+/// The step number a listing's line starts with.
+fn listed_step(file: &SourceFile, line: u32) -> Option<u32> {
+    let start = *file.line_starts().get((line as usize).checked_sub(1)?)?;
+    let digits: String = file.text[start..].chars().take_while(char::is_ascii_digit).collect();
+    digits.parse().ok()
 }
 
 /// A diagnostic on a project's listing names the step as GX Developer
 /// shows it (`MAIN.wpg step 125`): the step number starts the line.
 fn with_step(file: &SourceFile, name: &str, diagnostic: Diagnostic) -> Diagnostic {
-    let line = file.line_of(diagnostic.span.start) as usize;
-    let start = file.line_starts().get(line.saturating_sub(1)).copied().unwrap_or(0);
-    let step: String = file.text[start..].chars().take_while(char::is_ascii_digit).collect();
-    if step.is_empty() {
-        return diagnostic;
+    match listed_step(file, file.line_of(diagnostic.span.start)) {
+        Some(step) => diagnostic.with_note(format!("at {name} step {step}")),
+        None => diagnostic,
     }
-    diagnostic.with_note(format!("at {name} step {step}"))
 }
 
 fn compile_text(file: &SourceFile) -> (Option<CheckedProgram>, Vec<Diagnostic>) {
@@ -319,6 +332,7 @@ impl Checker {
             op,
             line: site.line,
             span: site.span,
+            step: None,
         });
         Some(index)
     }
