@@ -1,9 +1,10 @@
 //! GX Developer's program file, `Pou/Body/MAIN.wpg`: decoded to the lines
 //! of an IL listing (with their steps), and encoded from IL statements.
 //!
-//! After the header come four bytes (04 00 FF FF in every file seen) and the
-//! program's records: an instruction is a record of its opcode followed by
-//! one record per operand device; a line statement (80) and a note (82) are
+//! After the header come four bytes (04 00 FF FF in the sample project and
+//! in what public decoders write; what they mean is not known, and ladderc
+//! writes them so) and the program's records: an instruction is a record
+//! of its opcode followed by one record per operand device; a line statement (80) and a note (82) are
 //! records of their text; a label is a record 3C followed by the pointer's
 //! record; an empty record is a NOP. NOPs fill the program memory after END.
 //!
