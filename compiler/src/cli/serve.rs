@@ -203,7 +203,12 @@ pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
     if args.latch.is_none() {
         if let Some(list) = ladder_front::gxdev::listing::directives(&source.text).latch {
             match ladder_serve::retain::parse_latch_list(&list) {
-                Ok(ranges) => options.latched = ranges,
+                Ok(ranges) => {
+                    if let Some(retain) = &mut options.retain {
+                        retain.ranges = ranges.clone();
+                    }
+                    options.latched = ranges;
+                }
                 Err(message) => {
                     say_err!("error: the program's `//@ latch {list}`: {message}");
                     return status::UNUSABLE;
