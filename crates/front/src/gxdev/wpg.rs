@@ -426,8 +426,7 @@ fn encode_instruction(out: &mut Vec<u8>, instruction: &InstructionSyntax) -> Res
     let operands: Vec<&OperandSyntax> = instruction.operands.iter().map(|o| &o.syntax).collect();
     let wide = mnemonic_is_wide(name);
     let steps = steps(name, &operands, wide);
-    let long_counter = name == "OUT"
-        && matches!(bit_device(operands.first()), Some((Prefix::C | Prefix::Cs | Prefix::Cn, n, _)) if n >= 200);
+    let long_counter = name == "OUT" && counted(operands.first()).counter.is_some_and(|n| n >= 200);
     let no_code =
         || format!("{name} has no known code in a GX Developer program (docs/language.md lists those ladderc writes)");
     let steps_byte = u8::try_from(steps).map_err(|_| format!("{name} takes too many steps"))?;
@@ -478,65 +477,96 @@ fn comparison_code(name: &str) -> Option<(u8, u8)> {
     })
 }
 
-/// The device of a bit operand: prefix and number, and whether it is
-/// modified (indexed or a bit of a word).
-fn bit_device(operand: Option<&&OperandSyntax>) -> Option<(Prefix, u32, bool)> {
-    match operand {
-        Some(OperandSyntax::Device(device)) => Some((
-            device.prefix,
-            device.number,
-            device.offset.is_some() || device.bit.is_some(),
-        )),
-        Some(OperandSyntax::Constant(_) | OperandSyntax::Real(_)) | None => None,
+/// What the step counts of the basic instructions depend on: the device
+/// of an operand.
+#[derive(Clone, Copy, Default)]
+struct Counted {
+    /// Indexed (Z, V) or a bit of a word.
+    modified: bool,
+    /// An M relay's number.
+    m: Option<u32>,
+    /// A state's number.
+    s: Option<u32>,
+    timer: bool,
+    /// A counter's number.
+    counter: Option<u32>,
+    /// A data, file or index register.
+    word: bool,
+}
+
+fn counted(operand: Option<&&OperandSyntax>) -> Counted {
+    let mut counted = Counted::default();
+    let Some(OperandSyntax::Device(device)) = operand.copied() else {
+        return counted;
+    };
+    counted.modified = device.offset.is_some() || device.bit.is_some();
+    let number = device.number;
+    match device.prefix {
+        Prefix::M => counted.m = Some(number),
+        Prefix::S => counted.s = Some(number),
+        Prefix::T | Prefix::Ts | Prefix::Tn => counted.timer = true,
+        Prefix::C | Prefix::Cs | Prefix::Cn => counted.counter = Some(number),
+        Prefix::D | Prefix::R | Prefix::V | Prefix::Z => counted.word = true,
+        Prefix::X | Prefix::Y | Prefix::Sm | Prefix::Sd | Prefix::P | Prefix::N | Prefix::U => {}
     }
+    counted
 }
 
 /// The steps an instruction takes in an FX program, as the FX programming
 /// manuals count them.
 fn steps(name: &str, operands: &[&OperandSyntax], wide: bool) -> u32 {
-    let first = bit_device(operands.first());
-    let high_m = |n: u32| (3584..=7679).contains(&n);
-    let mid_m = |n: u32| (1536..=3583).contains(&n);
+    let first = counted(operands.first());
+    let m_in = |from: u32, to: u32| first.m.is_some_and(|n| (from..=to).contains(&n));
+    let (mid_m, high_m) = (m_in(1536, 3583), m_in(3584, 7679));
+    let out = name == "OUT";
     match name {
-        "LD" | "LDI" | "AND" | "ANI" | "OR" | "ORI" => match first {
-            Some((_, _, true)) => 3,
-            Some((Prefix::M, n, false)) if mid_m(n) || (8256..=8511).contains(&n) => 2,
-            Some((Prefix::M, n, false)) if high_m(n) => 3,
-            Some((Prefix::S, n, false)) if n > 1023 => 2,
-            _ => 1,
-        },
-        "LDP" | "LDF" | "ANDP" | "ANDF" | "ORP" | "ORF" => match first {
-            Some((_, _, true)) => 3,
-            Some((Prefix::M, n, false)) if high_m(n) => 3,
-            _ => 2,
-        },
-        "OUT" | "SET" | "RST" => match first {
-            Some((Prefix::T | Prefix::Ts, _, true) | (Prefix::C | Prefix::Cs, _, true)) if name == "OUT" => 4,
-            Some((_, _, true)) => 3,
-            Some((Prefix::M, n, false)) if mid_m(n) || (8000..=8511).contains(&n) => 2,
-            Some((Prefix::M, n, false)) if high_m(n) => 3,
-            Some((Prefix::S, _, false)) => 2,
-            Some((Prefix::T | Prefix::Ts | Prefix::Tn, _, false)) if name == "OUT" => 3,
-            Some((Prefix::C | Prefix::Cs | Prefix::Cn, n, false)) if name == "OUT" => {
+        "LD" | "LDI" | "AND" | "ANI" | "OR" | "ORI" => {
+            if first.modified || high_m {
+                3
+            } else if mid_m || m_in(8256, 8511) || first.s.is_some_and(|n| n > 1023) {
+                2
+            } else {
+                1
+            }
+        }
+        "LDP" | "LDF" | "ANDP" | "ANDF" | "ORP" | "ORF" | "PLS" | "PLF" => {
+            if first.modified || high_m {
+                3
+            } else {
+                2
+            }
+        }
+        "OUT" | "SET" | "RST" => {
+            let counts = first.timer || first.counter.is_some();
+            if first.modified {
+                if out && counts {
+                    4
+                } else {
+                    3
+                }
+            } else if mid_m || m_in(8000, 8511) || first.s.is_some() {
+                2
+            } else if high_m || first.word || (out && first.timer) {
+                3
+            } else if let (true, Some(n)) = (out, first.counter) {
                 if (200..=255).contains(&n) {
                     5
                 } else {
                     3
                 }
+            } else if counts {
+                2
+            } else {
+                1
             }
-            Some((Prefix::T | Prefix::Ts | Prefix::Tn | Prefix::C | Prefix::Cs | Prefix::Cn, _, false)) => 2,
-            Some((Prefix::D | Prefix::R | Prefix::V | Prefix::Z, _, false)) => 3,
-            _ => 1,
-        },
-        "PLS" | "PLF" => match first {
-            Some((_, _, true)) => 3,
-            Some((Prefix::M, n, false)) if high_m(n) => 3,
-            _ => 2,
-        },
-        "MC" => match bit_device(operands.get(1)) {
-            Some((Prefix::M, n, false)) if high_m(n) => 4,
-            _ => 3,
-        },
+        }
+        "MC" => {
+            if counted(operands.get(1)).m.is_some_and(|n| (3584..=7679).contains(&n)) {
+                4
+            } else {
+                3
+            }
+        }
         "MCR" => 2,
         _ if BASIC.iter().any(|(_, n)| *n == name) => 1,
         // Applied instructions and comparison contacts: the instruction's
