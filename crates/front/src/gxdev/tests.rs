@@ -126,3 +126,19 @@ fn a_program_without_end_is_written_with_one() {
     let listing = listing_of(("MAIN.wpg", &main), None, None).unwrap();
     assert!(listing.ends_with("0\tLD\tM0\n1\tWAND\tD0 D2 D4\n8\tEND\n"), "{listing}");
 }
+
+#[test]
+fn an_instruction_ladderc_does_not_run_is_e0032_at_its_step() {
+    // SFR has a known code; ladderc does not implement it.
+    let file = SourceFile::new("t.il", "LD X0\nSFR D0 K1\nEND\n");
+    let (main, _) = write::encode(&file, &write::Defaults::default()).unwrap();
+    let project = SourceFile::from_bytes("MAIN.wpg", &main);
+    let (program, diagnostics) = crate::check::compile_source(&project);
+    assert!(program.is_none());
+    assert_eq!(diagnostics.len(), 1, "{diagnostics:?}");
+    assert_eq!(diagnostics[0].code, crate::diagnostics::Code::UnsupportedFx);
+    assert!(
+        diagnostics[0].notes.iter().any(|n| n == "at MAIN.wpg step 1"),
+        "{diagnostics:?}"
+    );
+}
