@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # Runs AFL++ on one ladderc fuzz target on the stable toolchain.
-#   fuzz/run-afl.sh TARGET SECONDS      (TARGET: front_end | scenario | properties | pipeline | modbus | modbus_rtu | melsec | http)
+#   fuzz/run-afl.sh TARGET SECONDS      (TARGET: front_end | scenario | properties | pipeline | modbus | modbus_rtu | melsec | http | gx_developer)
 # Seeds come from the repository's programs and scenarios; findings land in
 # target/afl/TARGET/default/crashes.
 set -euo pipefail
 cd "$(dirname "$0")"
-target=${1:?target: front_end, scenario, properties, pipeline, modbus, modbus_rtu, melsec or http}
+target=${1:?target: front_end, scenario, properties, pipeline, modbus, modbus_rtu, melsec, http or gx_developer}
 seconds=${2:-600}
 command -v cargo-afl >/dev/null || cargo install --locked cargo-afl
 cargo afl build --release --features afl --bin "afl_$target"
@@ -42,6 +42,11 @@ elif [ "$target" = http ]; then
     printf 'POST /api/program?allow_empty=1\nLD X0\nOUT Y0\n' > "$seeds/program"
     printf 'GET /api/ladder/state?rungs=0,1,2' > "$seeds/ladder"
     printf 'GET /api/stats' > "$seeds/stats"
+elif [ "$target" = gx_developer ]; then
+    dir=../testsuite/gxdeveloper/3floor_elevator
+    { printf '\000'; cat "$dir/Pou/Body/MAIN.wpg"; } > "$seeds/main"
+    { printf '\001'; cat "$dir/Others/COMMENT.wcd"; } > "$seeds/comments"
+    { printf '\002'; cat "$dir/param.wpa"; } > "$seeds/parameters"
 elif [ "$target" = properties ]; then
     find ../testsuite/properties -name '*.prop' -size -4k | while read -r f; do
         cp "$f" "$seeds/$(echo "$f" | tr '/' '_')"

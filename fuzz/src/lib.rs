@@ -16,7 +16,11 @@
 //! - `modbus_rtu`: frames on a `serve` Modbus RTU line → answered as the
 //!   slave answers them: only its unit, from it, with a matching CRC;
 //! - `http`: a request (method, path and query, body) to `serve`'s HTTP
-//!   router with its access layer → never a 5xx.
+//!   router with its access layer → never a 5xx;
+//! - `gx_developer`: a GX Developer file (the first byte picks MAIN.wpg,
+//!   COMMENT.wcd or param.wpa) → decoded or one error at an offset inside
+//!   the file; a program that decodes is compiled, written back and
+//!   decoded again to the same instructions.
 
 use ladder_engine::scenario::{parse_scenario, run_scenario, Directive, EngineKind, ProgramSource};
 use ladder_front::check::compile_source;
@@ -32,6 +36,58 @@ pub fn front_end(data: &[u8]) {
     let file = SourceFile::from_bytes("fuzz.il", data);
     let (_, diagnostics) = compile_source(&file);
     let _ = render_all(&file, &diagnostics, ladder_front::diagnostics::Shown::All);
+}
+
+/// A GX Developer file: the first byte picks the reader (program,
+/// comments, parameters). Never a panic; an error names an offset inside
+/// the file; a program that decodes and compiles writes back to a file
+/// that decodes to the same instructions.
+pub fn gx_developer(data: &[u8]) {
+    use ladder_front::gxdev::{listing_of, wcd, wpa, write};
+    let Some((&which, bytes)) = data.split_first() else {
+        return;
+    };
+    match which % 3 {
+        0 => {
+            let Ok(listing) = listing_of(("MAIN.wpg", bytes), None, None) else {
+                return;
+            };
+            let file = SourceFile::new("MAIN.wpg", listing.clone());
+            let (Some(_), _) = compile_source(&file) else {
+                return;
+            };
+            let defaults = write::Defaults {
+                cpu: None,
+                memory: Some(64_000),
+            };
+            if let Ok((program, _)) = write::encode(&file, &defaults) {
+                let again = listing_of(("MAIN.wpg", &program), None, None).expect("a written program decodes");
+                // The instructions and labels, without their steps (a file
+                // may count them otherwise than the FX manuals do) and
+                // comments.
+                let body = |text: &str| {
+                    text.lines()
+                        .filter(|l| !l.trim_start().starts_with("//") && !l.trim_start().starts_with(';'))
+                        .map(|l| {
+                            let l = l.split(" ; ").next().unwrap_or_default();
+                            l.trim_start_matches(|c: char| c.is_ascii_digit()).trim().to_string()
+                        })
+                        .collect::<Vec<_>>()
+                };
+                assert_eq!(body(&again), body(&listing), "a written program reads back as another");
+            }
+        }
+        1 => {
+            if let Err(error) = wcd::decode(bytes) {
+                assert!(error.offset <= bytes.len(), "{error:?}");
+            }
+        }
+        _ => {
+            if let Err(error) = wpa::decode(bytes) {
+                assert!(error.offset <= bytes.len(), "{error:?}");
+            }
+        }
+    }
 }
 
 /// A property file (`ladderc verify`): diagnosed or checked, never a

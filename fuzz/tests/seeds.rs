@@ -132,3 +132,26 @@ fn http_takes_requests() {
         ladderc_fuzz::http(seed);
     }
 }
+
+#[test]
+fn gx_developer_takes_the_sample_project_whole_cut_and_flipped() {
+    let dir = workspace().join("testsuite/gxdeveloper/3floor_elevator");
+    let files = [
+        dir.join("Pou/Body/MAIN.wpg"),
+        dir.join("Others/COMMENT.wcd"),
+        dir.join("param.wpa"),
+    ];
+    for (which, path) in files.iter().enumerate() {
+        let bytes = std::fs::read(path).unwrap();
+        let seed = |body: &[u8]| [&[which as u8][..], body].concat();
+        ladderc_fuzz::gx_developer(&seed(&bytes));
+        for cut in (0..bytes.len()).step_by(97) {
+            ladderc_fuzz::gx_developer(&seed(&bytes[..cut]));
+        }
+        for at in (0..bytes.len().min(400)).step_by(3) {
+            let mut flipped = bytes.clone();
+            flipped[at] = flipped[at].wrapping_add(0x41);
+            ladderc_fuzz::gx_developer(&seed(&flipped));
+        }
+    }
+}

@@ -1,6 +1,8 @@
 //! `ladderc import`: an instruction-list export (GX Works2, GX Developer, a
-//! step CSV) as plain IL, so that a team can keep the program as text in
-//! version control. An export is written only when it compiles: otherwise
+//! step CSV) or a GX Developer project as plain IL, so that a team can keep
+//! the program as text in version control; and with `--to-gx-developer`
+//! the way back, a program written as a GX Developer project's MAIN.wpg
+//! and COMMENT.wcd. An export is written only when it compiles: otherwise
 //! its diagnostics are printed (at the export's own lines) and nothing is
 //! written, so an imported file always compiles.
 
@@ -19,7 +21,9 @@ pub fn run(export: &Path, output_path: Option<&PathBuf>, shown: Shown) -> u8 {
             return status::UNUSABLE;
         }
     };
-    if !export::is_export(&source.text) {
+    // A GX Developer project: its listing is the IL.
+    let project = source.listing_of.is_some() || source.decode_error.is_some();
+    if !project && !export::is_export(&source.text) {
         say_err!(
             "error: {} is not an instruction-list export (rows of step, line statement, instruction, operand, ... \
              separated by tabs or commas, as GX Works2 and GX Developer write them); plain IL needs no import",
@@ -56,7 +60,12 @@ pub fn run(export: &Path, output_path: Option<&PathBuf>, shown: Shown) -> u8 {
         );
         return status::FAILED;
     }
-    let il = match export::to_il(&source) {
+    let converted = if project {
+        Ok(source.text.clone())
+    } else {
+        export::to_il(&source)
+    };
+    let il = match converted {
         Ok(il) => il,
         Err(diagnostics) => {
             let diagnostics = diagnostics.into_sorted();
@@ -79,5 +88,88 @@ pub fn run(export: &Path, output_path: Option<&PathBuf>, shown: Shown) -> u8 {
                 status::FAILED
             }
         },
+    }
+}
+
+/// `ladderc import PROG --to-gx-developer DIR`: the program (IL, an export
+/// or a project) written as the MAIN.wpg and COMMENT.wcd of the project in
+/// DIR. The CPU and program memory come from the program's `//@` lines,
+/// else from DIR's param.wpa, else GX Developer's defaults (FX3U, 8000
+/// steps). Only a program that compiles is written, and both files or
+/// neither.
+pub fn to_gx_developer(program: &Path, dir: &Path, shown: Shown) -> u8 {
+    use ladder_front::gxdev;
+    let source = match SourceFile::read(program) {
+        Ok(source) => source,
+        Err(error) => {
+            say_err!("error: {error}");
+            return status::UNUSABLE;
+        }
+    };
+    let (checked, diagnostics) = ladder_front::check::compile_source(&source);
+    write_raw(
+        true,
+        &ladder_front::diagnostics::render_all(&source, &diagnostics, shown),
+    );
+    if checked.is_none() {
+        return status::FAILED;
+    }
+    // An export is encoded from its IL (its comments become statements).
+    let source = if export::is_export(&source.text) {
+        match export::to_il(&source) {
+            Ok(il) => SourceFile::new(source.name.clone(), il),
+            Err(_) => return status::FAILED,
+        }
+    } else {
+        source
+    };
+    let files = gxdev::Project::in_folder(dir);
+    let mut defaults = gxdev::write::Defaults::default();
+    if let Ok(bytes) = std::fs::read(&files.parameters) {
+        match gxdev::wpa::decode(&bytes) {
+            Ok(parameters) => {
+                defaults.cpu = Some(parameters.cpu);
+                defaults.memory = parameters.memory;
+            }
+            Err(error) => {
+                say_err!("error: {}", error.message(&files.parameters.display().to_string()));
+                return status::UNUSABLE;
+            }
+        }
+    }
+    let (main, comments) = match gxdev::write::encode(&source, &defaults) {
+        Ok(bytes) => bytes,
+        Err(message) => {
+            say_err!("error: {message}");
+            return status::FAILED;
+        }
+    };
+    for file in [&files.program, &files.comments] {
+        if let Some(folder) = file.parent() {
+            if let Err(error) = std::fs::create_dir_all(folder) {
+                say_err!("error: cannot make {}: {error}", folder.display());
+                return status::FAILED;
+            }
+        }
+    }
+    let prepared = output::prepare(&files.program, &[program])
+        .and_then(|main_target| Ok((main_target, output::prepare(&files.comments, &[program])?)));
+    let (main_target, comments_target) = match prepared {
+        Ok(targets) => targets,
+        Err(error) => {
+            say_err!("error: {error}");
+            return status::UNUSABLE;
+        }
+    };
+    let writes = [
+        (main_target.as_path(), main.as_slice()),
+        (comments_target.as_path(), comments.as_slice()),
+    ];
+    match output::write_all_atomically(&writes) {
+        Ok(()) => status::OK,
+        Err((path, error)) => {
+            say_err!("error: cannot write {}: {error}", path.display());
+            status::FAILED
+        }
     }
 }

@@ -102,15 +102,24 @@ pub enum Command {
         /// The shell.
         shell: clap_complete::Shell,
     },
-    /// Convert a GX Works2 instruction-list CSV export to plain IL (step
-    /// numbers kept, line statements and notes as comments). The IL compiles
-    /// to the same program as the export.
+    /// Convert a GX Works2 instruction-list CSV export or a GX Developer
+    /// project to plain IL (step numbers kept, line statements and notes as
+    /// comments, a project's device comments and parameters as `//@`
+    /// lines). The IL compiles to the same program. With
+    /// --to-gx-developer, write a program as a GX Developer project instead.
     Import {
-        /// The CSV export (UTF-16 or UTF-8).
+        /// The CSV export (UTF-16 or UTF-8), the GX Developer project (its
+        /// folder, .gps file or MAIN.wpg), or with --to-gx-developer any
+        /// program.
         export: PathBuf,
         /// Where to write the IL (default: standard output).
-        #[arg(short, long)]
+        #[arg(short, long, conflicts_with = "to_gx_developer")]
         output: Option<PathBuf>,
+        /// Write the program as Pou/Body/MAIN.wpg and Others/COMMENT.wcd of
+        /// the GX Developer project in this folder (its other files are
+        /// kept; the folder is made if it is missing).
+        #[arg(long, value_name = "DIR")]
+        to_gx_developer: Option<PathBuf>,
     },
 }
 
@@ -174,13 +183,28 @@ pub fn main_with_args(args: impl IntoIterator<Item = std::ffi::OsString>) -> u8 
             status::OK
         }
         Command::Serve(args) => serve::run(&args, shown),
-        Command::Import { export, output } => import::run(&export, output.as_ref(), shown),
+        Command::Import {
+            export,
+            output,
+            to_gx_developer,
+        } => match to_gx_developer {
+            Some(dir) => import::to_gx_developer(&export, &dir, shown),
+            None => import::run(&export, output.as_ref(), shown),
+        },
     }
 }
 
 /// Reads and compiles a program file, printing diagnostics to stderr.
 /// `Err` holds the exit status to return.
 fn compile_file(path: &std::path::Path, shown: Shown) -> Result<ladder_front::program::CheckedProgram, u8> {
+    compile_file_with_source(path, shown).map(|(program, _)| program)
+}
+
+/// `compile_file`, with the source it read (for its comments).
+fn compile_file_with_source(
+    path: &std::path::Path,
+    shown: Shown,
+) -> Result<(ladder_front::program::CheckedProgram, ladder_front::source::SourceFile), u8> {
     let source = read_program(path).map_err(|e| {
         say_err!("error: {e}");
         status::UNUSABLE
@@ -190,7 +214,7 @@ fn compile_file(path: &std::path::Path, shown: Shown) -> Result<ladder_front::pr
         true,
         &ladder_front::diagnostics::render_all(&source, &diagnostics, shown),
     );
-    program.ok_or(status::FAILED)
+    program.map(|program| (program, source)).ok_or(status::FAILED)
 }
 
 /// `-` for standard input or output.

@@ -76,10 +76,11 @@ enum RunEngine {
 }
 
 pub fn run(args: &RunArgs, shown: Shown) -> u8 {
-    let program = match super::compile_file(&args.program, shown) {
-        Ok(program) => program,
+    let (program, source) = match super::compile_file_with_source(&args.program, shown) {
+        Ok(compiled) => compiled,
         Err(code) => return code,
     };
+    let comments = ladder_front::gxdev::listing::device_comments(&source.text);
     let watched = match watch_list(args, &program) {
         Ok(watched) => watched,
         Err(message) => {
@@ -127,9 +128,33 @@ pub fn run(args: &RunArgs, shown: Shown) -> u8 {
         say_err!("error: {message}");
         return status::UNUSABLE;
     }
+    let comment_of = |signal: &Signal| {
+        ladder_front::gxdev::listing::canonical_device(&signal.name).and_then(|name| comments.get(&name))
+    };
+    // The device comments above the table, one line each.
+    if args.format == Format::Table {
+        for signal in &watched {
+            if let Some(comment) = comment_of(signal) {
+                say!("# {}: {comment}", signal.name);
+            }
+        }
+    }
     let mut printer = Printer::new(args, watched.clone());
+    printer.place = source.listing_of.clone();
     if let Some(target) = &vcd {
-        printer.recorder = Some((Recorder::new(watched), target.clone()));
+        // A comment joins the signal's name where the name may hold it
+        // (VCD names hold no blanks).
+        let named = watched
+            .iter()
+            .map(|signal| match comment_of(signal) {
+                Some(comment) => Signal {
+                    name: format!("{}_{}", signal.name, vcd_word(comment)),
+                    ..signal.clone()
+                },
+                None => signal.clone(),
+            })
+            .collect();
+        printer.recorder = Some((Recorder::new(named), target.clone()));
     }
     let failures = drive(&steps, &mut engine, &mut printer);
     let mut code = status::OK;
@@ -154,6 +179,21 @@ pub fn run(args: &RunArgs, shown: Shown) -> u8 {
         say_err!("{}", statistics(&engine.times));
     }
     code
+}
+
+/// A comment as part of a VCD name: blanks and the characters VCD viewers
+/// take for hierarchy or bit ranges become `_`.
+fn vcd_word(comment: &str) -> String {
+    comment
+        .chars()
+        .map(|c| {
+            if c.is_whitespace() || c.is_control() || "[]:.$".contains(c) {
+                '_'
+            } else {
+                c
+            }
+        })
+        .collect()
 }
 
 /// The watched devices.
@@ -372,6 +412,9 @@ struct Printer {
     /// The operation error last seen (code, line), to report new ones.
     error: Option<(u16, u16)>,
     recorder: Option<(Recorder, PathBuf)>,
+    /// How an error's D8069 reads: `line 12`, or `MAIN.wpg step 125` for a
+    /// GX Developer project (D8069 holds the step there).
+    place: Option<String>,
 }
 
 impl Printer {
@@ -401,6 +444,7 @@ impl Printer {
             widths,
             error: None,
             recorder: None,
+            place: None,
         };
         let headers: Vec<String> = std::iter::once("scan".to_string())
             .chain(printer.watched.iter().map(|signal| signal.name.clone()))
@@ -464,7 +508,10 @@ impl Observer for Printer {
                     .collect();
                 say!("{}", self.line(cells));
                 if let Some((code, line)) = error {
-                    say_err!("scan {scan}: operation error {code:04X}H at line {line}");
+                    match &self.place {
+                        Some(file) => say_err!("scan {scan}: operation error {code:04X}H at {file} step {line}"),
+                        None => say_err!("scan {scan}: operation error {code:04X}H at line {line}"),
+                    }
                 }
             }
             Format::Json => {

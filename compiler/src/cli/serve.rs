@@ -88,8 +88,9 @@ pub struct ServeArgs {
     /// How often the retain file is written, in milliseconds.
     #[arg(long, default_value_t = 1000, value_name = "MS")]
     retain_ms: u32,
-    /// The latched ranges, as the FX parameters set them (default: FX3U's
-    /// M500-M7679, S500-S4095, T246-T255, C100-C199, C220-C255,
+    /// The latched ranges, as the FX parameters set them (default: a GX
+    /// Developer project's param.wpa, the program's `//@ latch` line, else
+    /// FX3U's M500-M7679, S500-S4095, T246-T255, C100-C199, C220-C255,
     /// D200-D7999 and all of R), e.g. `M500-M1023,D200-D511`, or `none`:
     /// what --retain keeps, and what STOP→RUN does not clear.
     #[arg(long, value_name = "RANGES")]
@@ -171,7 +172,7 @@ enum ServeEngine {
 }
 
 pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
-    let options = match options(args) {
+    let mut options = match options(args) {
         Ok(options) => options,
         Err(message) => {
             say_err!("error: {message}");
@@ -198,6 +199,24 @@ pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
     let Some(program) = program else {
         return status::FAILED;
     };
+    // The latched ranges of a GX Developer project's parameters (its
+    // listing's `//@ latch` line), unless --latch says otherwise.
+    if args.latch.is_none() {
+        if let Some(list) = ladder_front::gxdev::listing::directives(&source.text).latch {
+            match ladder_serve::retain::parse_latch_list(&list) {
+                Ok(ranges) => {
+                    if let Some(retain) = &mut options.retain {
+                        retain.ranges = ranges.clone();
+                    }
+                    options.latched = ranges;
+                }
+                Err(message) => {
+                    say_err!("error: the program's `//@ latch {list}`: {message}");
+                    return status::UNUSABLE;
+                }
+            }
+        }
+    }
     match serve(program, &source, &options) {
         Ok(stats) => {
             say_err!(

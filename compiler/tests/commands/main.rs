@@ -28,6 +28,7 @@ mod cross_targets;
 mod emulated_controllers;
 mod fmu_export;
 mod frontend_never_panics;
+mod gx_developer;
 mod helper_docs;
 mod independence;
 mod instruction_table;

@@ -1,7 +1,7 @@
 //! `ladderc serve` left running: retained devices survive SIGTERM and
 //! `kill -9` (at most one save interval lost), a damaged, cut-short or
 //! foreign retain file is refused and left as it was, the latched ranges
-//! follow `--latch`; the statistics have a resettable window with
+//! follow `--latch` (or a project's `//@ latch` line); the statistics have a resettable window with
 //! percentiles; D8010-D8012 show the scan time.
 
 use crate::common::server::{http, json, Server};
@@ -268,5 +268,40 @@ fn statistics_have_a_resettable_window_and_d8010_shows_the_scan_time() {
         "{after}"
     );
     assert!(after["jitter_window"]["scans"].as_u64().unwrap() < 20, "{after}");
+    server.stop();
+}
+
+#[test]
+fn a_projects_latch_line_chooses_the_kept_ranges_unless_latch_says_otherwise() {
+    // A GX Developer project's listing carries its parameters' latched
+    // ranges as `//@ latch`.
+    let program = format!("//@ cpu FX2N\n//@ latch D0-D9\n{COUNTING}");
+    let dir = tempfile::tempdir().unwrap();
+    let retain = dir.path().join("plc.retain");
+    let args = |extra: &[&'static str]| {
+        let mut args = vec!["--http", "127.0.0.1:0", "--retain", retain.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        args.into_iter().map(str::to_string).collect::<Vec<_>>()
+    };
+    let run = |extra: &[&'static str]| {
+        let owned = args(extra);
+        let borrowed: Vec<&str> = owned.iter().map(String::as_str).collect();
+        Server::start_program(&program, &borrowed)
+    };
+    let server = run(&[]);
+    let web = server.web.unwrap();
+    std::thread::sleep(Duration::from_millis(200));
+    let d0 = value(web, "D0");
+    server.stop();
+    let server = run(&[]);
+    let web = server.web.unwrap();
+    first_scans(web);
+    assert!(value(web, "D0") >= d0, "D0 kept by the program's //@ latch D0-D9");
+    assert!(value(web, "D200") < d0, "D200 not kept by //@ latch D0-D9");
+    server.stop();
+    let server = run(&["--latch", "D200-D299"]);
+    let web = server.web.unwrap();
+    first_scans(web);
+    assert!(value(web, "D0") < d0, "--latch D200-D299 wins over //@ latch");
     server.stop();
 }

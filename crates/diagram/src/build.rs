@@ -30,6 +30,8 @@ pub fn build(program: &CheckedProgram, source: &SourceFile) -> Ladder {
     let steps = steps(program, source);
     let comments = comment_lines(source);
     let notes = notes(source);
+    let device_comments: super::DeviceComments =
+        std::sync::Arc::new(ladder_front::gxdev::listing::device_comments(&source.text));
     let element = |index: usize| {
         let instruction = &program.instructions[index];
         Element {
@@ -134,6 +136,7 @@ pub fn build(program: &CheckedProgram, source: &SourceFile) -> Ladder {
             state: in_state,
             mc_levels,
             body,
+            device_comments: device_comments.clone(),
         });
         if let Op::Output(Output::MasterControl { level, .. }) = &program.instructions[index + used - 1].op {
             mc_levels |= 1 << level;
@@ -402,7 +405,8 @@ fn step_size(op: &Op) -> u32 {
 
 /// Comment lines of the source: `//` or `;` lines of IL and the title of
 /// a `NETWORK n // title` line, line statements of an export's comment
-/// rows. (line, text).
+/// rows. (line, text). `//@` lines (a project's CPU, parameters and device
+/// comments) are not rung comments.
 fn comment_lines(source: &SourceFile) -> Vec<(u32, String)> {
     if ladder_front::syntax::export::is_export(&source.text) {
         return ladder_front::syntax::export::comment_rows(source);
@@ -413,6 +417,9 @@ fn comment_lines(source: &SourceFile) -> Vec<(u32, String)> {
         .enumerate()
         .filter_map(|(index, line)| {
             let trimmed = line.trim_start_matches('\u{feff}').trim();
+            if ladder_front::gxdev::listing::is_directive(trimmed) {
+                return None;
+            }
             let text = match trimmed.strip_prefix("//").or_else(|| trimmed.strip_prefix(';')) {
                 Some(text) => text,
                 None if starts_with_word(trimmed, "NETWORK") => trailing_comment(trimmed)?,

@@ -9,7 +9,9 @@
 //! (its source span, line and step). Structure that is not a rung (STL
 //! steps, labels, MCR, FOR/NEXT, FEND, SRET) is a rung of its own, as GX
 //! Works2 draws it. Comments of the source (comment lines of IL, line
-//! statements of an export) become rung comments.
+//! statements of an export) become rung comments; device comments (the
+//! `//@ comment` lines a GX Developer project's listing carries) are drawn
+//! under the contacts and coils of their devices.
 //!
 //! The tree keeps how each block was joined (`AND c` or `LD c ... ANB`), so
 //! that `to_il` gives back a program that compiles to the same checked
@@ -38,6 +40,10 @@ pub struct Ladder {
     pub rungs: Vec<Rung>,
 }
 
+/// Device comments (`//@ comment` lines of the source, a GX Developer
+/// project's COMMENT.wcd), keyed by the device's name as drawn (`X000`).
+pub type DeviceComments = std::sync::Arc<std::collections::BTreeMap<String, String>>;
+
 /// One rung: contacts and outputs, or a structural line.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Rung {
@@ -53,6 +59,8 @@ pub struct Rung {
     /// Under the master-control levels of this mask (bit k: Nk).
     pub mc_levels: u8,
     pub body: Body,
+    /// The program's device comments, drawn under contacts and coils.
+    pub device_comments: DeviceComments,
 }
 
 #[derive(Clone, Debug, PartialEq)]

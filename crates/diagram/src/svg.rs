@@ -38,6 +38,7 @@ pub const STYLE: &str = "\
 .ladder .device{font-weight:bold}\
 .ladder .step{fill:#666;text-anchor:end}\
 .ladder .comment{fill:#0a6b2c;font-style:italic}\
+.ladder .dcomment{fill:#0a6b2c;font-size:9px}\
 .ladder .label{fill:#7a2a00;font-weight:bold;text-anchor:end}\
 .ladder .box rect{fill:#fff}\
 .ladder .value{fill:#0b49a8}\
@@ -238,7 +239,14 @@ pub fn rung_svg(out: &mut String, index: usize, rung: &Rung, laid: &RungLayout, 
     }
     for cell in &laid.cells {
         let state = states.map(|f| f(cell.element.index));
-        cell_svg(out, cell, x(cell.column), wire_y(cell.row), state.as_ref());
+        cell_svg(
+            out,
+            cell,
+            x(cell.column),
+            wire_y(cell.row),
+            state.as_ref(),
+            &rung.device_comments,
+        );
     }
     for connector in &laid.connectors {
         connector_svg(out, connector, x(connector.column), wire_y(connector.row));
@@ -272,7 +280,14 @@ fn connector_svg(out: &mut String, connector: &super::layout::Connector, left: u
 }
 
 /// One element: `left` is its cell's left edge, `wire` the wire's height.
-fn cell_svg(out: &mut String, cell: &Cell, left: u32, wire: u32, state: Option<&ElementState>) {
+fn cell_svg(
+    out: &mut String,
+    cell: &Cell,
+    left: u32,
+    wire: u32,
+    state: Option<&ElementState>,
+    comments: &std::collections::BTreeMap<String, String>,
+) {
     let width = cell.width * CELL;
     let right = left + width;
     let middle = left + width / 2;
@@ -326,6 +341,31 @@ fn cell_svg(out: &mut String, cell: &Cell, left: u32, wire: u32, state: Option<&
         );
     };
     let (top, bottom) = (wire - 11, wire + 11);
+    // A device comment under the element, cut to the cell's width (the
+    // whole comment is in the element's title).
+    let device_comment = |out: &mut String, device: &str| {
+        if let Some(comment) = comments.get(device) {
+            // About six pixels a character at this size, twice that for
+            // the wide (CJK) ones.
+            let mut room = (width / 6) as usize;
+            let shown: String = comment
+                .chars()
+                .take_while(|c| {
+                    let needs = if (*c as u32) < 0x1100 { 1 } else { 2 };
+                    let fits = needs <= room;
+                    room = room.saturating_sub(needs);
+                    fits
+                })
+                .collect();
+            let _ = write!(
+                out,
+                "<text class=\"dcomment\" x=\"{middle}\" y=\"{}\" text-anchor=\"middle\">{}<title>{}</title></text>",
+                wire + 31,
+                escape(shown.as_str()),
+                escape(comment.as_str())
+            );
+        }
+    };
     match &cell.symbol {
         Symbol::Contact { kind, device } => {
             let (a, b) = (middle - 7, middle + 7);
@@ -370,6 +410,7 @@ fn cell_svg(out: &mut String, cell: &Cell, left: u32, wire: u32, state: Option<&
             }
             text(out, "device", middle, top - 5, device);
             value_slot(out, 0, middle);
+            device_comment(out, device);
         }
         Symbol::Constant(on) => {
             let (a, b) = (middle - 7, middle + 7);
@@ -445,6 +486,7 @@ fn cell_svg(out: &mut String, cell: &Cell, left: u32, wire: u32, state: Option<&
                 b - 5
             );
             text(out, "device", middle, top - 5, device);
+            device_comment(out, device);
             match preset {
                 Some(preset) => {
                     let _ = write!(

@@ -1,6 +1,7 @@
 //! The front end of ladderc: from a file's bytes to a checked program.
 //!
-//! `source` (decoding, spans) → `syntax` (tokens, statements; plain IL or a
+//! `source` (decoding, spans; a GX Developer project, `gxdev`, becomes an
+//! IL listing there) → `syntax` (tokens, statements; plain IL or a
 //! vendor export) → `check` (`CheckedProgram` in `program`, with
 //! `diagnostics`). `isa` declares the instruction set once; everything
 //! downstream asks it. `host_device` names the devices a host reads and
@@ -11,6 +12,7 @@
 
 pub mod check;
 pub mod diagnostics;
+pub mod gxdev;
 pub mod host_device;
 pub mod isa;
 pub mod logic;

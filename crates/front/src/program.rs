@@ -401,9 +401,21 @@ pub struct AppInstruction {
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Instruction {
     pub op: Op,
-    /// 1-based source line (what D8069 records on an operation error).
+    /// 1-based source line (what D8069 records on an operation error,
+    /// unless `step` is known).
     pub line: u32,
     pub span: Span,
+    /// The step a GX Developer project gives the instruction (its listing
+    /// starts the line with it): D8069 records it, as on the PLC.
+    pub step: Option<u32>,
+}
+
+impl Instruction {
+    /// What D8069 records when the instruction fails: its step in a GX
+    /// Developer project, else its source line.
+    pub fn error_line(&self) -> u32 {
+        self.step.unwrap_or(self.line)
+    }
 }
 
 /// One `STL Sn` ... `STLE` block.

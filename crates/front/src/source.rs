@@ -37,6 +37,12 @@ pub struct SourceFile {
     /// Where in `text` the first bytes that could not be decoded are (now
     /// U+FFFD), if any: the front end reports the encoding there.
     pub undecodable_at: Option<usize>,
+    /// For a GX Developer project read as its IL listing: the program
+    /// file's name (diagnostics name its steps).
+    pub listing_of: Option<String>,
+    /// A binary file that could not be decoded: the one error to report
+    /// (the text is empty).
+    pub decode_error: Option<String>,
 }
 
 /// How a program file's bytes are text.
@@ -110,6 +116,8 @@ impl SourceFile {
             text,
             line_starts,
             undecodable_at: None,
+            listing_of: None,
+            decode_error: None,
         }
     }
 
@@ -119,13 +127,60 @@ impl SourceFile {
     /// Reading stops at the first NUL byte of a file that is not UTF-16 (it
     /// is not a text file; the front end reports it), so `/dev/zero` ends at
     /// once.
+    ///
+    /// A GX Developer project (its folder, its `.gps`/`.gpw` file, or its
+    /// `MAIN.wpg`) is read as its IL listing, with the comments and
+    /// parameters beside the program (`gxdev`).
     pub fn read(path: &std::path::Path) -> Result<SourceFile, ReadError> {
+        if let Some(project) = crate::gxdev::locate(path) {
+            let name = project.program.display().to_string();
+            return Ok(SourceFile::decoded(&name, crate::gxdev::read(&project)));
+        }
         let bytes = read_bounded(path)?;
-        Ok(SourceFile::from_bytes(path.display().to_string(), &bytes))
+        let mut file = SourceFile::from_bytes(path.display().to_string(), &bytes);
+        // `//@ comments FILE`: the comments of a GX Works2 device-comment
+        // export beside the program, added after it (spans stay).
+        if let Some(name) = crate::gxdev::listing::directives(&file.text).comment_file {
+            let csv = path.parent().unwrap_or(std::path::Path::new("")).join(&name);
+            let (text, _, _) = decode(&read_bounded(&csv)?);
+            let mut all = file.text.clone();
+            if !all.is_empty() && !all.ends_with('\n') {
+                all.push('\n');
+            }
+            all.push_str(&crate::gxdev::listing::comments_from_csv(&text));
+            file = SourceFile {
+                undecodable_at: file.undecodable_at,
+                ..SourceFile::new(file.name, all)
+            };
+        }
+        Ok(file)
     }
 
-    /// A program file's bytes as the front end sees them.
+    /// The listing of a binary program, or the error that it cannot be
+    /// decoded.
+    fn decoded(name: &str, listing: Result<String, String>) -> SourceFile {
+        let file_name = std::path::Path::new(name)
+            .file_name()
+            .map_or(name.to_string(), |n| n.to_string_lossy().into_owned());
+        match listing {
+            Ok(text) => SourceFile {
+                listing_of: Some(file_name),
+                ..SourceFile::new(name, text)
+            },
+            Err(message) => SourceFile {
+                decode_error: Some(message),
+                ..SourceFile::new(name, "")
+            },
+        }
+    }
+
+    /// A program file's bytes as the front end sees them (a GX Developer
+    /// program file, recognised by its header, as its listing).
     pub fn from_bytes(name: impl Into<String>, bytes: &[u8]) -> SourceFile {
+        let name = name.into();
+        if crate::gxdev::is_gx_file(bytes) {
+            return SourceFile::decoded(&name, crate::gxdev::listing_of((&name, bytes), None, None));
+        }
         let (mut text, _, undecodable_at) = decode(bytes);
         // A byte-order mark saved twice (an editor re-saving a file that
         // had one) is not text either.
@@ -182,7 +237,8 @@ pub enum ReadError {
 }
 
 /// The bytes of a file, at most `MAX_SOURCE_BYTES`; stops after the first
-/// NUL byte unless the file starts with a UTF-16 byte-order mark.
+/// NUL byte unless the file starts with a UTF-16 byte-order mark or is a
+/// GX Developer file.
 pub fn read_bounded(path: &std::path::Path) -> Result<Vec<u8>, ReadError> {
     use std::io::Read;
     let io = |source| ReadError::Io {
@@ -199,8 +255,9 @@ pub fn read_bounded(path: &std::path::Path) -> Result<Vec<u8>, ReadError> {
             break;
         }
         let utf16 = matches!(bytes.get(..2).or(chunk.get(..2)), Some([0xFF, 0xFE] | [0xFE, 0xFF]));
+        let binary = crate::gxdev::is_gx_file(if bytes.is_empty() { &chunk[..read] } else { &bytes });
         match chunk[..read].iter().position(|&b| b == 0) {
-            Some(nul) if !utf16 => {
+            Some(nul) if !utf16 && !binary => {
                 bytes.extend_from_slice(&chunk[..=nul]);
                 return Ok(bytes);
             }

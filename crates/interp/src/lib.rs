@@ -142,7 +142,7 @@ impl Run<'_> {
     }
     /// Executes one instruction; returns the index of the next one.
     fn step(&mut self, pc: usize, instruction: &Instruction) -> usize {
-        let line = instruction.line;
+        let line = instruction.error_line();
         match &instruction.op {
             Op::Load { .. } | Op::And(_) | Op::Or(_) | Op::Logic(_) => self.evaluate(&instruction.op, line),
             Op::Jump { target, .. } => {
@@ -235,7 +235,7 @@ impl Run<'_> {
             for &index in &block.reset_outputs {
                 let instruction = &self.program.instructions[index];
                 if let Op::Output(output) = &instruction.op {
-                    self.output(output, false, instruction.line);
+                    self.output(output, false, instruction.error_line());
                 }
             }
             for &slot in &block.reset_slots {

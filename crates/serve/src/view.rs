@@ -28,6 +28,8 @@ pub struct LadderView {
     /// outputs, then its X inputs (each in order), then the others in the
     /// order they first appear; at most `DEFAULT_WATCHED`.
     pub devices: Vec<String>,
+    /// The program's device comments (`X000` → text), for the table.
+    pub comments: ladder::DeviceComments,
 }
 
 /// The most devices the device table starts with.
@@ -57,6 +59,7 @@ impl LadderView {
             rungs,
             width,
             devices: used.devices(),
+            comments: std::sync::Arc::new(ladder_front::gxdev::listing::device_comments(&source.text)),
         }
     }
 

@@ -1,4 +1,5 @@
-//! `--watch-file`: the program file watched for online change. A change is
+//! `--watch-file`: the program file (or a GX Developer project's MAIN.wpg)
+//! watched for online change. A change is
 //! taken once the file has stopped changing; a version that compiles is
 //! offered to the scan thread, one that does not (or drives nothing) is
 //! reported on stderr and the running program goes on.
@@ -26,10 +27,17 @@ fn stamp(path: &Path) -> Stamp {
 }
 
 /// When the program file changes, compiles it and offers it for online
-/// change.
-fn watch(path: &Path, shared: &Shared, native: bool, settle: Duration) {
+/// change. For a GX Developer project, its MAIN.wpg is watched and the
+/// project's listing offered.
+fn watch(named: &Path, shared: &Shared, native: bool, settle: Duration) {
+    let project = ladder_front::gxdev::locate(named);
+    let path = project.as_ref().map_or(named, |p| p.program.as_path());
+    let read = || match &project {
+        Some(project) => ladder_front::gxdev::read(project).ok().map(String::into_bytes),
+        None => std::fs::read(path).ok(),
+    };
     let mut seen = stamp(path);
-    let mut taken: Option<Vec<u8>> = std::fs::read(path).ok();
+    let mut taken: Option<Vec<u8>> = read();
     while !shared.stopping() {
         std::thread::sleep(Duration::from_millis(200));
         let now = stamp(path);
@@ -40,7 +48,7 @@ fn watch(path: &Path, shared: &Shared, native: bool, settle: Duration) {
             return;
         };
         seen = last;
-        let Ok(bytes) = std::fs::read(path) else {
+        let Some(bytes) = read() else {
             continue;
         };
         // Saved again as it was: nothing to change.

@@ -6,6 +6,7 @@
 
 mod app;
 mod blocks;
+pub mod cpu;
 mod devices;
 mod index_registers;
 mod lints;
@@ -31,6 +32,49 @@ use rustc_hash::FxHashMap;
 /// Parses and checks a source file. The program is returned only when there
 /// are no errors; the diagnostics may hold warnings either way.
 pub fn compile_source(file: &SourceFile) -> (Option<CheckedProgram>, Vec<Diagnostic>) {
+    // A binary project file that cannot be decoded: its one error.
+    if let Some(message) = &file.decode_error {
+        let diagnostic = Diagnostic::new(Code::UndecodableProject, Span::new(0, 0), message.clone())
+            .with_label("this file")
+            .with_note("nothing of the project is compiled; `ladderc explain E0053` says what is read");
+        return (None, vec![diagnostic]);
+    }
+    let (program, diagnostics) = compile_text(file);
+    match &file.listing_of {
+        None => (program, diagnostics),
+        Some(name) => {
+            // D8069 records the instruction's step, as on the PLC.
+            let program = program.map(|mut program| {
+                for instruction in &mut program.instructions {
+                    instruction.step = listed_step(file, instruction.line);
+                }
+                program
+            });
+            (
+                program,
+                diagnostics.into_iter().map(|d| with_step(file, name, d)).collect(),
+            )
+        }
+    }
+}
+
+/// The step number a listing's line starts with.
+fn listed_step(file: &SourceFile, line: u32) -> Option<u32> {
+    let start = *file.line_starts().get((line as usize).checked_sub(1)?)?;
+    let digits: String = file.text[start..].chars().take_while(char::is_ascii_digit).collect();
+    digits.parse().ok()
+}
+
+/// A diagnostic on a project's listing names the step as GX Developer
+/// shows it (`MAIN.wpg step 125`): the step number starts the line.
+fn with_step(file: &SourceFile, name: &str, diagnostic: Diagnostic) -> Diagnostic {
+    match listed_step(file, file.line_of(diagnostic.span.start)) {
+        Some(step) => diagnostic.with_note(format!("at {name} step {step}")),
+        None => diagnostic,
+    }
+}
+
+fn compile_text(file: &SourceFile) -> (Option<CheckedProgram>, Vec<Diagnostic>) {
     // A NUL byte means this is not a program text: one error, not a cascade.
     if let Some(nul) = file.text.find('\0') {
         let diagnostic = Diagnostic::new(Code::BinaryInput, Span::new(nul, nul + 1), "this is not a text file")
@@ -60,6 +104,13 @@ pub fn compile_source(file: &SourceFile) -> (Option<CheckedProgram>, Vec<Diagnos
     // there is to say (no "the program is empty" beside it).
     if diagnostics.has_errors() && parsed.statements.is_empty() {
         return (None, diagnostics.into_sorted());
+    }
+    // The CPU a GX Developer project's parameters name (or any IL's
+    // `//@ cpu` line): what it does not have is an error.
+    if let Some(cpu) = crate::gxdev::listing::directives(&file.text).cpu {
+        for diagnostic in cpu::check(&parsed, &cpu).iter() {
+            diagnostics.push(diagnostic.clone());
+        }
     }
     let parse_failed = diagnostics.has_errors();
     let (program, check_diagnostics) = check(&parsed, &file.name, file.text.len());
@@ -281,6 +332,7 @@ impl Checker {
             op,
             line: site.line,
             span: site.span,
+            step: None,
         });
         Some(index)
     }

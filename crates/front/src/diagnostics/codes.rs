@@ -339,6 +339,31 @@ inputs written: there is no previous scan to look at there.
 
 Say it of the inputs themselves, or state it as a property instead.";
 
+    UndecodableProject = "E0053", Error, "a GX Developer file that cannot be decoded",
+"A GX Developer project (the folder with Gppw.gps, its .gps file, or its
+Pou/Body/MAIN.wpg) is read from its binary files: the program MAIN.wpg,
+the device comments Others/COMMENT.wcd and the parameters param.wpa. One of
+them is cut short or holds bytes ladderc cannot read at the offset the
+message names: a record whose two length bytes differ, an operand code
+ladderc does not know, an instruction code outside the table ladderc reads
+(docs/language.md, GX Developer projects), or a file of another MELSEC
+family. Nothing of the project is compiled. Open the project in GX
+Developer and save it again, or export the program as an instruction list
+(CSV), which ladderc reads as well.";
+
+    NotOnThisCpu = "E0054", Error, "an instruction or device the program's CPU does not have",
+"The program names its CPU (`//@ cpu FX2N`, written by ladderc from a GX
+Developer project's parameters), and the instruction or device is not one
+that CPU has: the FX2N, FX1N and earlier series have no file registers (R),
+no buffer-memory operands (Un\\Gm), no bits of words (D0.1) and none of the
+instructions the FX3 series added (MEP, MEF, EMOV, EXP, SCL, ...).
+
+    //@ cpu FX2N
+    LD X0
+    MOV K1 R0        // error: R is an FX3-series device
+
+Change the CPU in the project's parameters, or rewrite the rung for the CPU.";
+
     CodeAfterEnd = "W0001", Warning, "code after END",
 "Instructions after END are never executed.";
 

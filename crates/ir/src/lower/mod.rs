@@ -218,7 +218,7 @@ impl<'p> Lowering<'p> {
     }
 
     fn instruction(&mut self, instruction: &Instruction) {
-        let line = instruction.line;
+        let line = instruction.error_line();
         match &instruction.op {
             Op::Load { .. } | Op::And(_) | Op::Or(_) | Op::Logic(_) => self.evaluate(&instruction.op, line),
             Op::Jump { target, .. } => {
@@ -292,7 +292,7 @@ impl<'p> Lowering<'p> {
         for &index in &block.reset_outputs {
             let instruction = &self.program.instructions[index];
             if let Op::Output(output) = &instruction.op {
-                self.output(output, off, instruction.line);
+                self.output(output, off, instruction.error_line());
             }
         }
         for &slot in &block.reset_slots {

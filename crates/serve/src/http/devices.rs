@@ -125,6 +125,16 @@ fn snapshot(shared: &Shared, watched: &[Watched]) -> Value {
         text.insert(w.name.clone(), Value::from(shown));
     }
     let names: Vec<&str> = watched.iter().map(|w| w.name.as_str()).collect();
+    // The device comments of the watched devices (a GX Developer project's).
+    let mut comments = serde_json::Map::new();
+    if let Some(view) = shared.view() {
+        for w in watched {
+            let name = ladder_front::gxdev::listing::canonical_device(&w.name);
+            if let Some(comment) = name.and_then(|n| view.comments.get(&n)) {
+                comments.insert(w.name.clone(), Value::from(comment.as_str()));
+            }
+        }
+    }
     let error = error.map(|(code, line)| json!({ "code": format!("{code:04X}H"), "line": line }));
     let forced: Vec<Value> = forced
         .into_iter()
@@ -135,6 +145,7 @@ fn snapshot(shared: &Shared, watched: &[Watched]) -> Value {
         "names": names,
         "devices": devices,
         "text": text,
+        "comments": comments,
         "error": error,
         "forced": forced,
         "control": super::debug::control_json(shared),
