@@ -91,10 +91,17 @@ pub fn gx_developer(data: &[u8]) {
 }
 
 /// A property file (`ladderc verify`): diagnosed or checked, never a
-/// panic; inline programs are searched within tight limits.
+/// panic; inline programs are searched within tight limits, by the
+/// default engines or (an odd length) the SAT-based ones alone.
 pub fn properties(data: &[u8]) {
     let file = SourceFile::from_bytes("fuzz.prop", data);
+    let engine = if data.len() % 2 == 1 {
+        ladder_verify::Engine::Symbolic
+    } else {
+        ladder_verify::Engine::Auto
+    };
     let options = ladder_verify::Options {
+        engine,
         limits: ladder_verify::search::Limits {
             depth: 50,
             timeout: std::time::Duration::from_millis(200),
