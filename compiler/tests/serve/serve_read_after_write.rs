@@ -7,10 +7,11 @@
 //! (`read_after_write.py`). The scans keep their period meanwhile (a write
 //! does not wait a period), and in STOP or paused no scan runs. Where a
 //! client cannot be installed the test says why it skipped. And with
-//! scans that take most of the period (the interpreter on a loop), writes
-//! that come during a scan are answered at its end, read back at once.
+//! scans that take most of the period (the interpreter on a loop measured
+//! to take 70 ms), writes that come during a scan are answered at its end,
+//! read back at once.
 
-use crate::common::server::{http, json, modbus_connect, modbus_request, Server};
+use crate::common::server::{http, json, modbus_connect, modbus_request, slow_program, Server};
 use crate::common::tools::{ensure, ensure_python_module, skip};
 use crate::serve_modbus_rtu::PtyPair;
 use std::time::{Duration, Instant};
@@ -198,17 +199,16 @@ fn read_after_write_over_opcua() {
     check(test, "opcua", web, &opcua, server.dir.path(), &MODES);
 }
 
-/// Some 80 ms of a 100 ms period in the interpreter: most writes come
-/// while a scan runs.
-const SLOW_PROGRAM: &str = "LD M8000\nINC D0\nFOR K30000\nFOR K100\nLD M8000\nINC D1\nNEXT\nNEXT\n";
-
 /// A write that comes while a scan runs is applied at that scan's end (END
 /// processing) and answered then: it waits for the rest of the scan, not a
 /// period, and the read after it sees it; two clients taking turns at
 /// read-modify-writes lose no bit.
 #[test]
 fn a_write_during_a_scan_is_answered_at_its_end() {
-    let server = Server::start_program(SLOW_PROGRAM, &["--scan-ms", "100", "--engine", "interp"]);
+    // Some 70 ms of a 100 ms period in the interpreter (measured): most
+    // writes come while a scan runs.
+    let program = slow_program(Duration::from_millis(70));
+    let server = Server::start_program(&program, &["--scan-ms", "100", "--engine", "interp"]);
     let (mut first, mut second) = (modbus_connect(server.address), modbus_connect(server.address));
     let register = |stream: &mut std::net::TcpStream, address: u16| -> u16 {
         let answer = modbus_request(stream, &[0x03, 0, address as u8, 0, 1]);

@@ -23,6 +23,7 @@ mod modbus;
 pub mod modbus_rtu;
 pub mod modbus_tcp;
 mod opcua;
+mod opcua_nodes;
 mod realtime;
 pub mod retain;
 mod retained;
@@ -159,11 +160,14 @@ pub fn serve(
     shared.limit_recorders(options.limits.event_streams);
     listeners.serve(&runtime, options, &shared, signals);
     shared.stop();
-    scanner.join().map_err(|_| "the scan thread failed".to_string())?;
+    // A scan thread that panicked stopped the server (`scan::start`); the
+    // saver still writes the last published image before that is reported.
+    let scanned = scanner.join();
     // The saver writes once more after the last scan.
     if let Some(saver) = saver {
         saver.join().map_err(|_| "the retain thread failed".to_string())?;
     }
+    scanned.map_err(|_| "the scan thread failed".to_string())?;
     Ok(shared.stats())
 }
 
