@@ -178,29 +178,32 @@ fn read_only_and_token_servers_refuse_anonymous_writes() {
 
 /// The client of `a_read_is_not_held_up_by_a_write_waiting_for_a_scan`:
 /// each round writes D100 and, 5 ms later on the same session, reads D0;
-/// which was answered first, whether D100 reads back after the write's
-/// answer, and a write of two nodes in one request read back.
+/// how many reads were answered within 30 ms while their write still
+/// waited (answered 10 ms after the read or later), whether D100 reads
+/// back after the write's answer, and a write of two nodes in one request
+/// read back.
 const WAITING_CLIENT: &str = r#"
-import asyncio, json, sys
+import asyncio, json, sys, time
 from asyncua import Client, ua
 
 async def main(url, rounds):
     client = Client(url)
-    out = {"reads_first": 0, "misses": 0}
+    out = {"quick_reads": 0, "misses": 0}
     async with client:
         ns = await client.get_namespace_index("urn:ladderc:plc")
         node = lambda name: client.get_node(f"ns={ns};s={name}")
         for value in range(1, rounds + 1):
-            order = []
+            done, began = {}, time.monotonic()
             async def write():
                 await node("D100").write_value(ua.DataValue(ua.Variant(value, ua.VariantType.Int16)))
-                order.append("write")
+                done["write"] = time.monotonic()
             async def read():
                 await asyncio.sleep(0.005)
                 await node("D0").read_value()
-                order.append("read")
+                done["read"] = time.monotonic()
             await asyncio.gather(write(), read())
-            out["reads_first"] += order[0] == "read"
+            quick = done["read"] - began - 0.005 < 0.030
+            out["quick_reads"] += quick and done["write"] - done["read"] >= 0.010
             out["misses"] += await node("D100").read_value() != value
         values = [ua.DataValue(ua.Variant(v, ua.VariantType.Int16)) for v in (7, 8)]
         await client.write_values([node("D101"), node("D102")], values)
@@ -212,9 +215,10 @@ asyncio.run(main(sys.argv[1], int(sys.argv[2])))
 
 /// A write waits for the end of the scan in progress without holding the
 /// address space: with scans back to back of some 80 ms, a read sent
-/// while a write waits is answered first most times (async-opcua's simple
-/// node manager waited under its write lock, and every read waited for
-/// the write); each write reads back once answered.
+/// while a write waits is answered at once most times (async-opcua's
+/// simple node manager waited under its write lock, and a read was
+/// answered only after the write, often some 40 ms after it); each write
+/// reads back once answered.
 #[test]
 fn a_read_is_not_held_up_by_a_write_waiting_for_a_scan() {
     let test = "a_read_is_not_held_up_by_a_write_waiting_for_a_scan";
@@ -254,5 +258,5 @@ fn a_read_is_not_held_up_by_a_write_waiting_for_a_scan() {
     println!("{test}: {seen}");
     assert_eq!(seen["misses"], 0, "every write reads back once answered: {seen}");
     assert_eq!(seen["pair"], serde_json::json!([7, 8]), "{seen}");
-    assert!(seen["reads_first"].as_u64().unwrap_or(0) >= 10, "{seen}");
+    assert!(seen["quick_reads"].as_u64().unwrap_or(0) >= 8, "{seen}");
 }

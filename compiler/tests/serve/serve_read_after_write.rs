@@ -208,7 +208,10 @@ fn a_write_during_a_scan_is_answered_at_its_end() {
     // Some 70 ms of a 100 ms period in the interpreter (measured): most
     // writes come while a scan runs.
     let program = slow_program(Duration::from_millis(70));
-    let server = Server::start_program(&program, &["--scan-ms", "100", "--engine", "interp"]);
+    let server = Server::start_program(
+        &program,
+        &["--scan-ms", "100", "--engine", "interp", "--http", "127.0.0.1:0"],
+    );
     let (mut first, mut second) = (modbus_connect(server.address), modbus_connect(server.address));
     let register = |stream: &mut std::net::TcpStream, address: u16| -> u16 {
         let answer = modbus_request(stream, &[0x03, 0, address as u8, 0, 1]);
@@ -244,10 +247,17 @@ fn a_write_during_a_scan_is_answered_at_its_end() {
         }
         lost += register(&mut first, 200).count_zeros();
     }
-    println!("{during} of 40 writes waited for a scan's end, {longest:?} at most");
+    let web = server.web.expect("an HTTP address");
+    let stats = json(&http(web, "GET", "/api/stats", "").1);
+    let slowest = Duration::from_secs_f64(stats["max_us"].as_f64().unwrap_or(0.0) / 1e6);
+    println!("{during} of 40 writes waited for a scan's end, {longest:?} at most; scans {stats}");
     assert_eq!((misses, lost), (0, 0), "reads that missed their write, bits lost");
-    // Many writes came during a scan and waited for its end, none a whole
-    // period after it (a loaded machine may stretch a scan).
+    // Many writes came during a scan and waited for its end, none much
+    // longer than the slowest scan (a loaded machine stretches scans: one
+    // took 1.4 s while other tests' servers scanned on both cores).
     assert!(during >= 10, "{during} of 40 writes came during a scan");
-    assert!(longest < Duration::from_secs(1), "{longest:?}");
+    assert!(
+        longest < slowest + Duration::from_millis(300),
+        "{longest:?}, the slowest scan {slowest:?}"
+    );
 }
