@@ -52,7 +52,8 @@ pub struct Limits {
     pub queued_writes: usize,
     /// Modbus TCP connections, and how long one may be idle.
     pub modbus: modbus_tcp::ConnectionLimits,
-    /// MELSEC TCP connections, and how long one may be idle.
+    /// MELSEC TCP connections (and UDP datagrams being answered), and how
+    /// long a connection may be idle.
     pub melsec: modbus_tcp::ConnectionLimits,
     /// HTTP connections at once, how long one may be idle, how long a
     /// write may wait for a client that does not read.
