@@ -9,8 +9,8 @@
 //! engine that no longer scans) and not past a stop: then it is told the
 //! write was not applied in time, and its client gets the protocol's
 //! error, never an acknowledgement. Writers wait on a thread (the serial
-//! line, OPC UA's write callback) or as a task (Modbus TCP, MELSEC, HTTP):
-//! a task that waits holds no thread of the runtime.
+//! line) or as a task (Modbus TCP, MELSEC, HTTP, OPC UA): a task that
+//! waits holds no thread of the runtime.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Condvar, Mutex};
@@ -18,7 +18,9 @@ use std::time::{Duration, Instant};
 
 /// How long a writer waits for its write to be applied: the rest of the
 /// scan in progress, however slow, is far shorter (an idle or stopped PLC
-/// applies a write at once).
+/// applies a write at once); an online change that compiles the new
+/// program on the scan thread (`--engine aot`, `c`) may take longer, and
+/// its writers are told the write was not applied in time.
 pub const WRITE_WAIT: Duration = Duration::from_secs(5);
 
 /// The batch a queued write is applied in.

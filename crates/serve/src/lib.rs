@@ -48,7 +48,8 @@ use std::time::Duration;
 #[derive(Clone, Copy, Debug)]
 pub struct Limits {
     /// Host writes (devices) waiting to be applied; beyond, Modbus
-    /// exception 06, HTTP 503, OPC UA BadTooManyOperations.
+    /// exception 06, MELSEC's busy end code, HTTP 503, OPC UA
+    /// BadTooManyOperations.
     pub queued_writes: usize,
     /// Modbus TCP connections, and how long one may be idle.
     pub modbus: modbus_tcp::ConnectionLimits,
