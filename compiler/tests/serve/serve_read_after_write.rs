@@ -46,8 +46,11 @@ fn scans(web: std::net::SocketAddr) -> i64 {
 fn switch(web: std::net::SocketAddr, action: &str) {
     let (status, body) = http(web, "POST", "/api/control", &format!(r#"{{"action":"{action}"}}"#));
     assert_eq!(status, 200, "{body}");
-    // Taken by the scan thread when the next scan is due.
-    std::thread::sleep(Duration::from_millis(250));
+    // Taken by the scan thread when the next scan is due; a write is
+    // answered once the scan in progress (begun before the switch) has
+    // ended, so no scan of the mode before runs after this.
+    let (status, body) = http(web, "POST", "/api/set", r#"{"device":"D399","value":0}"#);
+    assert_eq!(status, 200, "{body}");
 }
 
 /// Every mode, in this order (STOP last: STOP→RUN clears D100 and D300).
