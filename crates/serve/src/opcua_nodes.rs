@@ -191,7 +191,7 @@ fn add_devices(
     devices
 }
 
-/// The simple node manager for all but writes.
+/// The devices' node manager: async-opcua's simple one for all but writes.
 pub struct Devices {
     simple: SimpleNodeManagerImpl,
     shared: Arc<Shared>,

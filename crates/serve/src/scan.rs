@@ -236,7 +236,7 @@ fn run(
 enum Woken {
     /// The scan is due (or a step waits).
     Due,
-    /// Host writes wait, and no scan is due yet.
+    /// Host writes wait, and no scan is due yet (nor spun for).
     Writes,
     /// The server stops.
     Stop,
