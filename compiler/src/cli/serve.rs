@@ -132,7 +132,8 @@ pub struct ServeArgs {
     #[arg(long, default_value_t = ladder_serve::Limits::default().modbus.idle.as_secs(), value_name = "SECONDS")]
     modbus_idle_s: u64,
     /// MELSEC TCP connections served at once; a new client gets the place
-    /// of the connection idle longest (idle for a second at least).
+    /// of the connection idle longest (idle for a second at least). Also
+    /// the UDP datagrams (`--melsec-udp`) being answered at once.
     #[arg(long, default_value_t = ladder_serve::Limits::default().melsec.connections, value_name = "N")]
     max_melsec_connections: usize,
     /// A MELSEC connection that sends no frame for this long is closed.

@@ -228,3 +228,38 @@ pub fn modbus_request(stream: &mut std::net::TcpStream, pdu: &[u8]) -> Vec<u8> {
     stream.read_exact(&mut body).expect("the response PDU");
     body
 }
+
+/// A program whose scans take about `target` in the interpreter, however
+/// fast this machine and this build are: D0 counts scans, D1 counts the
+/// turns of a loop whose length is measured here first (its time per
+/// turn, from `/api/stats`, on a server of its own). Tests of writes that
+/// come during a scan need scans that long; a fixed loop took 80 ms of a
+/// 100 ms period in a debug build and may take 10 ms in a release one.
+pub fn slow_program(target: Duration) -> String {
+    let program = |outer: u32, inner: u32| {
+        format!("LD M8000\nINC D0\nFOR K{outer}\nFOR K{inner}\nLD M8000\nINC D1\nNEXT\nNEXT\n")
+    };
+    let (outer, inner) = (3000u32, 100u32);
+    let probe = Server::start_program(
+        &program(outer, inner),
+        &["--scan-ms", "1", "--engine", "interp", "--http", "127.0.0.1:0"],
+    );
+    let web = probe.web.expect("an HTTP address");
+    let deadline = std::time::Instant::now() + Duration::from_secs(30);
+    let stats = loop {
+        let stats = json(&http(web, "GET", "/api/stats", "").1);
+        if stats["scans"].as_u64().unwrap_or(0) >= 20 {
+            break stats;
+        }
+        assert!(std::time::Instant::now() < deadline, "the probe scans: {stats}");
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    probe.stop();
+    let average_us = stats["average_us"].as_f64().unwrap_or(0.0).max(1.0);
+    let turn_us = average_us / f64::from(outer * inner);
+    let turns = (target.as_secs_f64() * 1e6 / turn_us).max(1.0);
+    // FOR counts up to K32767: the inner loop takes what the outer cannot.
+    let inner = (turns / 30_000.0).ceil().clamp(1.0, 32_767.0);
+    let outer = (turns / inner).round().clamp(1.0, 32_767.0);
+    program(outer as u32, inner as u32)
+}

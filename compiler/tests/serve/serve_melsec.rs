@@ -3,9 +3,11 @@
 //! every other protocol reads back; remote STOP and RUN; the access rules;
 //! and frames that are malformed, cut short, or idle connections by the
 //! hundred, none of which stops the server answering; every frame kind's
-//! write read back at once (answered once applied).
+//! write read back at once (answered once applied); over UDP a write
+//! waiting for a scan's end holds up no other peer, and one peer's
+//! datagrams are answered in order.
 
-use crate::common::server::{modbus_connect, modbus_request, Server};
+use crate::common::server::{modbus_connect, modbus_request, slow_program, Server};
 use std::io::{Read, Write};
 use std::net::{SocketAddr, TcpStream};
 use std::time::{Duration, Instant};
@@ -344,4 +346,73 @@ fn every_frame_kind_reads_back_its_write_at_once() {
     println!("4,000 MELSEC write-then-read pairs in {took:?}");
     assert_eq!(misses, [], "reads that missed their write");
     assert!(took < Duration::from_secs(40), "{took:?}");
+}
+
+/// Over UDP, a write waits for the end of the scan in progress, and holds
+/// up no other peer: with scans back to back of some 50 ms, a write from
+/// one peer and then a read from another, 20 times, the read is answered
+/// first (at once) most times. (The datagrams were once answered in turn,
+/// the read only after the write.) A peer's own datagrams keep their
+/// order: a read sent right after its write, without waiting, sees it.
+#[test]
+fn a_udp_write_waiting_for_a_scan_holds_up_no_other_peer() {
+    let program = slow_program(Duration::from_millis(50));
+    let server = Server::start_program(
+        &program,
+        &[
+            "--melsec",
+            "127.0.0.1:0",
+            "--melsec-udp",
+            "--scan-ms",
+            "10",
+            "--engine",
+            "interp",
+        ],
+    );
+    let melsec = server.melsec.expect("a MELSEC address");
+    let socket = || {
+        let udp = std::net::UdpSocket::bind("127.0.0.1:0").unwrap();
+        udp.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
+        udp
+    };
+    let (writer, reader) = (socket(), socket());
+    let write_d100 = |value: i16| {
+        let [low, high] = value.to_le_bytes();
+        e3(&format!("1000 0114 0000 640000 A8 0100 {low:02X}{high:02X}"))
+    };
+    let read_d100 = e3("1000 0104 0000 640000 A8 0100");
+    let mut datagram = [0u8; 64];
+    let mut reads_first = 0;
+    for round in 1..=20i16 {
+        writer.send_to(&write_d100(round), melsec).unwrap();
+        reader.send_to(&read_d100, melsec).unwrap();
+        let n = reader
+            .recv(&mut datagram)
+            .unwrap_or_else(|e| panic!("round {round}: the read is answered: {e}"));
+        assert_eq!(datagram[9..11], [0, 0], "{:02X?}", &datagram[..n]);
+        // Not answered yet, the write waits for the scan's end.
+        writer.set_nonblocking(true).unwrap();
+        let answered = writer.recv(&mut datagram);
+        writer.set_nonblocking(false).unwrap();
+        let n = answered.or_else(|_| {
+            reads_first += 1;
+            writer.recv(&mut datagram)
+        });
+        let n = n.expect("the write is answered");
+        assert_eq!(&datagram[..n], &hex("D000 00 FF FF03 00 0200 0000")[..]);
+        // The same peer: its write, then its read, sent at once.
+        writer.send_to(&write_d100(-round), melsec).unwrap();
+        writer.send_to(&read_d100, melsec).unwrap();
+        let n = writer.recv(&mut datagram).expect("the write is answered");
+        assert_eq!(
+            &datagram[..n],
+            &hex("D000 00 FF FF03 00 0200 0000")[..],
+            "the write first"
+        );
+        let n = writer.recv(&mut datagram).expect("the read is answered");
+        let [low, high] = (-round).to_le_bytes();
+        assert_eq!(&datagram[n - 2..n], &[low, high], "the read after it sees it");
+    }
+    println!("{reads_first} of 20 reads answered while another peer's write waited");
+    assert!(reads_first >= 10, "{reads_first} of 20");
 }

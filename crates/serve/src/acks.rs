@@ -9,8 +9,8 @@
 //! engine that no longer scans) and not past a stop: then it is told the
 //! write was not applied in time, and its client gets the protocol's
 //! error, never an acknowledgement. Writers wait on a thread (the serial
-//! line, OPC UA's write callback) or as a task (Modbus TCP, MELSEC, HTTP):
-//! a task that waits holds no thread of the runtime.
+//! line) or as a task (Modbus TCP, MELSEC, HTTP, OPC UA): a task that
+//! waits holds no thread of the runtime.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Condvar, Mutex};
@@ -18,7 +18,9 @@ use std::time::{Duration, Instant};
 
 /// How long a writer waits for its write to be applied: the rest of the
 /// scan in progress, however slow, is far shorter (an idle or stopped PLC
-/// applies a write at once).
+/// applies a write at once); an online change that compiles the new
+/// program on the scan thread (`--engine aot`, `c`) may take longer, and
+/// its writers are told the write was not applied in time.
 pub const WRITE_WAIT: Duration = Duration::from_secs(5);
 
 /// The batch a queued write is applied in.
@@ -142,20 +144,39 @@ mod tests {
         let acks = Arc::new(Acks::default());
         acks.applied(3);
         assert_eq!(acks.wait(Ticket(2)), Ok(()), "applied already");
+        let started = Arc::new(std::sync::Barrier::new(2));
         let waiter = {
-            let acks = Arc::clone(&acks);
-            std::thread::spawn(move || acks.wait(Ticket(5)))
+            let (acks, started) = (Arc::clone(&acks), Arc::clone(&started));
+            std::thread::spawn(move || {
+                started.wait();
+                acks.wait(Ticket(5))
+            })
         };
-        std::thread::sleep(Duration::from_millis(20));
+        started.wait();
         acks.applied(4);
-        std::thread::sleep(Duration::from_millis(20));
-        assert!(!waiter.is_finished(), "batch 4 is not batch 5");
+        assert_eq!(
+            acks.wait_within(Ticket(5), Duration::from_millis(20)),
+            Err(NotApplied::TimedOut),
+            "batch 4 is not batch 5"
+        );
         acks.applied(5);
         assert_eq!(waiter.join().ok(), Some(Ok(())));
         let runtime = tokio::runtime::Builder::new_current_thread()
             .enable_all()
             .build()
             .unwrap();
+        runtime.block_on(async {
+            // Polled while batch 6 is the last applied, so it waits; then
+            // woken by batch 7, not by its time running out.
+            let mut waiting = std::pin::pin!(acks.wait_async(Ticket(7)));
+            acks.applied(6);
+            let early = tokio::time::timeout(Duration::from_millis(20), waiting.as_mut()).await;
+            assert!(early.is_err(), "batch 6 is not batch 7: {early:?}");
+            acks.applied(7);
+            let began = std::time::Instant::now();
+            assert_eq!(waiting.await, Ok(()));
+            assert!(began.elapsed() < WRITE_WAIT / 2, "woken by the batch");
+        });
         let task = {
             let acks = Arc::clone(&acks);
             runtime.spawn(async move { acks.wait_async(Ticket(9)).await })

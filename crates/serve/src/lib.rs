@@ -23,6 +23,7 @@ mod modbus;
 pub mod modbus_rtu;
 pub mod modbus_tcp;
 mod opcua;
+mod opcua_nodes;
 mod realtime;
 pub mod retain;
 mod retained;
@@ -47,11 +48,13 @@ use std::time::Duration;
 #[derive(Clone, Copy, Debug)]
 pub struct Limits {
     /// Host writes (devices) waiting to be applied; beyond, Modbus
-    /// exception 06, HTTP 503, OPC UA BadTooManyOperations.
+    /// exception 06, MELSEC's busy end code, HTTP 503, OPC UA
+    /// BadTooManyOperations.
     pub queued_writes: usize,
     /// Modbus TCP connections, and how long one may be idle.
     pub modbus: modbus_tcp::ConnectionLimits,
-    /// MELSEC TCP connections, and how long one may be idle.
+    /// MELSEC TCP connections (and UDP datagrams being answered), and how
+    /// long a connection may be idle.
     pub melsec: modbus_tcp::ConnectionLimits,
     /// HTTP connections at once, how long one may be idle, how long a
     /// write may wait for a client that does not read.
@@ -159,11 +162,14 @@ pub fn serve(
     shared.limit_recorders(options.limits.event_streams);
     listeners.serve(&runtime, options, &shared, signals);
     shared.stop();
-    scanner.join().map_err(|_| "the scan thread failed".to_string())?;
+    // A scan thread that panicked stopped the server (`scan::start`); the
+    // saver still writes the last published image before that is reported.
+    let scanned = scanner.join();
     // The saver writes once more after the last scan.
     if let Some(saver) = saver {
         saver.join().map_err(|_| "the retain thread failed".to_string())?;
     }
+    scanned.map_err(|_| "the scan thread failed".to_string())?;
     Ok(shared.stats())
 }
 

@@ -62,16 +62,23 @@ impl Listeners {
             })?) as Server),
             None => None,
         };
-        let melsec = match listen(runtime, options.melsec, "MELSEC", "melsec")? {
-            // UDP on the port TCP has (the same number when it was 0).
-            Some(listener) if options.melsec_udp => {
-                let address = listener.local_addr().map_err(|e| e.to_string())?;
-                let udp = runtime
-                    .block_on(UdpSocket::bind(address))
-                    .map_err(|e| format!("cannot listen for MELSEC on UDP {address}: {e}"))?;
-                Some((listener, Some(udp)))
+        let melsec = match bind(runtime, options.melsec, "MELSEC")? {
+            Some(listener) => {
+                // UDP on the port TCP has (the same number when it was 0),
+                // bound before either is announced: a client may send a
+                // datagram as soon as it reads the address.
+                let udp = if options.melsec_udp {
+                    let address = listener.local_addr().map_err(|e| e.to_string())?;
+                    let udp = runtime
+                        .block_on(UdpSocket::bind(address))
+                        .map_err(|e| format!("cannot listen for MELSEC on UDP {address}: {e}"))?;
+                    Some(udp)
+                } else {
+                    None
+                };
+                say_listening(&listener, "melsec")?;
+                Some((listener, udp))
             }
-            Some(listener) => Some((listener, None)),
             None => None,
         };
         // The serial line opens before a scan, so a wrong device stops here.
@@ -154,15 +161,29 @@ fn listen(
     protocol: &str,
     what: &str,
 ) -> Result<Option<TcpListener>, String> {
+    let listener = bind(runtime, address, protocol)?;
+    if let Some(listener) = &listener {
+        say_listening(listener, what)?;
+    }
+    Ok(listener)
+}
+
+/// Binds `address` (when given), saying nothing yet.
+fn bind(runtime: &Runtime, address: Option<SocketAddr>, protocol: &str) -> Result<Option<TcpListener>, String> {
     let Some(address) = address else {
         return Ok(None);
     };
-    let listener = runtime
+    runtime
         .block_on(TcpListener::bind(address))
-        .map_err(|e| format!("cannot listen for {protocol} on {address}: {e}"))?;
+        .map(Some)
+        .map_err(|e| format!("cannot listen for {protocol} on {address}: {e}"))
+}
+
+/// `{what} listening on ADDRESS`: from then on, clients may come.
+fn say_listening(listener: &TcpListener, what: &str) -> Result<(), String> {
     let bound = listener.local_addr().map_err(|e| e.to_string())?;
     announce(&format!("{what} listening on {bound}"));
-    Ok(Some(listener))
+    Ok(())
 }
 
 /// Serves the monitor and the JSON API on `web` (HTTPS with `tls`), each

@@ -17,13 +17,15 @@
 //! start a frame, or a header whose length cannot be right, close the
 //! connection (a stream cannot find the next frame after them).
 
-use crate::acks::Ticket;
+use crate::acks::{NotApplied, Ticket};
 use crate::connections::{accept, ConnectionLimits, Open, Permission};
 use crate::shared::{HostWrite, Shared};
 use ladder_front::host_device::HostDevice;
 use ladder_melsec::{Device, Family, Length, Plc, Refusal, Remote, Write};
 use ladder_runtime::device::FIRST_WIDE_COUNTER;
 use ladder_runtime::{BitArea, Memory, Width, WordArea};
+use std::collections::HashMap;
+use std::net::SocketAddr;
 use std::sync::Arc;
 use std::time::Duration;
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
@@ -210,8 +212,9 @@ async fn answer_applied(shared: &Arc<Shared>, may_write: bool, frame: &[u8]) -> 
     let Some(ticket) = ticket else {
         return reply;
     };
-    if shared.applied(ticket).await.is_ok() {
-        return reply;
+    match shared.applied(ticket).await {
+        Ok(()) => return reply,
+        Err(NotApplied::TimedOut | NotApplied::Stopping) => {}
     }
     let mut refusing = Station {
         shared: Arc::clone(shared),
@@ -277,6 +280,50 @@ async fn serve_connection(
     }
 }
 
+/// Serves one frame a datagram. Each datagram is answered on a task of its
+/// own, so that a write waiting for the end of a scan holds up no other
+/// peer; a peer's datagrams are answered in the order they came (a read
+/// sent after a write sees it, as the CPU answers them), each waiting for
+/// the one before. At most `most` datagrams are in hand at once (the bound
+/// of MELSEC connections): beyond, none is read until one is answered.
+async fn serve_datagrams(socket: Arc<tokio::net::UdpSocket>, most: usize, permission: Permission, shared: Arc<Shared>) {
+    let places = Arc::new(tokio::sync::Semaphore::new(most.max(1)));
+    // Each peer's latest datagram in hand: its next one waits for it.
+    let mut latest: HashMap<SocketAddr, tokio::task::JoinHandle<()>> = HashMap::new();
+    let mut datagram = vec![0u8; ladder_melsec::MAX_FRAME];
+    loop {
+        let Ok(place) = Arc::clone(&places).acquire_owned().await else {
+            return;
+        };
+        let Ok((n, peer)) = socket.recv_from(&mut datagram).await else {
+            continue;
+        };
+        let Some(frame) = datagram.get(..n).map(<[u8]>::to_vec) else {
+            continue;
+        };
+        if ladder_melsec::frame_length(&frame) != Length::Frame(n) {
+            continue;
+        }
+        let before = latest.remove(&peer);
+        let (socket, shared) = (Arc::clone(&socket), Arc::clone(&shared));
+        let may_write = permission.may_write(peer);
+        let answering = tokio::spawn(async move {
+            let _place = place;
+            if let Some(before) = before {
+                let _ = before.await;
+            }
+            if let Some(reply) = answer_applied(&shared, may_write, &frame).await {
+                let _ = socket.send_to(&reply, peer).await;
+            }
+        });
+        latest.insert(peer, answering);
+        if latest.len() > most {
+            // At most `most` are unanswered: the rest are done.
+            latest.retain(|_, answering| !answering.is_finished());
+        }
+    }
+}
+
 /// Serves MELSEC frames on `listener` (TCP) and `datagrams` (UDP, one
 /// frame a datagram) until the process ends.
 pub async fn serve(
@@ -287,25 +334,12 @@ pub async fn serve(
     shared: Arc<Shared>,
 ) {
     if let Some(socket) = datagrams {
-        let shared = Arc::clone(&shared);
-        let permission = permission.clone();
-        tokio::spawn(async move {
-            let mut datagram = vec![0u8; ladder_melsec::MAX_FRAME];
-            loop {
-                let Ok((n, peer)) = socket.recv_from(&mut datagram).await else {
-                    continue;
-                };
-                let frame = &datagram[..n];
-                if ladder_melsec::frame_length(frame) != Length::Frame(n) {
-                    continue;
-                }
-                // Answered in turn: a datagram's write is applied before
-                // the next datagram is read, as the CPU answers them.
-                if let Some(reply) = answer_applied(&shared, permission.may_write(peer), frame).await {
-                    let _ = socket.send_to(&reply, peer).await;
-                }
-            }
-        });
+        tokio::spawn(serve_datagrams(
+            Arc::new(socket),
+            limits.connections,
+            permission.clone(),
+            Arc::clone(&shared),
+        ));
     }
     let idle = limits.idle;
     accept(listener, limits, move |stream, peer, open| {

@@ -8,7 +8,7 @@
 //!
 //! Connections are bounded as `connections` bounds them.
 
-use super::acks::Ticket;
+use super::acks::{NotApplied, Ticket};
 use super::modbus::Service;
 use super::shared::Shared;
 pub use crate::connections::ConnectionLimits;
@@ -34,7 +34,7 @@ impl Reply {
     pub fn settle(self, shared: &Shared) -> Vec<u8> {
         match self.ticket.map(|ticket| shared.wait_applied(ticket)) {
             None | Some(Ok(())) => self.pdu,
-            Some(Err(_)) => not_applied(self.function),
+            Some(Err(NotApplied::TimedOut | NotApplied::Stopping)) => not_applied(self.function),
         }
     }
 
@@ -46,7 +46,7 @@ impl Reply {
         };
         match applied {
             Ok(()) => self.pdu,
-            Err(_) => not_applied(self.function),
+            Err(NotApplied::TimedOut | NotApplied::Stopping) => not_applied(self.function),
         }
     }
 }

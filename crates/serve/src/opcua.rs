@@ -6,7 +6,8 @@
 //! and subscriptions sample the image the latest scan published (at
 //! intervals down to the scan period); writes are queued as host writes,
 //! as Modbus and HTTP writes are, and answered Good once applied (a read
-//! after the answer sees them).
+//! after the answer sees them). The address space and its writes are
+//! `opcua_nodes`'; this file is the server: endpoint, users, limits.
 //!
 //! Access follows the HTTP rules: with `--token-file` an anonymous session
 //! reads only and the user `operator` with the token as password writes;
@@ -15,18 +16,15 @@
 //! beyond loopback without a token is read-only); `--read-only` makes every
 //! variable read-only.
 
-use super::acks::{NotApplied, Ticket};
-use super::shared::{HostWrite, Shared};
+use super::opcua_nodes;
+use super::shared::Shared;
 use ladder_engine::waveform::Signal;
-use ladder_runtime::{Device, Width};
-use opcua::server::address_space::{AccessLevel, VariableBuilder};
+use ladder_runtime::Device;
+use opcua::server::address_space::AccessLevel;
 use opcua::server::authenticator::{AuthManager, DefaultAuthenticator, Password, UserToken};
 use opcua::server::diagnostics::NamespaceMetadata;
-use opcua::server::node_manager::memory::{simple_node_manager, SimpleNodeManager};
 use opcua::server::{ServerBuilder, ServerEndpoint, ServerUserToken, ANONYMOUS_USER_TOKEN_ID};
-use opcua::types::{
-    DataTypeId, DataValue, DateTime, NodeId, ObjectId, QualifiedName, StatusCode, UserTokenPolicy, Variant,
-};
+use opcua::types::{NodeId, UserTokenPolicy};
 use std::collections::BTreeMap;
 use std::sync::Arc;
 use std::time::Duration;
@@ -38,81 +36,6 @@ pub const WRITER: &str = "operator";
 /// The devices published unless `--opcua-devices` names others.
 pub const DEFAULT_DEVICES: &str =
     "X0..X377,Y0..Y377,M0..M1023,M8000..M8099,S0..S999,T0..T255,TN0..TN255,C0..C255,CN0..CN199,CN200..CN255,D0..D1023,D8000..D8099,R0..R1023";
-
-/// How a device shows in OPC UA.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Kind {
-    Boolean,
-    Int16,
-    Int32,
-    Float,
-}
-
-fn kind_of(signal: &Signal) -> Kind {
-    if signal.real {
-        return Kind::Float;
-    }
-    match (signal.device.device, signal.device.width) {
-        (Device::Bit(..) | Device::WordBit(..), Width::Single | Width::Double) => Kind::Boolean,
-        (Device::WideCounter(_), Width::Single | Width::Double)
-        | (Device::Word(..) | Device::Digits(..), Width::Double) => Kind::Int32,
-        (Device::Word(..) | Device::Digits(..), Width::Single) => Kind::Int16,
-    }
-}
-
-fn variant(kind: Kind, raw: i32) -> Variant {
-    match kind {
-        Kind::Boolean => Variant::Boolean(raw != 0),
-        Kind::Int16 => Variant::Int16(raw as i16),
-        Kind::Int32 => Variant::Int32(raw),
-        Kind::Float => Variant::Float(f32::from_bits(raw as u32)),
-    }
-}
-
-/// The raw value a client's variant writes, if it has the variable's type
-/// (integers of another width are taken when they fit).
-fn raw_of(kind: Kind, value: &Variant) -> Option<i32> {
-    // async-opcua's values: any other type (strings, arrays, ...) is no integer.
-    #[allow(clippy::wildcard_enum_match_arm)]
-    let integer = match value {
-        Variant::Boolean(b) => Some(i64::from(*b)),
-        Variant::SByte(v) => Some(i64::from(*v)),
-        Variant::Byte(v) => Some(i64::from(*v)),
-        Variant::Int16(v) => Some(i64::from(*v)),
-        Variant::UInt16(v) => Some(i64::from(*v)),
-        Variant::Int32(v) => Some(i64::from(*v)),
-        Variant::UInt32(v) => Some(i64::from(*v)),
-        Variant::Int64(v) => Some(*v),
-        Variant::UInt64(v) => i64::try_from(*v).ok(),
-        _ => None,
-    };
-    match kind {
-        Kind::Boolean => match (value, integer) {
-            (Variant::Boolean(b), _) => Some(i32::from(*b)),
-            (_, Some(n @ 0..=1)) => Some(n as i32),
-            _ => None,
-        },
-        Kind::Int16 => integer.and_then(|n| i16::try_from(n).ok().map(i32::from)),
-        Kind::Int32 => integer.and_then(|n| i32::try_from(n).ok()),
-        Kind::Float => real_of(value),
-    }
-}
-
-/// A real number's bits: a Float, or a Double rounded to one.
-// async-opcua's values: any other type is no real number.
-#[allow(clippy::wildcard_enum_match_arm)]
-fn real_of(value: &Variant) -> Option<i32> {
-    match value {
-        Variant::Float(f) => Some(f.to_bits() as i32),
-        Variant::Double(d) => Some((*d as f32).to_bits() as i32),
-        _ => None,
-    }
-}
-
-/// The folder of a device: the letters its name starts with.
-fn folder_of(name: &str) -> String {
-    name.chars().take_while(char::is_ascii_alphabetic).collect()
-}
 
 /// Who may write: the default authenticator for identities, and the
 /// anonymous sessions' write permission.
@@ -202,12 +125,17 @@ pub fn start(
             users: DefaultAuthenticator::new(users.clone()),
             anonymous_writes,
         }))
-        .with_node_manager(simple_node_manager(
-            NamespaceMetadata {
-                namespace_uri: NAMESPACE.to_string(),
-                ..Default::default()
+        .with_node_manager(opcua_nodes::manager(
+            opcua_nodes::Setup {
+                namespace: NamespaceMetadata {
+                    namespace_uri: NAMESPACE.to_string(),
+                    ..Default::default()
+                },
+                devices: setup.devices,
+                read_only: setup.read_only,
+                period_ms,
             },
-            "ladderc",
+            shared,
         ));
     for (id, user) in users {
         builder = builder.add_user_token(id, user);
@@ -218,86 +146,6 @@ pub fn start(
         limits.min_publishing_interval_ms = period_ms.max(10.0);
     }
     let (server, handle) = builder.build().map_err(|e| format!("OPC UA: {e}"))?;
-    let manager = handle
-        .node_managers()
-        .get_of_type::<SimpleNodeManager>()
-        .ok_or("OPC UA: the device namespace is missing")?;
-    let ns = handle
-        .get_namespace_index(NAMESPACE)
-        .ok_or("OPC UA: the device namespace has no index")?;
-    let root = NodeId::new(ns, "PLC");
-    {
-        let mut space = manager.address_space().write();
-        space.add_folder(
-            &root,
-            QualifiedName::new(ns, "PLC"),
-            "PLC",
-            &ObjectId::ObjectsFolder.into(),
-        );
-        let mut folders = std::collections::BTreeSet::new();
-        for signal in &setup.devices {
-            let folder_name = folder_of(&signal.name);
-            let folder = NodeId::new(ns, format!("PLC/{folder_name}"));
-            if folders.insert(folder_name.clone()) {
-                space.add_folder(
-                    &folder,
-                    QualifiedName::new(ns, folder_name.as_str()),
-                    folder_name.as_str(),
-                    &root,
-                );
-            }
-            let kind = kind_of(signal);
-            let data_type = match kind {
-                Kind::Boolean => DataTypeId::Boolean,
-                Kind::Int16 => DataTypeId::Int16,
-                Kind::Int32 => DataTypeId::Int32,
-                Kind::Float => DataTypeId::Float,
-            };
-            let id = NodeId::new(ns, signal.name.clone());
-            let mut variable =
-                VariableBuilder::new(&id, QualifiedName::new(ns, signal.name.as_str()), signal.name.as_str())
-                    .data_type(data_type)
-                    .value(variant(kind, 0))
-                    .minimum_sampling_interval(period_ms)
-                    .organized_by(folder);
-            if !setup.read_only {
-                variable = variable.writable();
-            }
-            variable.insert(&mut *space);
-        }
-    }
-    let inner = manager.inner();
-    for signal in setup.devices {
-        let kind = kind_of(&signal);
-        let id = NodeId::new(ns, signal.name.clone());
-        let device = signal.device;
-        let reader = Arc::clone(&shared);
-        inner.add_read_callback(id.clone(), move |_, _, _| {
-            let raw = reader.image().read_device(device.device, device.width).unwrap_or(0);
-            let now = DateTime::now();
-            Ok(DataValue::new_at(variant(kind, raw), now))
-        });
-        if !setup.read_only {
-            let writer = Arc::clone(&shared);
-            inner.add_write_callback(id, move |value, range| {
-                if range.has_range() {
-                    return StatusCode::BadIndexRangeInvalid;
-                }
-                let Some(raw) = value.value.as_ref().and_then(|v| raw_of(kind, v)) else {
-                    return StatusCode::BadTypeMismatch;
-                };
-                let Some(ticket) = writer.queue(vec![HostWrite::Set(device, raw)]) else {
-                    // The queue of writes is full.
-                    return StatusCode::BadTooManyOperations;
-                };
-                match wait_applied(&writer, ticket) {
-                    Ok(()) => StatusCode::Good,
-                    Err(NotApplied::TimedOut) => StatusCode::BadTimeout,
-                    Err(NotApplied::Stopping) => StatusCode::BadShutdown,
-                }
-            });
-        }
-    }
     let listener = setup.listener;
     Ok(async move {
         // The directory lives as long as the server.
@@ -305,19 +153,6 @@ pub fn start(
         let _handle = handle;
         let _ = server.run_with(listener).await;
     })
-}
-
-/// Waits for a write to be applied in async-opcua's write callback, which
-/// is not async: the runtime is told this worker blocks (bounded by
-/// `acks::WRITE_WAIT`), so its other tasks move on.
-fn wait_applied(shared: &Shared, ticket: Ticket) -> Result<(), NotApplied> {
-    let multi_thread = tokio::runtime::Handle::try_current()
-        .is_ok_and(|handle| handle.runtime_flavor() == tokio::runtime::RuntimeFlavor::MultiThread);
-    if multi_thread {
-        tokio::task::block_in_place(|| shared.wait_applied(ticket))
-    } else {
-        shared.wait_applied(ticket)
-    }
 }
 
 /// The devices of `--opcua-devices` (the watch list's syntax).
@@ -350,6 +185,7 @@ pub fn parse_devices(text: &str) -> Result<Vec<Signal>, String> {
 
 #[cfg(test)]
 mod tests {
+    use super::opcua_nodes::{folder_of, kind_of, Kind};
     use super::*;
 
     #[test]
@@ -369,16 +205,5 @@ mod tests {
         assert_eq!(kinds[5].1, Kind::Int32);
         assert_eq!(kinds[6].2, "TN");
         assert!(parse_devices(DEFAULT_DEVICES).is_ok());
-    }
-
-    #[test]
-    fn writes_take_values_that_fit() {
-        assert_eq!(raw_of(Kind::Int16, &Variant::Int32(-5)), Some(-5));
-        assert_eq!(raw_of(Kind::Int16, &Variant::Int32(40_000)), None);
-        assert_eq!(raw_of(Kind::Boolean, &Variant::Boolean(true)), Some(1));
-        assert_eq!(raw_of(Kind::Boolean, &Variant::Int16(2)), None);
-        assert_eq!(raw_of(Kind::Float, &Variant::Float(1.5)), Some(1.5f32.to_bits() as i32));
-        assert_eq!(raw_of(Kind::Float, &Variant::Int16(1)), None);
-        assert_eq!(raw_of(Kind::Int32, &Variant::UInt32(u32::MAX)), None);
     }
 }

@@ -49,6 +49,7 @@ pub fn start(first: change::Loaded, setup: Setup, shared: &Arc<Shared>) -> Resul
     let scanner = {
         let shared = Arc::clone(shared);
         std::thread::spawn(move || {
+            let _stop = StopOnExit(Arc::clone(&shared));
             for line in realtime::prepare_scan_thread(setup.realtime) {
                 announce(&line);
             }
@@ -66,6 +67,18 @@ pub fn start(first: change::Loaded, setup: Setup, shared: &Arc<Shared>) -> Resul
         .recv()
         .map_err(|_| "the scan thread ended before it started".to_string())??;
     Ok(scanner)
+}
+
+/// Stops the server when the scan thread ends, however it ends: after a
+/// panic (in the engine, in a write) the writers waiting for their batch
+/// are told at once and the servers stop, rather than waiting out their
+/// time and then serving an image no scan updates any more.
+struct StopOnExit(Arc<Shared>);
+
+impl Drop for StopOnExit {
+    fn drop(&mut self) {
+        self.0.stop();
+    }
 }
 
 /// The scan thread: the engine lives here (compiled code need not be sent
@@ -223,7 +236,7 @@ fn run(
 enum Woken {
     /// The scan is due (or a step waits).
     Due,
-    /// Host writes wait, and no scan is due yet.
+    /// Host writes wait, and no scan is due yet (nor spun for).
     Writes,
     /// The server stops.
     Stop,
@@ -247,10 +260,13 @@ fn wait_until_due(clock: &Clock, shared: &Shared) -> Woken {
         if now >= clock.due || shared.control().step_waiting() {
             return Woken::Due;
         }
-        if shared.writes_waiting() {
+        let wake = clock.due.checked_sub(clock.spin).unwrap_or(clock.due);
+        // Not in the spin before a due scan (`--realtime`): applying and
+        // publishing there would start the scan late; the scan takes those
+        // writes as it starts and answers them at its end.
+        if now < wake && shared.writes_waiting() {
             return Woken::Writes;
         }
-        let wake = clock.due.checked_sub(clock.spin).unwrap_or(clock.due);
         if now >= wake {
             std::hint::spin_loop();
             continue;
@@ -385,4 +401,60 @@ fn apply(engine: &mut dyn Engine, write: HostWrite) {
         HostWrite::Force(area, index, on) => engine.force(area, index, on),
         HostWrite::Unforce(area, index) => engine.unforce(area, index),
     };
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::acks::NotApplied;
+
+    fn clock(due_in: Duration, spin: Duration) -> Clock {
+        let now = Instant::now();
+        Clock {
+            period: Duration::from_millis(100),
+            due: now + due_in,
+            previous: now,
+            carried: Duration::ZERO,
+            spin,
+        }
+    }
+
+    #[test]
+    fn writes_wake_the_thread_between_scans_but_not_in_the_spin_before_one() {
+        let shared = Shared::default();
+        let _ticket = shared.queue(vec![HostWrite::Data(0, 1)]);
+        let waiting = clock(Duration::from_secs(5), Duration::from_millis(1));
+        assert!(
+            matches!(wait_until_due(&waiting, &shared), Woken::Writes),
+            "applied at once while the thread waits for the next scan"
+        );
+        // Due in 20 ms, spun for the last second: the spin has begun.
+        let spinning = clock(Duration::from_millis(20), Duration::from_secs(1));
+        assert!(
+            matches!(wait_until_due(&spinning, &shared), Woken::Due),
+            "the scan starts when due, its writes taken as it starts"
+        );
+        assert!(Instant::now() >= spinning.due);
+        assert!(shared.writes_waiting(), "left for the scan to take");
+    }
+
+    #[test]
+    fn a_scan_thread_that_panics_stops_the_server_and_every_wait() {
+        let shared = Arc::new(Shared::default());
+        let ticket = shared.queue(vec![HostWrite::Data(0, 1)]);
+        let thread = {
+            let shared = Arc::clone(&shared);
+            std::thread::spawn(move || {
+                let _stop = StopOnExit(shared);
+                std::panic::resume_unwind(Box::new("a scan failed"));
+            })
+        };
+        assert!(thread.join().is_err(), "the thread panicked");
+        assert!(shared.stopping(), "the server stops");
+        assert_eq!(
+            ticket.map(|ticket| shared.wait_applied(ticket)),
+            Some(Err(NotApplied::Stopping)),
+            "the writer is told at once"
+        );
+    }
 }

@@ -3,6 +3,7 @@
 //! scan in progress (or at once when none runs), and answered once applied.
 
 use super::{busy, error, not_applied, App};
+use crate::acks::NotApplied;
 use crate::shared::HostWrite;
 use axum::extract::State;
 use axum::http::StatusCode;
@@ -36,10 +37,10 @@ pub async fn unforce_all(State(app): State<App>) -> Response {
     let Some(ticket) = app.shared.queue(writes) else {
         return busy();
     };
-    if app.shared.applied(ticket).await.is_err() {
-        return not_applied();
+    match app.shared.applied(ticket).await {
+        Ok(()) => Json(json!({ "unforced": count })).into_response(),
+        Err(NotApplied::TimedOut | NotApplied::Stopping) => not_applied(),
     }
-    Json(json!({ "unforced": count })).into_response()
 }
 
 #[derive(serde::Deserialize)]
@@ -107,10 +108,10 @@ async fn queue(
             let Some(ticket) = app.shared.queue(vec![write]) else {
                 return busy();
             };
-            if app.shared.applied(ticket).await.is_err() {
-                return not_applied();
+            match app.shared.applied(ticket).await {
+                Ok(()) => Json(json!({ "queued": body.device, "applied": true })).into_response(),
+                Err(NotApplied::TimedOut | NotApplied::Stopping) => not_applied(),
             }
-            Json(json!({ "queued": body.device, "applied": true })).into_response()
         }
         Err(message) => error(StatusCode::BAD_REQUEST, message),
     }
