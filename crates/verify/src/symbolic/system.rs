@@ -3,9 +3,10 @@
 //! free inputs are the file's inputs (and the elapsed time when it is
 //! ranged), and one latch, `bad`, is ON in the state after a scan that
 //! breaks the claim (for `reach`: that shows the condition). The scan is
-//! DIALECT.md's: the inputs written (and the assumptions read), the input
-//! refresh, pending STL states turned OFF, the first-scan relays, the
-//! program's IR (`encode.rs`), the outputs.
+//! the one docs/language.md describes ("How a program runs"): the inputs
+//! written (and the assumptions read), the input refresh, pending STL
+//! states turned OFF, the first-scan and clock relays, the program's IR
+//! (`encode.rs`), the outputs.
 
 use super::aig::{Aig, Lit};
 use super::encode::{self, Image, Key, Unsupported};
