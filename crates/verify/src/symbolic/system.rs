@@ -259,7 +259,7 @@ fn build_once(
 
     // After the scan: the claim.
     let now_ok = image.aig.and(ok, valid);
-    let (broken, condition) = claim_step(&mut image, &before, claim, now_ok);
+    let (broken, condition) = claim_step(&mut image, &before, claim);
     let known_after = image.known.clone();
     let memory = std::mem::take(&mut image.memory);
     let unmodelled = std::mem::take(&mut image.unmodelled);
@@ -300,7 +300,7 @@ fn build_once(
 /// Whether this scan breaks the claim, and its condition; a `respond`'s
 /// monitor (the scans the oldest waiting trigger still allows, 0 for none,
 /// as `search::check` counts them) is kept in latches of its own.
-fn claim_step(image: &mut Image, before: &FxHashMap<Key, Word>, claim: &Claim, ok: Lit) -> (Lit, Option<Lit>) {
+fn claim_step(image: &mut Image, before: &FxHashMap<Key, Word>, claim: &Claim) -> (Lit, Option<Lit>) {
     match claim {
         Claim::Never(e) => (expr(image, before, e), None),
         Claim::Reach(e) => (expr(image, before, e), None),
@@ -342,8 +342,6 @@ fn claim_step(image: &mut Image, before: &FxHashMap<Key, Word>, claim: &Claim, o
             );
             let waiting = words::mux(aig, none, &started, &counted);
             let next = words::mux(aig, responded, &words::constant(0, bits), &waiting);
-            // Past a broken or invalid scan the monitor no longer matters.
-            let _ = ok;
             for (&l, &n) in monitor.iter().zip(&next) {
                 aig.set_next(l, n);
             }
