@@ -38,44 +38,31 @@ pub type Key = (Array, u32);
 /// Bits a symbolic element of `array` has: `None` for arrays the model
 /// does not hold (the runtime's own state of helpers, the I/O images).
 pub fn width(array: Array) -> Option<u32> {
-    match array {
-        Array::X
-        | Array::Y
-        | Array::M
-        | Array::S
-        | Array::Sm
-        | Array::TimerContact
-        | Array::CounterContact
-        | Array::TimerCoilWasOn
-        | Array::CounterCoilWasOn
-        | Array::StlPendingOff
-        | Array::StlBlockActive
-        | Array::EdgeSlot
-        | Array::ForceX
-        | Array::ForceY
-        | Array::ForceM
-        | Array::ForceTimer
-        | Array::ForceCounter => Some(1),
-        Array::D
-        | Array::Sd
-        | Array::R
-        | Array::TimerValue
-        | Array::CounterValue
-        | Array::Index
-        | Array::TimerRemainder
-        | Array::Buffer => Some(16),
-        Array::WideCounterValue => Some(32),
-        Array::SortState
-        | Array::SortScans
-        | Array::InputImage
-        | Array::OutputImage
-        | Array::PulsesPending
-        | Array::InputEdges
-        | Array::Instance
-        | Array::PulseOwner
-        | Array::PulseRemainder => None,
+    if NOT_MODELLED.contains(&array) {
+        return None;
     }
+    // A byte holds 0 or 1 (a bit, a flag, a force), wider elements a
+    // number of their bits.
+    Some(match array.size() {
+        1 => 1,
+        bytes => 8 * bytes as u32,
+    })
 }
+
+/// The arrays the model holds nothing of: the runtime's own state of
+/// helpers (which are not modelled but taken as arbitrary), the I/O images
+/// (inputs are free, outputs follow Y).
+const NOT_MODELLED: [Array; 9] = [
+    Array::SortState,
+    Array::SortScans,
+    Array::InputImage,
+    Array::OutputImage,
+    Array::PulsesPending,
+    Array::InputEdges,
+    Array::Instance,
+    Array::PulseOwner,
+    Array::PulseRemainder,
+];
 
 /// The value an element has in `mem`, as a constant word.
 pub fn initial(mem: &Memory, key: Key) -> Option<Word> {
