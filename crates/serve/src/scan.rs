@@ -187,6 +187,8 @@ fn run(
                     all_outputs_off(engine);
                 }
                 if let Some(image) = engine.image() {
+                    // The remote outputs follow the image in STOP too.
+                    super::remote_io::after_scan(shared, image);
                     shared.publish(image);
                 }
                 idle(clock, began);
@@ -281,10 +283,12 @@ fn scan(engine: &mut dyn Engine, clock: &mut Clock, shared: &Shared, began: Inst
     for write in shared.take_writes() {
         apply(engine, write);
     }
+    super::remote_io::before_scan(shared, engine);
     if engine.scan(elapsed_ms).is_err() {
         return false;
     }
     if let Some(image) = engine.image() {
+        super::remote_io::after_scan(shared, image);
         shared.publish(image);
         shared.sample(image);
         shared.control().after_scan(image, u64::from(image.scan_count));

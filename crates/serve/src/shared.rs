@@ -290,6 +290,8 @@ pub struct Shared {
     wake: Mutex<u64>,
     woken: Condvar,
     jitter: ScanLock<JitterWindow>,
+    /// The remote I/O's pollers and their inputs and outputs (`--io`).
+    remote_io: std::sync::OnceLock<Arc<super::remote_io::Exchange>>,
 }
 
 impl Default for Shared {
@@ -312,6 +314,7 @@ impl Default for Shared {
             wake: Mutex::new(0),
             woken: Condvar::new(),
             jitter: super::scan_lock::new(JitterWindow::default()),
+            remote_io: std::sync::OnceLock::new(),
         }
     }
 }
@@ -407,6 +410,16 @@ impl Shared {
     pub fn reset_stats(&self) {
         *lock(&self.stats) = Stats::default();
         *lock(&self.jitter) = JitterWindow::default();
+    }
+
+    /// The remote I/O, once started (`--io`).
+    pub fn remote_io(&self) -> Option<&super::remote_io::Exchange> {
+        self.remote_io.get().map(|exchange| &**exchange)
+    }
+
+    /// Hands the scan thread the remote I/O (once, before the first scan).
+    pub fn set_remote_io(&self, exchange: Arc<super::remote_io::Exchange>) {
+        let _ = self.remote_io.set(exchange);
     }
 
     /// The wake-up generation: pass it to `sleep_until`.
