@@ -27,6 +27,9 @@ pub const WRITE_REGISTERS: u16 = 123;
 /// next (FX3U's M and D end at M7679 and D7999).
 pub const DEFAULT_STATUS: u32 = 7600;
 pub const DEFAULT_ERRORS: u32 = 7900;
+/// The first special M and D (M8000, D8000): the runtime's, never written
+/// by the remote I/O.
+const FIRST_SPECIAL: u32 = 8000;
 
 /// The remote I/O: every device and its map.
 #[derive(Clone, Debug, PartialEq)]
@@ -288,8 +291,8 @@ fn device(index: usize, raw: &RawDevice) -> Result<Device, String> {
         Some(text) => word_device(text, "errors")?,
         None => DEFAULT_ERRORS + number,
     };
-    if status >= BitArea::M.count() || errors >= WordArea::D.count() {
-        return Err("the default status relay or error count is beyond M or D; name them".to_string());
+    if status >= FIRST_SPECIAL || errors >= FIRST_SPECIAL {
+        return Err("the status relay and the error count are below M8000 and D8000".to_string());
     }
     Ok(Device {
         name,
@@ -353,7 +356,7 @@ fn check_span(address: u16, count: u16) -> Result<(), String> {
     Ok(())
 }
 
-/// `count` devices from `first` stay within the area of `count_of_area`.
+/// `count` devices from `first` stay below `area_count`.
 fn check_room(first: u32, count: u16, area_count: u32, text: &str) -> Result<(), String> {
     if first + u32::from(count) > area_count {
         return Err(format!("{count} devices from `{text}` run past the end of the area"));
@@ -378,7 +381,7 @@ fn input(raw: &RawInput) -> Result<Input, String> {
         }
         InputTable::InputRegisters => {
             let n = word_device(&raw.to, "to")?;
-            check_room(n, raw.count, WordArea::D.count(), &raw.to)?;
+            check_room(n, raw.count, FIRST_SPECIAL, &raw.to)?;
             n
         }
     };

@@ -29,7 +29,11 @@ pub fn start(runtime: &tokio::runtime::Runtime, io: &RemoteIo, shared: &Shared) 
         runtime.spawn(poll::run(Arc::clone(slot)));
     }
     shared.set_remote_io(exchange);
-    crate::announce(&format!("remote I/O: {} devices", io.devices.len()));
+    let count = io.devices.len();
+    crate::announce(&format!(
+        "remote I/O: polling {count} device{}",
+        if count == 1 { "" } else { "s" }
+    ));
 }
 
 /// Before a scan (scan thread): the freshest complete poll of every device
