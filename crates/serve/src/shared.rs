@@ -2,7 +2,7 @@
 //! left it (servers read this copy, never the live image), the host writes
 //! waiting for the next scan, the scan statistics, the RUN/STOP switch and
 //! breakpoints, the drawing of the running program, the recorders of the
-//! trend, and the stop flag.
+//! trend, the remote I/O's exchange, and the stop flag.
 
 use super::control::Control;
 use super::scan_lock::{lock, ScanGuard, ScanLock};

@@ -52,8 +52,9 @@ pub fn after_scan(shared: &Shared, image: &Memory) {
 }
 
 /// Warnings for the file against the program: inputs, status relays and
-/// error counts the program writes too (the remote I/O writes them before
-/// every scan, so the program's value lasts to the end of that scan only).
+/// error counts that `written` says the program writes too (the remote I/O
+/// writes them before every scan, so the program's value lasts to the end
+/// of that scan only).
 pub fn warnings(io: &RemoteIo, written: &dyn Fn(Place) -> bool) -> Vec<String> {
     let mut out = Vec::new();
     for device in &io.devices {
