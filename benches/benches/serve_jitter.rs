@@ -308,7 +308,11 @@ mod modules {
             let reply: Vec<u8> = match pdu[0] {
                 0x01 | 0x02 => {
                     let bytes = usize::from(word(3)).div_ceil(8);
-                    let on = if start.elapsed().as_secs().is_multiple_of(2) { 0x55 } else { 0xAA };
+                    let on = if start.elapsed().as_secs().is_multiple_of(2) {
+                        0x55
+                    } else {
+                        0xAA
+                    };
                     let mut reply = vec![pdu[0], bytes as u8];
                     reply.extend(std::iter::repeat_n(on, bytes));
                     reply

