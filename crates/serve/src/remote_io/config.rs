@@ -327,21 +327,21 @@ fn tcp_address(text: &str) -> Result<SocketAddr, String> {
 
 /// A bit device of one of `areas`, as its area and number.
 fn bit_device(text: &str, areas: &[BitArea], what: &str) -> Result<(BitArea, u32), String> {
-    match parse_device(text, false).map(|d| d.device) {
-        Ok(Place::Bit(area, n)) if areas.contains(&area) => Ok((area, n)),
-        Ok(_) | Err(_) => {
-            let names: Vec<&str> = areas.iter().map(|a| a.prefix()).collect();
-            Err(format!("{what}: `{text}` is not a device of {}", names.join(" or ")))
+    if let Ok(Place::Bit(area, n)) = parse_device(text, false).map(|d| d.device) {
+        if areas.contains(&area) {
+            return Ok((area, n));
         }
     }
+    let names: Vec<&str> = areas.iter().map(|a| a.prefix()).collect();
+    Err(format!("{what}: `{text}` is not a device of {}", names.join(" or ")))
 }
 
 /// A D device, as its number.
 fn word_device(text: &str, what: &str) -> Result<u32, String> {
-    match parse_device(text, false).map(|d| d.device) {
-        Ok(Place::Word(WordArea::D, n)) => Ok(n),
-        Ok(_) | Err(_) => Err(format!("{what}: `{text}` is not a D device")),
+    if let Ok(Place::Word(WordArea::D, n)) = parse_device(text, false).map(|d| d.device) {
+        return Ok(n);
     }
+    Err(format!("{what}: `{text}` is not a D device"))
 }
 
 /// The module addresses `address..address+count` exist, and `count` is

@@ -118,3 +118,21 @@ pub fn report(shared: &Shared) -> Value {
         .collect();
     json!({ "devices": devices })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn what_the_program_writes_too_is_warned_about() {
+        let io = parse(
+            "[[device]]\ntcp = \"127.0.0.1:502\"\n[[device.input]]\ndiscrete_inputs = 0\ncount = 2\nto = \"X0\"\n",
+        )
+        .unwrap();
+        let written = |place| place == Place::Bit(BitArea::X, 1) || place == Place::Bit(BitArea::M, 7600);
+        let warnings = warnings(&io, &written);
+        assert_eq!(warnings.len(), 2, "{warnings:?}");
+        assert!(warnings[0].contains("writes M7600"), "{warnings:?}");
+        assert!(warnings[1].contains("writes X1"), "{warnings:?}");
+    }
+}
