@@ -156,7 +156,7 @@ fn load(server: &Server, stop: &Arc<AtomicBool>, served: &Arc<AtomicU64>) -> Vec
         clients.push(std::thread::spawn(move || {
             let mut stream = TcpStream::connect(web).unwrap();
             stream.set_read_timeout(Some(Duration::from_millis(500))).unwrap();
-            write!(stream, "GET /api/events?watch=D0..D255 HTTP/1.1\r\nHost: bench\r\n\r\n").unwrap();
+            write!(stream, "GET /api/events?watch=D0..D255 HTTP/1.1\r\nHost: {web}\r\n\r\n").unwrap();
             let mut buffer = vec![0u8; 64 * 1024];
             while !stop.load(Ordering::Relaxed) {
                 let _ = stream.read(&mut buffer);
@@ -187,7 +187,7 @@ fn request(web: SocketAddr, method: &str, path: &str) -> serde_json::Value {
     let mut stream = TcpStream::connect(web).unwrap();
     write!(
         stream,
-        "{method} {path} HTTP/1.1\r\nHost: bench\r\nContent-Length: 0\r\nConnection: close\r\n\r\n"
+        "{method} {path} HTTP/1.1\r\nHost: {web}\r\nContent-Length: 0\r\nConnection: close\r\n\r\n"
     )
     .unwrap();
     let mut text = String::new();

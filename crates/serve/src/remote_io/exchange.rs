@@ -4,7 +4,8 @@
 //! scan), the outputs the latest scan produced (the scan thread replaces
 //! them, a poller copies them out to write), and the device's state for the
 //! monitor. Each lock is held for a copy of a few values, never across
-//! network I/O, and is a priority-inheriting one (`scan_lock`): the scan
+//! network I/O, and is a priority-inheriting one (`scan_lock`); a change
+//! of outputs wakes the poller through `wake.rs`, without a lock: the scan
 //! thread never waits on the network.
 
 use super::config::{Device, InputTable, OnLoss, OutputTable, Source};
@@ -25,9 +26,9 @@ pub struct Slot {
     pub device: Device,
     inputs: ScanLock<Inputs>,
     outputs: ScanLock<Outputs>,
-    /// Woken when a scan changed the outputs: the poller writes them now
+    /// Raised when a scan changed the outputs: the poller writes them now
     /// rather than at its next poll.
-    pub changed: tokio::sync::Notify,
+    pub changed: super::wake::Signal,
     state: Mutex<State>,
 }
 
@@ -113,7 +114,7 @@ impl Exchange {
                     Arc::new(Slot {
                         inputs: scan_lock::new(Inputs::sized(device)),
                         outputs: scan_lock::new(Outputs::sized(device)),
-                        changed: tokio::sync::Notify::new(),
+                        changed: super::wake::Signal::new(),
                         state: Mutex::new(State::default()),
                         device: device.clone(),
                     })
@@ -196,7 +197,7 @@ impl Exchange {
             if changed {
                 *generation += 1;
                 drop(outputs);
-                slot.changed.notify_one();
+                slot.changed.raise();
             }
         }
     }

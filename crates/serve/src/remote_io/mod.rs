@@ -2,14 +2,16 @@
 //! asynchronously as the soft PLC's X inputs and Y outputs, as OpenPLC's
 //! "slave devices" are. `config.rs` reads the file, `poll.rs` is one task
 //! per device (`serial.rs` its serial line), `exchange.rs` the handoff to
-//! the scan thread. This file starts the pollers, holds the scan thread's
-//! two calls (inputs before a scan, outputs after it), checks the file
-//! against the program, and reports the devices' state to the JSON API.
+//! the scan thread (`wake.rs` its lock-free wake-up of a poller). This
+//! file starts the pollers, holds the scan thread's two calls (inputs
+//! before a scan, outputs after it), checks the file against the program,
+//! and reports the devices' state to the JSON API.
 
 mod config;
 mod exchange;
 mod poll;
 mod serial;
+mod wake;
 
 pub use config::{load, parse, OnLoss, RemoteIo};
 pub use exchange::Exchange;

@@ -37,6 +37,7 @@ pub async fn run(slot: Arc<Slot>) {
         written: None,
         keepalive_due: Instant::now(),
     };
+    let changed = slot.changed.waiter();
     let mut next_poll = Instant::now();
     loop {
         if poller.link.is_none() {
@@ -54,7 +55,7 @@ pub async fn run(slot: Arc<Slot>) {
         }
         let poll = tokio::select! {
             () = sleep_until(next_poll) => true,
-            () = slot.changed.notified() => false,
+            () = changed.wait() => false,
         };
         let done = if poll {
             poller.cycle().await
