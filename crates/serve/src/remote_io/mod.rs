@@ -27,8 +27,12 @@ use std::sync::Arc;
 /// their exchange (before the first scan).
 pub fn start(runtime: &tokio::runtime::Runtime, io: &RemoteIo, shared: &Shared) {
     let exchange = Arc::new(Exchange::new(&io.devices));
-    for slot in &exchange.slots {
-        runtime.spawn(poll::run(Arc::clone(slot)));
+    // The devices' polls spread over their periods (the k-th of n starts
+    // (2k+1)/2n of a period late), not all at the same instant.
+    let count = u32::try_from(exchange.slots.len()).unwrap_or(u32::MAX).max(1);
+    for (k, slot) in (0u32..).zip(&exchange.slots) {
+        let phase = slot.device.period * (2 * k + 1) / (2 * count);
+        runtime.spawn(poll::run(Arc::clone(slot), phase));
     }
     shared.set_remote_io(exchange);
     let count = io.devices.len();

@@ -24,8 +24,9 @@ pub const FIRST_BACKOFF: Duration = Duration::from_millis(100);
 /// The longest wait between two attempts.
 pub const LAST_BACKOFF: Duration = Duration::from_secs(2);
 
-/// Polls the device until the server stops (the runtime drops the task).
-pub async fn run(slot: Arc<Slot>) {
+/// Polls the device, the first time `phase` from now, until the server
+/// stops (the runtime drops the task).
+pub async fn run(slot: Arc<Slot>, phase: Duration) {
     let device = &slot.device;
     let mut poller = Poller {
         slot: &slot,
@@ -38,7 +39,7 @@ pub async fn run(slot: Arc<Slot>) {
         keepalive_due: Instant::now(),
     };
     let changed = slot.changed.waiter();
-    let mut next_poll = Instant::now();
+    let mut next_poll = Instant::now() + phase;
     loop {
         if poller.link.is_none() {
             match connect(device).await {
