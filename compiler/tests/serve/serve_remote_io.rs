@@ -5,7 +5,8 @@
 //! killed, the status relay drops, inputs hold or clear as configured and
 //! the scans go on at their period; the module back, the device recovers
 //! by itself. Over RTU (a socat pty pair) the same round trip. A wrong
-//! file stops the server before a scan, naming its line.
+//! file stops the server before a scan, naming its line; a program that
+//! writes a status relay is warned about.
 
 use crate::common::server::{http, json, Server};
 use crate::common::tools::{ensure, ensure_python_module, skip};
@@ -321,4 +322,44 @@ fn a_wrong_io_file_stops_the_server_before_a_scan() {
     assert_ne!(output.status.code(), Some(0), "{stderr}");
     assert!(stderr.contains("io.toml:4: to: `Y0` is not a device of X"), "{stderr}");
     assert!(!String::from_utf8_lossy(&output.stdout).contains("scanning"));
+}
+
+#[test]
+fn a_program_that_writes_a_status_relay_is_warned_about() {
+    let dir = tempfile::tempdir().unwrap();
+    let program = dir.path().join("plc.il");
+    // M7600 is the first device's default status relay (a program cannot
+    // drive X, so a status relay is what it may write by mistake).
+    std::fs::write(&program, "LD M0\nOUT M7600\n").unwrap();
+    let file = dir.path().join("io.toml");
+    std::fs::write(
+        &file,
+        format!(
+            "[[device]]\ntcp = \"127.0.0.1:{}\"\n[[device.input]]\ndiscrete_inputs = 0\ncount = 8\nto = \"X0\"\n",
+            free_port()
+        ),
+    )
+    .unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_ladderc"))
+        .args(["serve", program.to_str().unwrap(), "--io", file.to_str().unwrap()])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut said = Vec::new();
+    for line in BufReader::new(child.stderr.take().unwrap()).lines() {
+        let line = line.unwrap();
+        let warned = line.starts_with("warning: --io");
+        said.push(line);
+        if warned {
+            break;
+        }
+    }
+    let _ = child.kill();
+    let _ = child.wait();
+    let warning = said.last().cloned().unwrap_or_default();
+    assert!(
+        warning.contains("the program writes M7600, which remote I/O device `device1` writes"),
+        "{said:?}"
+    );
 }
