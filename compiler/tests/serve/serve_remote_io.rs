@@ -1,7 +1,8 @@
 //! `ladderc serve --io FILE` against pymodbus's server as the remote I/O
 //! module (`remote_io_module.py`, whose control socket sets its inputs and
 //! reads its outputs): over Modbus TCP an input on the module reaches X and
-//! the program's output its coil within two poll periods; the module
+//! the program's output its coil within two poll periods, an input
+//! register reaches D and a D the module's holding register; the module
 //! killed, the status relay drops, inputs hold or clear as configured and
 //! the scans go on at their period; the module back, the device recovers
 //! by itself. Over RTU (a socat pty pair) the same round trip. A wrong
@@ -18,8 +19,8 @@ use std::time::{Duration, Instant};
 
 const MODULE: &str = include_str!("remote_io_module.py");
 
-/// Y0 follows X0, Y1 follows X10.
-const PROGRAM: &str = "LD X0\nOUT Y0\nLD X10\nOUT Y1\n";
+/// Y0 follows X0, Y1 follows X10, D20 is D10 + 1.
+const PROGRAM: &str = "LD X0\nOUT Y0\nLD X10\nOUT Y1\nLD M8000\nADD D10 K1 D20\n";
 
 /// The poll period of the tests' devices.
 const PERIOD: Duration = Duration::from_millis(100);
@@ -137,9 +138,9 @@ fn scans(web: SocketAddr) -> u64 {
     json(&http(web, "GET", "/api/stats", "").1)["scans"].as_u64().unwrap()
 }
 
-/// Two devices on one module: `held` (inputs to X0-X7, Y0-Y7 to coils
-/// 0-7, inputs held when lost) and `cleared` (the same inputs to X10-X17,
-/// cleared when lost).
+/// Two devices on one module: `held` (inputs to X0-X7, input register 3
+/// to D10, Y0-Y7 to coils 0-7, D20 to holding register 2, inputs held when
+/// lost) and `cleared` (the same inputs to X10-X17, cleared when lost).
 fn tcp_file(port: u16) -> String {
     format!(
         r#"
@@ -155,10 +156,18 @@ errors = "D100"
 discrete_inputs = 0
 count = 8
 to = "X0"
+[[device.input]]
+input_registers = 3
+count = 1
+to = "D10"
 [[device.output]]
 coils = 0
 count = 8
 from = "Y0"
+[[device.output]]
+holding_registers = 2
+count = 1
+from = "D20"
 
 [[device]]
 name = "cleared"
@@ -206,6 +215,12 @@ fn a_tcp_module_drives_x_takes_y_and_is_recovered_after_a_loss() {
     // An input on the module reaches X and, through the program, the coil.
     round_trips(&mut module, "tcp");
     assert!(until(Duration::from_secs(1), || devices(web, "X10")["X10"] == 1).is_some());
+    // An input register reaches D10, D20 = D10 + 1 the holding register.
+    assert_eq!(module.ask("ir 3 41"), "ok");
+    assert!(
+        until(Duration::from_secs(3), || module.ask("hr 2") == "42").is_some(),
+        "the holding register follows the input register"
+    );
     let report = json(&http(web, "GET", "/api/io", "").1);
     assert_eq!(report["devices"][0]["name"], "held", "{report}");
     assert_eq!(report["devices"][0]["connected"], true, "{report}");
