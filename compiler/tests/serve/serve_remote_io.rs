@@ -93,6 +93,16 @@ impl Drop for Module {
     }
 }
 
+/// A helper process, killed when dropped.
+struct Reaped(Child);
+
+impl Drop for Reaped {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
 /// Polls `check` every 5 ms until it holds or `limit` passes; how long it
 /// took.
 fn until(limit: Duration, mut check: impl FnMut() -> bool) -> Option<Duration> {
@@ -282,12 +292,15 @@ fn an_rtu_module_on_a_serial_line_drives_x_and_takes_y() {
     let dir = tempfile::tempdir().unwrap();
     let (plc, module_end) = (dir.path().join("plc"), dir.path().join("module"));
     let link = |path: &Path| format!("pty,raw,echo=0,link={}", path.display());
-    let mut socat = Command::new("socat")
-        .args([link(&plc), link(&module_end)])
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
+    // Killed when the test ends, passed or failed.
+    let _socat = Reaped(
+        Command::new("socat")
+            .args([link(&plc), link(&module_end)])
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap(),
+    );
     assert!(until(Duration::from_secs(5), || plc.exists() && module_end.exists()).is_some());
     let script = dir.path().join("module.py");
     std::fs::write(&script, MODULE).unwrap();
@@ -314,8 +327,6 @@ fn an_rtu_module_on_a_serial_line_drives_x_and_takes_y() {
         until(Duration::from_secs(5), || devices(web, "M100")["M100"] == 0).is_some(),
         "the status relay drops"
     );
-    let _ = socat.kill();
-    let _ = socat.wait();
 }
 
 #[test]
