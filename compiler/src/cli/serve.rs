@@ -164,6 +164,10 @@ pub struct ServeArgs {
     /// T/TN and C/CN 0-255, D0-D1023, D8000-D8099, R0-R1023.
     #[arg(long, value_name = "DEV,...")]
     opcua_devices: Option<String>,
+    /// Poll the remote I/O modules this TOML file names (Modbus TCP and
+    /// RTU) as the program's inputs and outputs (docs/serve.md).
+    #[arg(long, value_name = "FILE")]
+    io: Option<PathBuf>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -216,6 +220,11 @@ pub fn run(args: &ServeArgs, shown: Shown) -> u8 {
                     return status::UNUSABLE;
                 }
             }
+        }
+    }
+    if let Some(io) = &options.remote_io {
+        for warning in remote_io_warnings(&program, io) {
+            say_err!("warning: {warning}");
         }
     }
     match serve(program, &source, &options) {
@@ -299,10 +308,43 @@ fn options(args: &ServeArgs) -> Result<ServeOptions, String> {
         tls: args.tls_cert.clone().zip(args.tls_key.clone()),
         opcua: args.opcua,
         opcua_devices,
+        remote_io: args.io.as_deref().map(ladder_serve::remote_io::load).transpose()?,
         engine: match args.engine {
             ServeEngine::Interp => EngineKind::Interp,
             ServeEngine::Jit => EngineKind::Jit,
         },
+    })
+}
+
+/// What the remote I/O writes that the program writes too (bits at fixed
+/// addresses: coils, SET/RST, instructions that write bits).
+fn remote_io_warnings(
+    program: &ladder_front::program::CheckedProgram,
+    io: &ladder_serve::remote_io::RemoteIo,
+) -> Vec<String> {
+    use ladder_front::program::{BitRef, Op};
+    let written: std::collections::HashSet<(ladder_runtime::BitArea, u32)> = program
+        .instructions
+        .iter()
+        .filter_map(|instruction| {
+            if let Op::Output(output) = &instruction.op {
+                Some(output.written_bits())
+            } else {
+                None
+            }
+        })
+        .flatten()
+        .filter_map(|bit| match bit {
+            BitRef::Device(area, address) if address.is_fixed() => Some((area, address.index)),
+            BitRef::Device(..) | BitRef::WordBit(..) => None,
+        })
+        .collect();
+    ladder_serve::remote_io::warnings(io, &|place| {
+        if let ladder_runtime::Device::Bit(area, n) = place {
+            written.contains(&(area, n))
+        } else {
+            false
+        }
     })
 }
 

@@ -28,6 +28,7 @@ mod serve_modbus_rtu;
 mod serve_opcua;
 mod serve_protocols;
 mod serve_read_after_write;
+mod serve_remote_io;
 mod serve_soak;
 mod serve_unattended;
 mod serve_web;

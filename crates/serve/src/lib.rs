@@ -1,7 +1,8 @@
 //! `ladderc serve`: a soft PLC. A scan thread runs the program at a fixed
 //! period with the real elapsed time (so timers run in real time) and
 //! publishes the image after every scan; the servers (Modbus TCP and RTU,
-//! MELSEC, HTTP, OPC UA) read that copy and queue writes, answered once applied.
+//! MELSEC, HTTP, OPC UA) read that copy and queue writes, answered once applied;
+//! remote I/O modules (`--io`) are polled as its inputs and outputs.
 //! Ctrl-C or SIGTERM stops it cleanly and prints the scan statistics. This
 //! file is the crate root: the options, and `serve`, the start-up in its
 //! steps (retain file, listeners, scan thread, helper threads, servers,
@@ -25,6 +26,7 @@ pub mod modbus_tcp;
 mod opcua;
 mod opcua_nodes;
 mod realtime;
+pub mod remote_io;
 pub mod retain;
 mod retained;
 mod scan;
@@ -118,6 +120,8 @@ pub struct ServeOptions {
     pub opcua: Option<SocketAddr>,
     /// The devices OPC UA publishes.
     pub opcua_devices: Vec<ladder_engine::waveform::Signal>,
+    /// Remote I/O modules polled as the X inputs and Y outputs (`--io`).
+    pub remote_io: Option<remote_io::RemoteIo>,
 }
 
 /// Runs the program until Ctrl-C or SIGTERM; `Err` is a message for an
@@ -145,6 +149,10 @@ pub fn serve(
     let signals = runtime.block_on(async { stop::StopSignals::register() });
     // The listeners first: a port in use is an error before anything runs.
     let listeners = listeners::Listeners::open(&runtime, options, &shared)?;
+    // The pollers before the first scan, which takes their inputs.
+    if let Some(io) = &options.remote_io {
+        remote_io::start(&runtime, io, &shared);
+    }
     let scanner = scan::start(
         loaded,
         scan::Setup {

@@ -206,6 +206,10 @@ fn run(
                 if entering {
                     all_outputs_off(engine);
                 }
+                if let Some(image) = engine.image() {
+                    // The remote outputs follow the image in STOP too.
+                    super::remote_io::after_scan(shared, image);
+                }
                 end_processing(engine, shared);
                 idle(clock, began);
             }
@@ -310,10 +314,12 @@ fn scan(engine: &mut dyn Engine, clock: &mut Clock, shared: &Shared, began: Inst
     for write in shared.take_writes() {
         apply(engine, write);
     }
+    super::remote_io::before_scan(shared, engine);
     if engine.scan(elapsed_ms).is_err() {
         return false;
     }
     if let Some(image) = engine.image() {
+        super::remote_io::after_scan(shared, image);
         shared.sample(image);
         shared.control().after_scan(image, u64::from(image.scan_count));
     }

@@ -2,7 +2,7 @@
 //! left it (servers read this copy, never the live image), the host writes
 //! waiting to be applied (and the writers waiting for them: `acks`), the scan statistics, the RUN/STOP switch and
 //! breakpoints, the drawing of the running program, the recorders of the
-//! trend, and the stop flag.
+//! trend, the remote I/O's exchange, and the stop flag.
 
 use super::acks::{Acks, NotApplied, Ticket};
 use super::control::Control;
@@ -301,6 +301,8 @@ pub struct Shared {
     wake: Mutex<u64>,
     woken: Condvar,
     jitter: ScanLock<JitterWindow>,
+    /// The remote I/O's pollers and their inputs and outputs (`--io`).
+    remote_io: std::sync::OnceLock<Arc<super::remote_io::Exchange>>,
 }
 
 impl Default for Shared {
@@ -325,6 +327,7 @@ impl Default for Shared {
             wake: Mutex::new(0),
             woken: Condvar::new(),
             jitter: super::scan_lock::new(JitterWindow::default()),
+            remote_io: std::sync::OnceLock::new(),
         }
     }
 }
@@ -458,6 +461,16 @@ impl Shared {
     pub fn reset_stats(&self) {
         *lock(&self.stats) = Stats::default();
         *lock(&self.jitter) = JitterWindow::default();
+    }
+
+    /// The remote I/O, once started (`--io`).
+    pub fn remote_io(&self) -> Option<&super::remote_io::Exchange> {
+        self.remote_io.get().map(|exchange| &**exchange)
+    }
+
+    /// Hands the scan thread the remote I/O (once, before the first scan).
+    pub fn set_remote_io(&self, exchange: Arc<super::remote_io::Exchange>) {
+        let _ = self.remote_io.set(exchange);
     }
 
     /// The wake-up generation: pass it to `sleep_until`.

@@ -1,6 +1,7 @@
 //! The monitor's reads in the JSON API: the watched devices (`:hex`,
 //! `:bin`, `:float` as the request asks), their values after every scan as
-//! server-sent events, and the scan statistics.
+//! server-sent events, the scan statistics, and the remote I/O devices'
+//! state.
 
 use super::{error, App};
 use crate::shared::Shared;
@@ -237,4 +238,10 @@ pub async fn stats(State(app): State<App>) -> Json<Value> {
         },
         "overruns": stats.overruns,
     }))
+}
+
+/// The remote I/O devices' state (`--io`): connected, errors, the latest
+/// error, how long ago the latest complete poll ended.
+pub async fn remote_io(State(app): State<App>) -> Json<Value> {
+    Json(crate::remote_io::report(&app.shared))
 }

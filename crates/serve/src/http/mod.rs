@@ -45,6 +45,7 @@ pub fn router(shared: Arc<Shared>, native: bool) -> Router {
         .route("/api/forces", get(writes::forces))
         .route("/api/unforce-all", post(writes::unforce_all))
         .route("/api/stats/reset", post(devices::reset_stats))
+        .route("/api/io", get(devices::remote_io))
         .route("/api/ladder", get(debug::ladder))
         .route("/api/ladder/state", get(debug::ladder_state))
         .route("/api/ladder/outline", get(debug::ladder_outline))

@@ -1,0 +1,144 @@
+//! Remote I/O (`serve --io FILE`): Modbus TCP and RTU modules polled
+//! asynchronously as the soft PLC's X inputs and Y outputs, as OpenPLC's
+//! "slave devices" are. `config.rs` reads the file, `poll.rs` is one task
+//! per device (`serial.rs` its serial line), `exchange.rs` the handoff to
+//! the scan thread (`wake.rs` its lock-free wake-up of a poller). This
+//! file starts the pollers, holds the scan thread's two calls (inputs
+//! before a scan, outputs after it), checks the file against the program,
+//! and reports the devices' state to the JSON API.
+
+mod config;
+mod exchange;
+mod poll;
+mod serial;
+mod wake;
+
+pub use config::{load, parse, OnLoss, RemoteIo};
+pub use exchange::Exchange;
+
+use crate::shared::Shared;
+use config::{name_of, InputTable, Link};
+use ladder_engine::Engine;
+use ladder_runtime::{BitArea, Device as Place, Memory, WordArea};
+use serde_json::{json, Value};
+use std::sync::Arc;
+
+/// Starts one poller per device on `runtime` and hands the scan thread
+/// their exchange (before the first scan).
+pub fn start(runtime: &tokio::runtime::Runtime, io: &RemoteIo, shared: &Shared) {
+    let exchange = Arc::new(Exchange::new(&io.devices));
+    // The devices' polls spread over their periods (the k-th of n starts
+    // (2k+1)/2n of a period late), not all at the same instant.
+    let count = u32::try_from(exchange.slots.len()).unwrap_or(u32::MAX).max(1);
+    for (k, slot) in (0u32..).zip(&exchange.slots) {
+        let phase = slot.device.period * (2 * k + 1) / (2 * count);
+        runtime.spawn(poll::run(Arc::clone(slot), phase));
+    }
+    shared.set_remote_io(exchange);
+    let count = io.devices.len();
+    crate::announce(&format!(
+        "remote I/O: polling {count} device{}",
+        if count == 1 { "" } else { "s" }
+    ));
+}
+
+/// Before a scan (scan thread): the freshest complete poll of every device
+/// into the input image. Never waits on the network.
+pub fn before_scan(shared: &Shared, engine: &mut dyn Engine) {
+    if let Some(exchange) = shared.remote_io() {
+        exchange.to_engine(engine);
+    }
+}
+
+/// After a scan (scan thread): the mapped outputs to the pollers.
+pub fn after_scan(shared: &Shared, image: &Memory) {
+    if let Some(exchange) = shared.remote_io() {
+        exchange.from_image(image);
+    }
+}
+
+/// Warnings for the file against the program: inputs, status relays and
+/// error counts that `written` says the program writes too (the remote I/O
+/// writes them before every scan, so the program's value lasts to the end
+/// of that scan only).
+pub fn warnings(io: &RemoteIo, written: &dyn Fn(Place) -> bool) -> Vec<String> {
+    let mut out = Vec::new();
+    for device in &io.devices {
+        let mut places = vec![
+            Place::Bit(BitArea::M, device.status),
+            Place::Word(WordArea::D, device.errors),
+        ];
+        for input in &device.inputs {
+            for n in input.to..input.to + u32::from(input.count) {
+                places.push(match input.table {
+                    InputTable::DiscreteInputs => Place::Bit(BitArea::X, n),
+                    InputTable::InputRegisters => Place::Word(WordArea::D, n),
+                });
+            }
+        }
+        for place in places.into_iter().filter(|&p| written(p)) {
+            out.push(format!(
+                "--io: the program writes {}, which remote I/O device `{}` writes before every scan",
+                name_of(place),
+                device.name
+            ));
+        }
+    }
+    out
+}
+
+/// The devices' state for the JSON API (`GET /api/io`).
+pub fn report(shared: &Shared) -> Value {
+    let Some(exchange) = shared.remote_io() else {
+        return json!({ "devices": [] });
+    };
+    let devices: Vec<Value> = exchange
+        .slots
+        .iter()
+        .map(|slot| {
+            let device = &slot.device;
+            let state = slot.state().clone();
+            let link = match &device.link {
+                Link::Tcp(address) => format!("tcp {address}"),
+                Link::Rtu { path, format } => format!("rtu {path} {format}"),
+            };
+            json!({
+                "name": device.name,
+                "link": link,
+                "unit": device.unit,
+                "period_ms": device.period.as_millis() as u64,
+                "connected": state.connected,
+                "errors": state.errors,
+                "losses": state.losses,
+                "polls": state.polls,
+                "last_error": state.last_error,
+                "last_poll_ms_ago": state.last_poll.map(|at| at.elapsed().as_millis() as u64),
+                "on_loss": match device.on_loss {
+                    OnLoss::Hold => "hold",
+                    OnLoss::Clear => "clear",
+                },
+                "status": name_of(Place::Bit(BitArea::M, device.status)),
+                "error_count": name_of(Place::Word(WordArea::D, device.errors)),
+            })
+        })
+        .collect();
+    json!({ "devices": devices })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn what_the_program_writes_too_is_warned_about() {
+        let io = parse(
+            "[[device]]\ntcp = \"127.0.0.1:502\"\n[[device.input]]\ndiscrete_inputs = 0\ncount = 2\nto = \"X0\"\n",
+        )
+        .unwrap();
+        let written = |place| place == Place::Bit(BitArea::X, 1) || place == Place::Bit(BitArea::M, 7600);
+        let warnings = warnings(&io, &written);
+        assert_eq!(warnings.len(), 2, "{warnings:?}");
+        assert!(warnings[0].contains("writes M7600"), "{warnings:?}");
+        assert!(warnings[1].contains("writes X1"), "{warnings:?}");
+    }
+}
