@@ -53,7 +53,7 @@ pub fn check(parsed: &ParsedProgram, cpu: &str) -> Diagnostics {
     if FX3.contains(&cpu.as_str()) {
         return diagnostics;
     }
-    let note = format!("the program's CPU is an {cpu} (its `//@ cpu` line, from the project's parameters)");
+    let note = format!("the program's CPU is an {cpu} (its `//@ cpu` line, or the parameters of its project)");
     for statement in &parsed.statements {
         let StatementKind::Instruction(instruction) = &statement.kind else {
             continue;
