@@ -49,17 +49,30 @@ pub fn gx_developer(data: &[u8]) {
     };
     match which % 3 {
         0 => {
-            let Ok(listing) = listing_of(("MAIN.wpg", bytes), None, None) else {
-                return;
+            let listing = match listing_of(("MAIN.wpg", bytes), None, None) {
+                Ok(listing) => listing,
+                Err(error) => {
+                    assert!(error.error.offset <= bytes.len(), "{error}");
+                    return;
+                }
             };
             let file = SourceFile::new("MAIN.wpg", listing.clone());
             let (Some(_), _) = compile_source(&file) else {
                 return;
             };
+            // Written into the largest program memory (a file may count
+            // steps otherwise than the FX manuals do): without the
+            // listing's own `//@ memory` line, which would have to match.
             let defaults = write::Defaults {
                 cpu: None,
                 memory: Some(64_000),
             };
+            let unsized_listing: String = listing
+                .lines()
+                .filter(|l| !l.starts_with("//@ memory"))
+                .map(|l| format!("{l}\n"))
+                .collect();
+            let file = SourceFile::new("MAIN.wpg", unsized_listing);
             if let Ok((program, _)) = write::encode(&file, &defaults) {
                 let again = listing_of(("MAIN.wpg", &program), None, None).expect("a written program decodes");
                 // The instructions and labels, without their steps (a file

@@ -95,8 +95,11 @@ pub fn run(export: &Path, output_path: Option<&PathBuf>, shown: Shown) -> u8 {
 /// or a project) written as the MAIN.wpg and COMMENT.wcd of the project in
 /// DIR. The CPU and program memory come from the program's `//@` lines,
 /// else from DIR's param.wpa, else GX Developer's defaults (FX3U, 8000
-/// steps). Only a program that compiles is written, and both files or
-/// neither.
+/// steps); the program is checked against that CPU. Only a program that
+/// compiles is written, and both files or neither (`output::
+/// write_all_atomically`); a program without `//@ comment` lines keeps the
+/// project's COMMENT.wcd. A failed command leaves nothing new behind (no
+/// folders either).
 pub fn to_gx_developer(program: &Path, dir: &Path, shown: Shown) -> u8 {
     use ladder_front::gxdev;
     let source = match SourceFile::read(program) {
@@ -106,7 +109,33 @@ pub fn to_gx_developer(program: &Path, dir: &Path, shown: Shown) -> u8 {
             return status::UNUSABLE;
         }
     };
-    let (checked, diagnostics) = ladder_front::check::compile_source(&source);
+    // The project's parameters first: the program is checked against the
+    // CPU it will be written for.
+    let files = gxdev::Project::in_folder(dir);
+    let mut defaults = gxdev::write::Defaults::default();
+    if files.parameters.exists() {
+        let bytes = match ladder_front::source::read_bounded(&files.parameters) {
+            Ok(bytes) => bytes,
+            Err(error) => {
+                say_err!("error: {error}");
+                return status::UNUSABLE;
+            }
+        };
+        match gxdev::wpa::decode(&bytes) {
+            Ok(parameters) => {
+                defaults.cpu = Some(parameters.cpu);
+                defaults.memory = parameters.memory;
+            }
+            Err(error) => {
+                say_err!("error: {}", error.message(&files.parameters.display().to_string()));
+                return status::UNUSABLE;
+            }
+        }
+    }
+    let cpu = defaults
+        .cpu
+        .map_or(Some(gxdev::write::DEFAULT_CPU), gxdev::wpa::cpu_name);
+    let (checked, diagnostics) = ladder_front::check::compile_source_on(&source, cpu);
     write_raw(
         true,
         &ladder_front::diagnostics::render_all(&source, &diagnostics, shown),
@@ -123,20 +152,6 @@ pub fn to_gx_developer(program: &Path, dir: &Path, shown: Shown) -> u8 {
     } else {
         source
     };
-    let files = gxdev::Project::in_folder(dir);
-    let mut defaults = gxdev::write::Defaults::default();
-    if let Ok(bytes) = std::fs::read(&files.parameters) {
-        match gxdev::wpa::decode(&bytes) {
-            Ok(parameters) => {
-                defaults.cpu = Some(parameters.cpu);
-                defaults.memory = parameters.memory;
-            }
-            Err(error) => {
-                say_err!("error: {}", error.message(&files.parameters.display().to_string()));
-                return status::UNUSABLE;
-            }
-        }
-    }
     let (main, comments) = match gxdev::write::encode(&source, &defaults) {
         Ok(bytes) => bytes,
         Err(message) => {
@@ -144,27 +159,63 @@ pub fn to_gx_developer(program: &Path, dir: &Path, shown: Shown) -> u8 {
             return status::FAILED;
         }
     };
-    for file in [&files.program, &files.comments] {
-        if let Some(folder) = file.parent() {
-            if let Err(error) = std::fs::create_dir_all(folder) {
+    // Without `//@ comment` lines the program says nothing about comments:
+    // the project's own stay.
+    let keep_comments = gxdev::listing::directives(&source.text).comments.is_empty() && files.comments.is_file();
+    let mut made = Vec::new();
+    let code = write_project(
+        &files,
+        (&main, (!keep_comments).then_some(&comments)),
+        program,
+        &mut made,
+    );
+    if code != status::OK {
+        // The folders this run made go again (the deepest first; a folder
+        // that is not empty stays).
+        for folder in made.iter().rev() {
+            let _ = std::fs::remove_dir(folder);
+        }
+    }
+    code
+}
+
+/// Makes the project's missing folders (each recorded in `made`) and writes
+/// MAIN.wpg and, when given, COMMENT.wcd.
+fn write_project(
+    files: &ladder_front::gxdev::Project,
+    (main, comments): (&[u8], Option<&Vec<u8>>),
+    program: &Path,
+    made: &mut Vec<PathBuf>,
+) -> u8 {
+    let targets: Vec<(&Path, &[u8])> = std::iter::once((files.program.as_path(), main))
+        .chain(comments.map(|bytes| (files.comments.as_path(), bytes.as_slice())))
+        .collect();
+    for (file, _) in &targets {
+        let missing: Vec<&Path> = file
+            .ancestors()
+            .skip(1)
+            .filter(|folder| !folder.as_os_str().is_empty())
+            .take_while(|folder| !folder.exists())
+            .collect();
+        for folder in missing.into_iter().rev() {
+            if let Err(error) = std::fs::create_dir(folder) {
                 say_err!("error: cannot make {}: {error}", folder.display());
                 return status::FAILED;
             }
+            made.push(folder.to_path_buf());
         }
     }
-    let prepared = output::prepare(&files.program, &[program])
-        .and_then(|main_target| Ok((main_target, output::prepare(&files.comments, &[program])?)));
-    let (main_target, comments_target) = match prepared {
-        Ok(targets) => targets,
-        Err(error) => {
-            say_err!("error: {error}");
-            return status::UNUSABLE;
+    let mut prepared = Vec::with_capacity(targets.len());
+    for (file, bytes) in &targets {
+        match output::prepare(file, &[program]) {
+            Ok(target) => prepared.push((target, *bytes)),
+            Err(error) => {
+                say_err!("error: {error}");
+                return status::UNUSABLE;
+            }
         }
-    };
-    let writes = [
-        (main_target.as_path(), main.as_slice()),
-        (comments_target.as_path(), comments.as_slice()),
-    ];
+    }
+    let writes: Vec<(&Path, &[u8])> = prepared.iter().map(|(path, bytes)| (path.as_path(), *bytes)).collect();
     match output::write_all_atomically(&writes) {
         Ok(()) => status::OK,
         Err((path, error)) => {

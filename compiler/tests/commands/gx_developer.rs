@@ -274,3 +274,146 @@ fn d8069_records_the_step_of_a_project() {
         assert!(stderr.contains(place), "{stderr}");
     }
 }
+
+/// A copy of the elevator project in `dir`.
+fn elevator_copy(dir: &std::path::Path) -> PathBuf {
+    let copy = dir.join("project");
+    for file in ["Gppw.gps", "param.wpa", "Pou/Body/MAIN.wpg", "Others/COMMENT.wcd"] {
+        let to = copy.join(file);
+        std::fs::create_dir_all(to.parent().unwrap()).unwrap();
+        std::fs::copy(elevator().join(file), to).unwrap();
+    }
+    copy
+}
+
+/// Every file and folder under `dir`, as paths relative to it.
+fn tree(dir: &std::path::Path) -> Vec<String> {
+    let mut found = Vec::new();
+    let mut pending = vec![dir.to_path_buf()];
+    while let Some(folder) = pending.pop() {
+        for entry in std::fs::read_dir(&folder).unwrap() {
+            let path = entry.unwrap().path();
+            found.push(path.strip_prefix(dir).unwrap().display().to_string());
+            if path.is_dir() && !path.is_symlink() {
+                pending.push(path);
+            }
+        }
+    }
+    found.sort();
+    found
+}
+
+fn import_to(program: &std::path::Path, project: &std::path::Path) -> std::process::Output {
+    ladderc(&[
+        "import",
+        program.to_str().unwrap(),
+        "--to-gx-developer",
+        project.to_str().unwrap(),
+    ])
+}
+
+#[test]
+fn a_program_is_checked_against_the_cpu_of_the_project_it_is_written_to() {
+    let dir = scratch("gx-to-cpu");
+    let project = elevator_copy(dir.path());
+    let before = std::fs::read(project.join("Pou/Body/MAIN.wpg")).unwrap();
+    let program = dir.path().join("fx3.il");
+    std::fs::write(&program, "LD X0\nMOV K1 R0\nEND\n").unwrap();
+    let output = import_to(&program, &project);
+    let (_, stderr) = text(&output);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("error[E0054]"), "the elevator is an FX2N: {stderr}");
+    assert_eq!(std::fs::read(project.join("Pou/Body/MAIN.wpg")).unwrap(), before);
+    // Its own `//@ memory` line against the parameters' 2000 steps.
+    std::fs::write(&program, "//@ memory 4000\nLD X0\nOUT Y0\nEND\n").unwrap();
+    let output = import_to(&program, &project);
+    let (_, stderr) = text(&output);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("declares 2000 steps"), "{stderr}");
+    assert_eq!(std::fs::read(project.join("Pou/Body/MAIN.wpg")).unwrap(), before);
+}
+
+#[test]
+fn more_comments_than_comment_wcd_holds_are_refused_and_nothing_is_written() {
+    let dir = scratch("gx-to-comments");
+    let project = elevator_copy(dir.path());
+    let comments = std::fs::read(project.join("Others/COMMENT.wcd")).unwrap();
+    let program = dir.path().join("many.il");
+    // Every other D: 7840 runs of one device each.
+    let mut text_of = String::from("LD X0\nOUT Y0\nEND\n");
+    for n in 0..7840 {
+        text_of.push_str(&format!("//@ comment D{} c\n", n * 2));
+    }
+    std::fs::write(&program, text_of).unwrap();
+    let output = import_to(&program, &project);
+    let (_, stderr) = text(&output);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert_eq!(stderr.matches("error").count(), 1, "{stderr}");
+    assert!(stderr.contains("6552"), "{stderr}");
+    assert_eq!(std::fs::read(project.join("Others/COMMENT.wcd")).unwrap(), comments);
+}
+
+#[test]
+fn a_program_without_comment_lines_keeps_the_projects_comments() {
+    let dir = scratch("gx-to-keep");
+    let project = elevator_copy(dir.path());
+    let comments = std::fs::read(project.join("Others/COMMENT.wcd")).unwrap();
+    let program = dir.path().join("plain.il");
+    std::fs::write(&program, "LD X0\nOUT Y0\nEND\n").unwrap();
+    let output = import_to(&program, &project);
+    assert!(output.status.success(), "{}", text(&output).1);
+    assert_eq!(std::fs::read(project.join("Others/COMMENT.wcd")).unwrap(), comments);
+    let listing = SourceFile::read(&project).unwrap();
+    assert!(listing.text.contains("\tOUT\tY000"), "{}", listing.text);
+    assert!(listing.text.contains("//@ comment Y010 "), "{}", listing.text);
+}
+
+#[test]
+fn a_failed_write_leaves_no_new_folder() {
+    let dir = scratch("gx-to-fail");
+    let project = dir.path().join("project");
+    std::fs::create_dir_all(project.join("Pou/Body/MAIN.wpg")).unwrap();
+    let program = dir.path().join("p.il");
+    std::fs::write(&program, "//@ comment X0 start\nLD X0\nOUT Y0\nEND\n").unwrap();
+    let before = tree(dir.path());
+    let output = import_to(&program, &project);
+    assert_eq!(output.status.code(), Some(2), "{}", text(&output).1);
+    assert_eq!(tree(dir.path()), before, "{}", text(&output).1);
+    // A new project in a folder that does not exist yet: made, and written.
+    let fresh = dir.path().join("new/project");
+    let output = import_to(&program, &fresh);
+    assert!(output.status.success(), "{}", text(&output).1);
+    assert_eq!(
+        tree(&fresh),
+        ["Others", "Others/COMMENT.wcd", "Pou", "Pou/Body", "Pou/Body/MAIN.wpg"]
+    );
+}
+
+#[test]
+fn a_project_without_its_program_is_unreadable_not_undecodable() {
+    let dir = scratch("gx-no-main");
+    let project = elevator_copy(dir.path());
+    std::fs::remove_file(project.join("Pou/Body/MAIN.wpg")).unwrap();
+    let output = ladderc(&["check", project.to_str().unwrap()]);
+    let (_, stderr) = text(&output);
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    assert!(!stderr.contains("E0053"), "{stderr}");
+    assert!(stderr.contains("MAIN.wpg"), "{stderr}");
+}
+
+#[cfg(unix)]
+#[test]
+fn the_parameters_are_read_within_the_size_bound() {
+    let dir = scratch("gx-to-zero");
+    let project = dir.path().join("project");
+    std::fs::create_dir_all(&project).unwrap();
+    // Endless zeros: read to the first NUL, then one decode error.
+    std::os::unix::fs::symlink("/dev/zero", project.join("param.wpa")).unwrap();
+    let program = dir.path().join("p.il");
+    std::fs::write(&program, "LD X0\nOUT Y0\nEND\n").unwrap();
+    let output = import_to(&program, &project);
+    let (_, stderr) = text(&output);
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("param.wpa cannot be decoded"), "{stderr}");
+    assert_eq!(tree(&project), ["param.wpa"]);
+}

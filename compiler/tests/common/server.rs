@@ -35,6 +35,11 @@ impl Server {
         let dir = tempfile::tempdir().unwrap();
         let program = dir.path().join("plc.il");
         std::fs::write(&program, text).unwrap();
+        Server::start_path(dir, &program, extra)
+    }
+
+    /// Serves `program` (a file or a GX Developer project, in `dir`).
+    pub fn start_path(dir: tempfile::TempDir, program: &std::path::Path, extra: &[&str]) -> Server {
         let mut child = Command::new(env!("CARGO_BIN_EXE_ladderc"))
             .args(["serve", program.to_str().unwrap()])
             // Modbus on loopback unless the test names its address.

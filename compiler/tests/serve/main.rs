@@ -22,6 +22,7 @@ fn wait_bound_tests_run_six_at_a_time() {
 
 mod serve;
 mod serve_bounds;
+mod serve_gx_developer;
 mod serve_melsec;
 mod serve_melsec_clients;
 mod serve_modbus_rtu;

@@ -754,23 +754,3 @@ fn uploads_are_read_as_files_are() {
     assert_eq!(json(&http(web, "GET", "/api/program", "").1)["text"], text);
     server.stop();
 }
-
-#[test]
-fn a_projects_device_comments_reach_the_monitor_table() {
-    // The GX Developer sample's listing, as `ladderc import` writes it.
-    let dir = std::path::Path::new(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../testsuite/gxdeveloper/3floor_elevator"
-    ));
-    let listing = ladder_front::gxdev::read(&ladder_front::gxdev::locate(dir).unwrap()).unwrap();
-    let server = Server::start_program(&listing, &["--http", "127.0.0.1:0"]);
-    let web = server.web.unwrap();
-    let (status, body) = http(web, "GET", "/api/devices?watch=Y10,X0,D0", "");
-    assert_eq!(status, 200, "{body}");
-    let value = json(&body);
-    assert!(value["comments"]["Y10"].as_str().unwrap().contains("UP"), "{body}");
-    assert!(value["comments"]["X0"].is_string(), "{body}");
-    assert!(value["comments"].get("D0").is_none(), "D0 has no comment: {body}");
-    let (_, page) = http(web, "GET", "/", "");
-    assert!(page.contains("<th>comment</th>"));
-}

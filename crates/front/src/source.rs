@@ -134,7 +134,11 @@ impl SourceFile {
     pub fn read(path: &std::path::Path) -> Result<SourceFile, ReadError> {
         if let Some(project) = crate::gxdev::locate(path) {
             let name = project.program.display().to_string();
-            return Ok(SourceFile::decoded(&name, crate::gxdev::read(&project)));
+            return match crate::gxdev::read(&project) {
+                Ok(listing) => Ok(SourceFile::decoded(&name, Ok(listing))),
+                Err(crate::gxdev::ReadFailure::Decode(undecodable)) => Ok(SourceFile::decoded(&name, Err(undecodable))),
+                Err(crate::gxdev::ReadFailure::Read(error)) => Err(error),
+            };
         }
         let bytes = read_bounded(path)?;
         let mut file = SourceFile::from_bytes(path.display().to_string(), &bytes);
@@ -157,8 +161,9 @@ impl SourceFile {
     }
 
     /// The listing of a binary program, or the error that it cannot be
-    /// decoded.
-    fn decoded(name: &str, listing: Result<String, String>) -> SourceFile {
+    /// decoded (named after the file that cannot be, so that the error
+    /// points at it).
+    fn decoded(name: &str, listing: Result<String, crate::gxdev::Undecodable>) -> SourceFile {
         let file_name = std::path::Path::new(name)
             .file_name()
             .map_or(name.to_string(), |n| n.to_string_lossy().into_owned());
@@ -167,9 +172,9 @@ impl SourceFile {
                 listing_of: Some(file_name),
                 ..SourceFile::new(name, text)
             },
-            Err(message) => SourceFile {
-                decode_error: Some(message),
-                ..SourceFile::new(name, "")
+            Err(undecodable) => SourceFile {
+                decode_error: Some(undecodable.to_string()),
+                ..SourceFile::new(undecodable.file, "")
             },
         }
     }

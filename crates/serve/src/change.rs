@@ -148,14 +148,18 @@ pub enum Refusal {
 /// (see `Loaded::precompile`). `name` is the name its diagnostics give.
 pub fn accept(name: impl Into<String>, bytes: &[u8], allow_empty: bool, native: bool) -> Result<Loaded, Refusal> {
     // Decoded as the command line reads files (a byte-order mark, UTF-16).
-    let source = SourceFile::from_bytes(name, bytes);
-    let (program, diagnostics) = ladder_front::check::compile_source(&source);
-    let shown = || render_all(&source, &diagnostics, Shown::default());
+    accept_source(&SourceFile::from_bytes(name, bytes), allow_empty, native)
+}
+
+/// `accept` for a source file already read (a GX Developer project's
+/// listing, which keeps the steps of its instructions, or the one error
+/// that it cannot be decoded).
+pub fn accept_source(source: &SourceFile, allow_empty: bool, native: bool) -> Result<Loaded, Refusal> {
+    let (program, diagnostics) = ladder_front::check::compile_source(source);
+    let shown = || render_all(source, &diagnostics, Shown::default());
     match program {
         Some(_) if !allow_empty && drives_nothing(&diagnostics) => Err(Refusal::DrivesNothing(shown())),
-        Some(program) => Loaded::new(program, &source)
-            .precompile(native)
-            .map_err(Refusal::Native),
+        Some(program) => Loaded::new(program, source).precompile(native).map_err(Refusal::Native),
         None => Err(Refusal::DoesNotCompile(shown())),
     }
 }

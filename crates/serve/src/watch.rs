@@ -7,6 +7,7 @@
 use super::announce;
 use super::change::{self, Refusal};
 use super::shared::Shared;
+use ladder_front::source::SourceFile;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -32,12 +33,28 @@ fn stamp(path: &Path) -> Stamp {
 fn watch(named: &Path, shared: &Shared, native: bool, settle: Duration) {
     let project = ladder_front::gxdev::locate(named);
     let path = project.as_ref().map_or(named, |p| p.program.as_path());
-    let read = || match &project {
-        Some(project) => ladder_front::gxdev::read(project).ok().map(String::into_bytes),
-        None => std::fs::read(path).ok(),
+    // The source and what tells one version from the next: the file's
+    // bytes, or for a project its listing (or the error that it cannot be
+    // decoded, which is offered as well, so that it is reported). A file
+    // that cannot be read (gone for a moment while an editor saves it) is
+    // no version.
+    let read = || -> Option<(Vec<u8>, SourceFile)> {
+        match &project {
+            Some(_) => {
+                let source = SourceFile::read(named).ok()?;
+                let mut key = source.text.clone().into_bytes();
+                key.extend(source.decode_error.iter().flat_map(|e| e.bytes()));
+                Some((key, source))
+            }
+            None => {
+                let bytes = std::fs::read(path).ok()?;
+                let source = SourceFile::from_bytes(path.display().to_string(), &bytes);
+                Some((bytes, source))
+            }
+        }
     };
     let mut seen = stamp(path);
-    let mut taken: Option<Vec<u8>> = read();
+    let mut taken: Option<Vec<u8>> = read().map(|(key, _)| key);
     while !shared.stopping() {
         std::thread::sleep(Duration::from_millis(200));
         let now = stamp(path);
@@ -48,15 +65,15 @@ fn watch(named: &Path, shared: &Shared, native: bool, settle: Duration) {
             return;
         };
         seen = last;
-        let Some(bytes) = read() else {
+        let Some((key, source)) = read() else {
             continue;
         };
         // Saved again as it was: nothing to change.
-        if taken.as_deref() == Some(bytes.as_slice()) {
+        if taken.as_deref() == Some(key.as_slice()) {
             continue;
         }
-        taken = Some(bytes.clone());
-        offer(path, &bytes, shared, native);
+        taken = Some(key);
+        offer(path, &source, shared, native);
     }
 }
 
@@ -82,8 +99,8 @@ fn settled(path: &Path, changed: Stamp, shared: &Shared, settle: Duration) -> Op
 
 /// Compiles the file's new text and offers it to the scan thread, or says
 /// on stderr why not.
-fn offer(path: &Path, bytes: &[u8], shared: &Shared, native: bool) {
-    match change::accept(path.display().to_string(), bytes, false, native) {
+fn offer(path: &Path, source: &SourceFile, shared: &Shared, native: bool) {
+    match change::accept_source(source, false, native) {
         Ok(loaded) => {
             if shared.offer(loaded) {
                 announce(&format!("{}: changed, swapping it in", path.display()));

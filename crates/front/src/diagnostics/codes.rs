@@ -346,14 +346,17 @@ the device comments Others/COMMENT.wcd and the parameters param.wpa. One of
 them is cut short or holds bytes ladderc cannot read at the offset the
 message names: a record whose two length bytes differ, an operand code
 ladderc does not know, an instruction code outside the table ladderc reads
-(docs/language.md, GX Developer projects), or a file of another MELSEC
+(docs/language.md, GX Developer projects), a program longer than 64000
+steps, a MAIN.wpg whose size is not the program memory (its NOPs after END
+cut short, or not the size param.wpa declares), or a file of another MELSEC
 family. Nothing of the project is compiled. Open the project in GX
 Developer and save it again, or export the program as an instruction list
 (CSV), which ladderc reads as well.";
 
     NotOnThisCpu = "E0054", Error, "an instruction or device the program's CPU does not have",
 "The program names its CPU (`//@ cpu FX2N`, written by ladderc from a GX
-Developer project's parameters), and the instruction or device is not one
+Developer project's parameters; or the CPU of the project `import
+--to-gx-developer` writes it to), and the instruction or device is not one
 that CPU has: the FX2N, FX1N and earlier series have no file registers (R),
 no buffer-memory operands (Un\\Gm), no bits of words (D0.1) and none of the
 instructions the FX3 series added (MEP, MEF, EMOV, EXP, SCL, ...).

@@ -158,7 +158,11 @@ pub fn write(directives: &Directives, lines: &[Line], encoding: Encoding) -> Str
     for (device, comment) in &directives.comments {
         directive("comment", &format!("{device} {comment}"));
     }
+    // Whether the last line written is an instruction or a label: a note
+    // is put on it, and on no other line.
+    let mut after_code = false;
     for line in lines {
+        let code = matches!(line.kind, LineKind::Instruction { .. } | LineKind::Label(_));
         match &line.kind {
             LineKind::Instruction { mnemonic, operands } => {
                 text.push_str(&format!("{}\t{mnemonic}", line.step));
@@ -170,14 +174,17 @@ pub fn write(directives: &Directives, lines: &[Line], encoding: Encoding) -> Str
             }
             LineKind::Label(number) => text.push_str(&format!("{}\tP{number}\n", line.step)),
             LineKind::Statement(statement) => text.push_str(&format!("// {}\n", encoding.decode(statement))),
-            LineKind::Note(note) => {
+            LineKind::Note(note) if after_code => {
                 // A note belongs to the instruction above: on its line.
-                if text.ends_with('\n') {
-                    text.pop();
-                }
+                text.pop();
                 text.push_str(&format!(" ; {}\n", encoding.decode(note)));
             }
+            // With no instruction above (the first line, after a statement
+            // or another note): a comment line of its own, which a `//@`
+            // line or a statement must not take in.
+            LineKind::Note(note) => text.push_str(&format!("// {}\n", encoding.decode(note))),
         }
+        after_code = code;
     }
     text
 }
@@ -185,6 +192,36 @@ pub fn write(directives: &Directives, lines: &[Line], encoding: Encoding) -> Str
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_note_with_no_instruction_above_is_a_line_of_its_own() {
+        let line = |step, kind| Line { step, at: 0, kind };
+        let note = |text: &str| LineKind::Note(text.as_bytes().to_vec());
+        let lines = [
+            line(0, note("first")),
+            line(0, LineKind::Statement(b"rung".to_vec())),
+            line(0, note("after statement")),
+            line(
+                0,
+                LineKind::Instruction {
+                    mnemonic: "LD".into(),
+                    operands: vec!["X0".into()],
+                },
+            ),
+            line(1, note("of LD")),
+            line(1, note("second")),
+        ];
+        let found = Directives {
+            cpu: Some("FX3U".into()),
+            ..Directives::default()
+        };
+        let text = write(&found, &lines, Encoding::ShiftJis);
+        assert_eq!(
+            text,
+            "//@ cpu FX3U\n// first\n// rung\n// after statement\n0\tLD\tX0 ; of LD\n// second\n"
+        );
+        assert_eq!(directives(&text).cpu.as_deref(), Some("FX3U"));
+    }
 
     #[test]
     fn directives_read_back() {

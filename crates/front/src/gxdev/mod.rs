@@ -97,23 +97,61 @@ pub fn is_gx_file(bytes: &[u8]) -> bool {
     bytes.starts_with(&[records::HEADER_LEN as u8, 0x00, 0x22, 0x01])
 }
 
+/// A file of a project that cannot be decoded: its name and where.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Undecodable {
+    pub file: String,
+    pub error: DecodeError,
+}
+
+impl std::fmt::Display for Undecodable {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.error.message(&self.file))
+    }
+}
+
+/// Why a project cannot be read: a file that cannot be read (missing, no
+/// permission: as any unreadable input) or one that cannot be decoded.
+#[derive(Debug)]
+pub enum ReadFailure {
+    Read(crate::source::ReadError),
+    Decode(Undecodable),
+}
+
 /// The listing of a project read from `program`'s bytes and the comment and
-/// parameter files' bytes where the project has them. `Err` is the message
-/// of the one file that cannot be decoded.
+/// parameter files' bytes where the project has them. `Err` names the one
+/// file that cannot be decoded.
 pub fn listing_of(
     program: (&str, &[u8]),
     comments: Option<(&str, &[u8])>,
     parameters: Option<(&str, &[u8])>,
-) -> Result<String, String> {
+) -> Result<String, Undecodable> {
+    let undecodable = |file: &str| {
+        let file = file.to_string();
+        move |error| Undecodable { file, error }
+    };
     let comments = comments
-        .map(|(name, bytes)| wcd::decode(bytes).map_err(|e| e.message(name)))
+        .map(|(name, bytes)| wcd::decode(bytes).map_err(undecodable(name)))
         .transpose()?;
     let parameters = parameters
-        .map(|(name, bytes)| wpa::decode(bytes).map_err(|e| e.message(name)))
+        .map(|(name, bytes)| wpa::decode(bytes).map_err(undecodable(name)))
         .transpose()?;
     // The code page is guessed from all the texts: the comments and the
     // program's statements.
-    let program_file = wpg::decode(program.1).map_err(|e| e.message(program.0))?;
+    let program_file = wpg::decode(program.1).map_err(undecodable(program.0))?;
+    // The program memory the parameters declare is the size of MAIN.wpg
+    // (GX Developer fills it with NOPs): another size is a cut or padded
+    // file.
+    let declared = parameters.as_ref().and_then(|p| p.memory);
+    if let Some(memory) = declared.filter(|&memory| memory != program_file.capacity) {
+        return Err(undecodable(program.0)(DecodeError::new(
+            program.1.len(),
+            format!(
+                "{memory} steps of program memory, as the parameters declare (the file holds {} steps: cut short or padded?)",
+                program_file.capacity
+            ),
+        )));
+    }
     let raw: Vec<&[u8]> = comments
         .iter()
         .flat_map(|c| c.entries.iter().map(|(_, _, bytes)| bytes.as_slice()))
@@ -163,10 +201,10 @@ fn fixed_latched(cpu: &str) -> &'static [&'static str] {
 }
 
 /// Reads the project's files (a missing comment or parameter file is no
-/// error) and makes its listing; `Err` is the message of the first file
-/// that cannot be read or decoded.
-pub fn read(project: &Project) -> Result<String, String> {
-    let read = |path: &Path| crate::source::read_bounded(path).map_err(|e| e.to_string());
+/// error) and makes its listing; `Err` is the first file that cannot be
+/// read or decoded.
+pub fn read(project: &Project) -> Result<String, ReadFailure> {
+    let read = |path: &Path| crate::source::read_bounded(path).map_err(ReadFailure::Read);
     let program = read(&project.program)?;
     let optional = |path: &Path| path.is_file().then(|| read(path)).transpose();
     let comments = optional(&project.comments)?;
@@ -182,6 +220,7 @@ pub fn read(project: &Project) -> Result<String, String> {
         comments.as_deref().map(|b| (comments_name.as_str(), b)),
         parameters.as_deref().map(|b| (parameters_name.as_str(), b)),
     )
+    .map_err(ReadFailure::Decode)
 }
 
 #[cfg(test)]

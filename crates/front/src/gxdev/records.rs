@@ -61,35 +61,54 @@ pub struct Record<'a> {
 
 /// Splits `bytes` (from `base` in the file) into records.
 pub fn split(bytes: &[u8], base: usize) -> Result<Vec<Record<'_>>, DecodeError> {
-    let mut records = Vec::new();
-    let mut at = 0;
-    while at < bytes.len() {
-        let length = bytes[at] as usize;
+    records(bytes, base).collect()
+}
+
+/// The records of `bytes` (from `base` in the file), one at a time: a
+/// reader can stop at a limit before the rest is looked at.
+pub fn records(bytes: &[u8], base: usize) -> Records<'_> {
+    Records { bytes, base, at: 0 }
+}
+
+/// The iterator `records` returns; it ends after the first error.
+pub struct Records<'a> {
+    bytes: &'a [u8],
+    base: usize,
+    at: usize,
+}
+
+impl<'a> Iterator for Records<'a> {
+    type Item = Result<Record<'a>, DecodeError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        let (bytes, base, at) = (self.bytes, self.base, self.at);
+        let length = usize::from(*bytes.get(at)?);
+        // After an error there is nothing more to read.
+        self.at = bytes.len();
         if length < 2 {
-            return Err(DecodeError::new(
+            return Some(Err(DecodeError::new(
                 base + at,
                 format!("a record length of at least 2 (found {length})"),
-            ));
+            )));
         }
         let Some(&closing) = bytes.get(at + length - 1) else {
-            return Err(DecodeError::new(
+            return Some(Err(DecodeError::new(
                 base + at,
                 format!("a record of {length} bytes (the file ends after {})", bytes.len() - at),
-            ));
+            )));
         };
-        if closing as usize != length {
-            return Err(DecodeError::new(
+        if usize::from(closing) != length {
+            return Some(Err(DecodeError::new(
                 base + at + length - 1,
                 format!("the record's closing length byte {length:02X} (found {closing:02X})"),
-            ));
+            )));
         }
-        records.push(Record {
+        self.at = at + length;
+        Some(Ok(Record {
             at: base + at,
             payload: &bytes[at + 1..at + length - 1],
-        });
-        at += length;
+        }))
     }
-    Ok(records)
 }
 
 /// Appends a record with `payload`.

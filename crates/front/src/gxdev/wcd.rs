@@ -148,11 +148,20 @@ pub fn encode(cpu: u8, comments: &[(u8, u32, String)], encoding: Encoding) -> Re
         entry[ENTRY_GAP..ENTRY_GAP + bytes.len()].copy_from_slice(&bytes);
         names.push(entry);
     }
-    let mut out = records::header(cpu, &[]);
+    // The table's size is two bytes: it holds at most 6552 ranges.
     let table = TABLE_HEAD + ranges.len() * RANGE_LEN;
-    out.extend((table as u16).to_le_bytes());
+    let (Ok(table), Ok(count)) = (u16::try_from(table), u16::try_from(ranges.len())) else {
+        return Err(format!(
+            "the comments make {} runs of consecutive devices; COMMENT.wcd holds at most {} \
+             (its table size is two bytes): comment fewer devices or number them consecutively",
+            ranges.len(),
+            (usize::from(u16::MAX) - TABLE_HEAD) / RANGE_LEN
+        ));
+    };
+    let mut out = records::header(cpu, &[]);
+    out.extend(table.to_le_bytes());
     out.extend([0, 0, 0, 0, 0x20, 0x08]);
-    out.extend((ranges.len() as u16).to_le_bytes());
+    out.extend(count.to_le_bytes());
     for (device, first, count) in ranges {
         out.extend([device, 0]);
         out.extend(first.to_le_bytes());

@@ -164,21 +164,43 @@ pub struct Program {
     pub capacity: u32,
 }
 
-/// Decodes a program file.
+/// Is `steps` a program memory GX Developer writes? The parameters set it
+/// in thousands of steps; the FX0S has 800.
+pub fn is_memory_size(steps: u32) -> bool {
+    steps == 800 || (steps > 0 && steps.is_multiple_of(1000) && steps <= MOST_STEPS)
+}
+
+/// The most operand records one instruction has: five operands, each with
+/// its modifiers, fit well within it.
+const MOST_OPERAND_RECORDS: usize = 32;
+
+/// Decodes a program file. Reading stops at the first record past the
+/// largest program memory (`MOST_STEPS`), so a file of any size costs at
+/// most a program's worth of memory.
 pub fn decode(bytes: &[u8]) -> Result<Program, DecodeError> {
     let cpu = records::check_header(bytes)?;
     let body_at = records::HEADER_LEN + SUBHEADER.len();
     if bytes.len() < body_at {
         return Err(DecodeError::new(bytes.len(), "the four bytes after the header"));
     }
-    let records = records::split(&bytes[body_at..], body_at)?;
+    let mut records = records::records(&bytes[body_at..], body_at).peekable();
     let mut lines = Vec::new();
     let mut step = 0u32;
-    let mut index = 0;
+    // Statements and notes take no steps: they are bounded on their own.
+    let mut texts = 0u32;
     // NOPs not yet placed: written out only when something follows them.
     let mut nops: Vec<(u32, usize)> = Vec::new();
-    while let Some(record) = records.get(index) {
-        index += 1;
+    while let Some(record) = records.next().transpose()? {
+        let takes_steps = !matches!(record.payload.first(), Some(&(STATEMENT | NOTE)));
+        if (takes_steps && step >= MOST_STEPS) || texts >= MOST_STEPS {
+            return Err(DecodeError::new(
+                record.at,
+                format!(
+                    "the end of the file: the program memory of an FX CPU holds at most {MOST_STEPS} steps \
+                     (ladderc reads at most as many statements and notes)"
+                ),
+            ));
+        }
         let Some(&opcode) = record.payload.first() else {
             nops.push((step, record.at));
             step += 1;
@@ -200,13 +222,19 @@ pub fn decode(bytes: &[u8]) -> Result<Program, DecodeError> {
             bytes[..end].to_vec()
         };
         let kind = match opcode {
-            STATEMENT => LineKind::Statement(text()),
-            NOTE => LineKind::Note(text()),
+            STATEMENT => {
+                texts += 1;
+                LineKind::Statement(text())
+            }
+            NOTE => {
+                texts += 1;
+                LineKind::Note(text())
+            }
             LABEL => {
                 let pointer = records
-                    .get(index)
+                    .next()
+                    .transpose()?
                     .ok_or_else(|| DecodeError::new(record.at, "a pointer after a label mark"))?;
-                index += 1;
                 match pointer.payload {
                     [code::P, value @ ..] if (1..=2).contains(&value.len()) => {
                         let number = value.iter().rev().fold(0u32, |a, &b| (a << 8) | u32::from(b));
@@ -235,16 +263,22 @@ pub fn decode(bytes: &[u8]) -> Result<Program, DecodeError> {
                 ))
             }
             _ => {
-                let (mnemonic, steps) = instruction(record)?;
-                let first = index;
-                while records
-                    .get(index)
-                    .is_some_and(|r| r.payload.first().is_some_and(|&c| c >= code::FIRST_OPERAND))
-                {
-                    index += 1;
+                let (mnemonic, steps) = instruction(&record)?;
+                let mut own = Vec::new();
+                while let Some(Ok(operand)) = records.peek() {
+                    if operand.payload.first().is_none_or(|&c| c < code::FIRST_OPERAND) {
+                        break;
+                    }
+                    if own.len() == MOST_OPERAND_RECORDS {
+                        return Err(DecodeError::new(
+                            operand.at,
+                            format!("the next instruction (an instruction has at most {MOST_OPERAND_RECORDS} operand records)"),
+                        ));
+                    }
+                    own.push(*operand);
+                    records.next();
                 }
-                let own = &records[first..index];
-                let operands = operands(own, mnemonic_is_wide(&mnemonic) || long_counter(&mnemonic, own))?;
+                let operands = operands(&own, mnemonic_is_wide(&mnemonic) || long_counter(&mnemonic, &own))?;
                 let line = Line {
                     step,
                     at: record.at,
@@ -270,6 +304,17 @@ pub fn decode(bytes: &[u8]) -> Result<Program, DecodeError> {
         return Err(DecodeError::new(
             bytes.len(),
             format!("more of the program: the file ends after step {step} without END (cut short?)"),
+        ));
+    }
+    // The NOPs after END fill the program memory: a file cut in them (or
+    // padded) holds a size GX Developer does not write.
+    if !is_memory_size(step) {
+        return Err(DecodeError::new(
+            bytes.len(),
+            format!(
+                "more NOPs: the file ends after {step} steps, and program memory is a whole number of \
+                 thousands of steps (cut short?)"
+            ),
         ));
     }
     Ok(Program {
@@ -394,10 +439,13 @@ pub fn encode(items: &[Item], cpu: u8, capacity: u32, encoding: Encoding) -> Res
             push_text(&mut out, &payload).map_err(fail)?;
         }
     }
-    if capacity > MOST_STEPS {
+    if !is_memory_size(capacity) {
         return Err((
             items.len(),
-            format!("{capacity} steps of program memory: an FX CPU has at most {MOST_STEPS}"),
+            format!(
+                "{capacity} steps of program memory: GX Developer sets it in thousands of steps \
+                 (800 for an FX0S), at most {MOST_STEPS}"
+            ),
         ));
     }
     if steps > capacity {

@@ -20,6 +20,7 @@ pub struct Defaults {
 
 /// The GX Developer default: an FX3U with 8000 steps of program memory.
 const CPU: u8 = 0x08;
+pub const DEFAULT_CPU: &str = "FX3U";
 const MEMORY: u32 = 8000;
 
 /// The two files: MAIN.wpg's and COMMENT.wcd's bytes. `Err` says what
@@ -32,6 +33,16 @@ pub fn encode(file: &SourceFile, defaults: &Defaults) -> Result<(Vec<u8>, Vec<u8
         }
         None => defaults.cpu.unwrap_or(CPU),
     };
+    // GX Developer reads a MAIN.wpg only at the size the parameters
+    // declare (and so does ladderc).
+    if let (Some(memory), Some(declared)) = (directives.memory, defaults.memory) {
+        if memory != declared {
+            return Err(format!(
+                "`//@ memory {memory}`, but the project's param.wpa declares {declared} steps of program memory: \
+                 MAIN.wpg must be that size (change the line, or the parameters in GX Developer)"
+            ));
+        }
+    }
     let memory = directives.memory.or(defaults.memory).unwrap_or(MEMORY);
     let encoding = directives.encoding.unwrap_or(Encoding::ShiftJis);
     let (parsed, _) = crate::syntax::parse(file);
