@@ -1,11 +1,12 @@
 //! Remote I/O (`serve --io FILE`): Modbus TCP and RTU modules polled
 //! asynchronously as the soft PLC's X inputs and Y outputs, as OpenPLC's
 //! "slave devices" are. `config.rs` reads the file, `poll.rs` is one task
-//! per device (`serial.rs` its serial line), `exchange.rs` the handoff to
-//! the scan thread (`wake.rs` its lock-free wake-up of a poller). This
-//! file starts the pollers, holds the scan thread's two calls (inputs
-//! before a scan, outputs after it), checks the file against the program,
-//! and reports the devices' state to the JSON API.
+//! per link (a TCP device, or a serial line and its units; `serial.rs`
+//! the line), `exchange.rs` the handoff to the scan thread (`wake.rs` its
+//! lock-free wake-up of a poller). This file starts and stops the
+//! pollers, holds the scan thread's two calls (inputs before a scan,
+//! outputs after it), checks the file against the program and the other
+//! serial server, and reports the devices' state to the JSON API.
 
 mod config;
 mod exchange;
@@ -23,16 +24,45 @@ use ladder_runtime::{BitArea, Device as Place, Memory, WordArea};
 use serde_json::{json, Value};
 use std::sync::Arc;
 
-/// Starts one poller per device on `runtime` and hands the scan thread
-/// their exchange (before the first scan).
-pub fn start(runtime: &tokio::runtime::Runtime, io: &RemoteIo, shared: &Shared) {
-    let exchange = Arc::new(Exchange::new(&io.devices));
+/// The running pollers, to stop when the server stops.
+pub struct Pollers {
+    stop: tokio::sync::watch::Sender<bool>,
+    tasks: Vec<tokio::task::JoinHandle<()>>,
+    /// How long their last writes may take: per link, a request under way
+    /// and one write per device, each within its device's timeout.
+    bound: std::time::Duration,
+}
+
+/// Starts one poller per link on `runtime` and hands the scan thread
+/// their exchange (before the first scan); `scan_period` tells the
+/// pollers when the scan thread is stalled.
+pub fn start(
+    runtime: &tokio::runtime::Runtime,
+    io: &RemoteIo,
+    shared: &Shared,
+    scan_period: std::time::Duration,
+) -> Pollers {
+    let exchange = Arc::new(Exchange::new(&io.devices, scan_period));
+    let (stop, stopped) = tokio::sync::watch::channel(false);
     // The devices' polls spread over their periods (the k-th of n starts
     // (2k+1)/2n of a period late), not all at the same instant.
     let count = u32::try_from(exchange.slots.len()).unwrap_or(u32::MAX).max(1);
-    for (k, slot) in (0u32..).zip(&exchange.slots) {
-        let phase = slot.device.period * (2 * k + 1) / (2 * count);
-        runtime.spawn(poll::run(Arc::clone(slot), phase));
+    let mut k = 0u32;
+    let mut tasks = Vec::new();
+    let mut bound = std::time::Duration::ZERO;
+    for link in exchange.links() {
+        let phases = link
+            .iter()
+            .map(|slot| {
+                let phase = slot.device.period * (2 * k + 1) / (2 * count);
+                k += 1;
+                phase
+            })
+            .collect();
+        let timeouts: std::time::Duration = link.iter().map(|slot| slot.device.timeout).sum();
+        let longest = link.iter().map(|slot| slot.device.timeout).max().unwrap_or_default();
+        bound = bound.max(timeouts + longest);
+        tasks.push(runtime.spawn(poll::run(link, phases, stopped.clone())));
     }
     shared.set_remote_io(exchange);
     let count = io.devices.len();
@@ -40,6 +70,53 @@ pub fn start(runtime: &tokio::runtime::Runtime, io: &RemoteIo, shared: &Shared) 
         "remote I/O: polling {count} device{}",
         if count == 1 { "" } else { "s" }
     ));
+    Pollers { stop, tasks, bound }
+}
+
+impl Pollers {
+    /// Stops the pollers once the scan thread has ended: each writes its
+    /// devices' outputs OFF once (within their timeouts), then ends.
+    pub fn stop(self, runtime: &tokio::runtime::Runtime) {
+        let _ = self.stop.send(true);
+        let tasks = self.tasks;
+        let bound = self.bound + std::time::Duration::from_millis(100);
+        runtime.block_on(async {
+            // They end together (each bounded by its timeouts): awaited
+            // one after the other, the wait is the longest of them.
+            let all = async {
+                for task in tasks {
+                    let _ = task.await;
+                }
+            };
+            let _ = tokio::time::timeout(bound, all).await;
+        });
+    }
+}
+
+/// `Err` when a device's serial line is the one `--modbus-rtu` serves on
+/// (`rtu_server`): one program cannot be master and slave of one line.
+pub fn check_serial_server(io: &RemoteIo, rtu_server: Option<&str>) -> Result<(), String> {
+    let Some(server) = rtu_server else {
+        return Ok(());
+    };
+    let same = |path: &str| {
+        path == server
+            || std::fs::canonicalize(path)
+                .ok()
+                .is_some_and(|a| std::fs::canonicalize(server).ok() == Some(a))
+    };
+    for device in &io.devices {
+        match &device.link {
+            Link::Rtu { path, .. } if same(path) => {
+                return Err(format!(
+                    "--io: device `{}` is on {path}, the serial line --modbus-rtu serves on",
+                    device.name
+                ))
+            }
+            Link::Rtu { .. } | Link::Tcp(_) => {}
+        }
+    }
+    Ok(())
 }
 
 /// Before a scan (scan thread): the freshest complete poll of every device
