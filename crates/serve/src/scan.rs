@@ -210,7 +210,7 @@ fn run(
                 // The I/O refresh of a CPU in STOP: the remote inputs,
                 // status relays and error counts into the image, the
                 // writes applied, then the outputs to the modules.
-                super::remote_io::before_scan(shared, engine);
+                refresh_inputs(engine, shared);
                 end_processing(engine, shared, Outputs::Refresh);
                 idle(clock, began);
             }
@@ -218,7 +218,7 @@ fn run(
             // (`Woken::Writes`); a due time passes without a scan, but
             // with the I/O refreshed as in STOP.
             Due::Paused => {
-                super::remote_io::before_scan(shared, engine);
+                refresh_inputs(engine, shared);
                 end_processing(engine, shared, Outputs::Refresh);
                 idle(clock, began);
             }
@@ -366,6 +366,14 @@ fn idle(clock: &mut Clock, now: Instant) {
     clock.due = now + clock.period;
     clock.previous = now + clock.period;
     clock.carried = Duration::ZERO;
+}
+
+/// The input refresh of a CPU in STOP (or paused): the remote inputs,
+/// status relays and error counts written, and X takes its input image
+/// (a client's write to X shows too) without a scan.
+fn refresh_inputs(engine: &mut dyn Engine, shared: &Shared) {
+    super::remote_io::before_scan(shared, engine);
+    engine.refresh_inputs();
 }
 
 /// Whether END processing hands the outputs to the remote I/O.
