@@ -521,6 +521,10 @@ fn stop_and_pause_refresh_the_remote_io_and_the_server_stopping_turns_outputs_of
         return;
     };
     let web = server.web.unwrap();
+    // A mapped input is the module's to write: a client's write is refused.
+    let (status, body) = http(web, "POST", "/api/set", r#"{"device": "X1", "value": 1}"#);
+    assert_eq!(status, 409, "{body}");
+    assert!(body.contains("X1 is written by remote I/O device `changes`"), "{body}");
     for (action, input, output) in [("stop", 1, 5), ("pause", 2, 6)] {
         let state = control(web, action);
         assert_eq!(

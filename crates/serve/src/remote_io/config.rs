@@ -506,7 +506,8 @@ fn check_overlaps(devices: &[Device], lines: &[usize]) -> Result<(), String> {
     Ok(())
 }
 
-fn overlap((a, n): (Place, u32), (b, m): (Place, u32)) -> bool {
+/// Whether two runs of devices (first, count) share a device.
+pub fn overlap((a, n): (Place, u32), (b, m): (Place, u32)) -> bool {
     let span = |place: Place| match place {
         Place::Bit(area, i) => Some((Some(area), None, i)),
         Place::Word(area, i) => Some((None, Some(area), i)),

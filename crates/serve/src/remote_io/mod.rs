@@ -17,10 +17,10 @@ mod wake;
 pub use config::{load, parse, OnLoss, RemoteIo};
 pub use exchange::Exchange;
 
-use crate::shared::Shared;
+use crate::shared::{HostWrite, Shared};
 use config::{name_of, InputTable, Link};
 use ladder_engine::Engine;
-use ladder_runtime::{BitArea, Device as Place, Memory, WordArea};
+use ladder_runtime::{BitArea, Device as Place, Memory, Width, WordArea};
 use serde_json::{json, Value};
 use std::sync::Arc;
 
@@ -164,6 +164,55 @@ pub fn warnings(io: &RemoteIo, written: &dyn Fn(Place) -> bool) -> Vec<String> {
     out
 }
 
+/// Why a client's `writes` are refused: one writes an X, D or M that the
+/// remote I/O writes before every scan (a device's inputs, status relay or
+/// error count), which would be answered as applied and then overwritten.
+/// Forces are let through: a forced X wins over its input.
+pub fn refused(shared: &Shared, writes: &[HostWrite]) -> Option<String> {
+    let exchange = shared.remote_io()?;
+    writes.iter().find_map(|write| {
+        let (first, count) = written(*write)?;
+        exchange.slots.iter().find_map(|slot| {
+            let device = &slot.device;
+            let mut fed = vec![
+                (Place::Bit(BitArea::M, device.status), 1),
+                (Place::Word(WordArea::D, device.errors), 1),
+            ];
+            fed.extend(device.inputs.iter().map(|input| match input.table {
+                InputTable::DiscreteInputs => (Place::Bit(BitArea::X, input.to), u32::from(input.count)),
+                InputTable::InputRegisters => (Place::Word(WordArea::D, input.to), u32::from(input.count)),
+            }));
+            fed.into_iter()
+                .find(|&fed| config::overlap(fed, (first, count)))
+                .map(|_| {
+                    format!(
+                        "{} is written by remote I/O device `{}` before every scan",
+                        name_of(first),
+                        device.name
+                    )
+                })
+        })
+    })
+}
+
+/// The X, D or M a write writes, as its first device and how many; None
+/// for other devices and for forces.
+fn written(write: HostWrite) -> Option<(Place, u32)> {
+    match write {
+        HostWrite::Input(n, _) => Some((Place::Bit(BitArea::X, n), 1)),
+        HostWrite::Relay(n, _) => Some((Place::Bit(BitArea::M, n), 1)),
+        HostWrite::Data(n, _) => Some((Place::Word(WordArea::D, n), 1)),
+        HostWrite::Set(device, _) => match device.device {
+            Place::Bit(area, n) => Some((Place::Bit(area, n), 1)),
+            Place::Word(area, n) => Some((Place::Word(area, n), if device.width == Width::Double { 2 } else { 1 })),
+            Place::WordBit(area, n, _) => Some((Place::Word(area, n), 1)),
+            Place::Digits(area, n, digits) => Some((Place::Bit(area, n), 4 * u32::from(digits))),
+            Place::WideCounter(_) => None,
+        },
+        HostWrite::Output(..) | HostWrite::Force(..) | HostWrite::Unforce(..) => None,
+    }
+}
+
 /// The devices' state for the JSON API (`GET /api/io`).
 pub fn report(shared: &Shared) -> Value {
     let Some(exchange) = shared.remote_io() else {
@@ -205,6 +254,47 @@ pub fn report(shared: &Shared) -> Value {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn client_writes_of_what_the_remote_io_writes_are_refused() {
+        let io = parse(
+            "[[device]]\ntcp = \"127.0.0.1:502\"\nstatus = \"M100\"\nerrors = \"D100\"\n\
+             [[device.input]]\ndiscrete_inputs = 0\ncount = 8\nto = \"X0\"\n\
+             [[device.input]]\ninput_registers = 0\ncount = 2\nto = \"D10\"\n",
+        )
+        .unwrap();
+        let shared = Shared::default();
+        let set = |device: Place, width| HostWrite::Set(ladder_front::host_device::HostDevice { device, width }, 1);
+        assert_eq!(refused(&shared, &[HostWrite::Input(0, true)]), None, "no remote I/O");
+        shared.set_remote_io(Arc::new(Exchange::new(
+            &io.devices,
+            std::time::Duration::from_millis(10),
+        )));
+        for write in [
+            HostWrite::Input(7, true),
+            HostWrite::Relay(100, true),
+            HostWrite::Data(11, 5),
+            set(Place::Word(WordArea::D, 9), Width::Double),
+            set(Place::Digits(BitArea::X, 4, 1), Width::Single),
+            set(Place::WordBit(WordArea::D, 100, 3), Width::Single),
+        ] {
+            assert!(refused(&shared, &[write]).is_some(), "{write:?}");
+        }
+        for write in [
+            HostWrite::Input(8, true),
+            HostWrite::Data(12, 5),
+            HostWrite::Output(0, true),
+            HostWrite::Force(BitArea::X, 0, true),
+            set(Place::Word(WordArea::D, 8), Width::Double),
+        ] {
+            assert_eq!(refused(&shared, &[write]), None, "{write:?}");
+        }
+        let message = refused(&shared, &[HostWrite::Data(0, 1), HostWrite::Input(3, true)]).unwrap();
+        assert_eq!(
+            message,
+            "X3 is written by remote I/O device `device1` before every scan"
+        );
+    }
 
     #[test]
     fn what_the_program_writes_too_is_warned_about() {
