@@ -297,6 +297,15 @@ mod tests {
     }
 
     #[test]
+    fn a_serial_line_that_modbus_rtu_serves_on_is_refused() {
+        let io = parse("[[device]]\nrtu = \"/dev/ttyS9:9600,8N1\"\n").unwrap();
+        assert_eq!(check_serial_server(&io, None), Ok(()));
+        assert_eq!(check_serial_server(&io, Some("/dev/ttyS8")), Ok(()));
+        let error = check_serial_server(&io, Some("/dev/ttyS9")).unwrap_err();
+        assert!(error.contains("`device1` is on /dev/ttyS9"), "{error}");
+    }
+
+    #[test]
     fn what_the_program_writes_too_is_warned_about() {
         let io = parse(
             "[[device]]\ntcp = \"127.0.0.1:502\"\n[[device.input]]\ndiscrete_inputs = 0\ncount = 2\nto = \"X0\"\n",

@@ -402,3 +402,40 @@ fn fill<T: Copy>(target: &mut [T], at: usize, values: &[T], count: u16) -> Resul
     place.copy_from_slice(source);
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::config::parse;
+    use super::super::exchange::Exchange;
+    use super::*;
+
+    #[test]
+    fn a_refused_connection_is_tried_again_at_the_next_poll_not_at_once() {
+        // A port nobody listens on: every connection is refused at once.
+        let port = std::net::TcpListener::bind("127.0.0.1:0")
+            .unwrap()
+            .local_addr()
+            .unwrap()
+            .port();
+        let io = parse(&format!(
+            "[[device]]\ntcp = \"127.0.0.1:{port}\"\nperiod_ms = 50\nretries = 100\n\
+             [[device.output]]\ncoils = 0\ncount = 1\nfrom = \"Y0\"\n"
+        ))
+        .unwrap();
+        let exchange = Exchange::new(&io.devices, Duration::from_millis(10));
+        let runtime = tokio::runtime::Builder::new_current_thread()
+            .enable_all()
+            .build()
+            .unwrap();
+        let (stop, stopped) = watch::channel(false);
+        let slots = exchange.links().remove(0);
+        let task = runtime.spawn(run(slots, vec![Duration::ZERO], stopped));
+        runtime.block_on(async { tokio::time::sleep(Duration::from_millis(320)).await });
+        let errors = exchange.slots[0].state().errors;
+        // Attempts at 0, 50, ... 300 ms: 7 (before, up to 101 at once).
+        assert!((4..=9).contains(&errors), "{errors} errors in 320 ms");
+        stop.send(true).unwrap();
+        let ended = runtime.block_on(async { tokio::time::timeout(Duration::from_secs(2), task).await });
+        assert!(ended.is_ok(), "the poller ends when told to stop");
+    }
+}
