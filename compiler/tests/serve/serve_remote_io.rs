@@ -351,6 +351,31 @@ fn an_rtu_module_on_a_serial_line_drives_x_and_takes_y() {
         until(Duration::from_secs(1), || devices(web, "X10")["X10"] == 1).is_some(),
         "the second unit's input"
     );
+    // The module stops answering: the requests time out on a line kept
+    // open; back, it answers the requests queued meanwhile (late answers,
+    // flushed before each new request) and both units recover.
+    module.signal("STOP");
+    assert!(
+        until(Duration::from_secs(5), || devices(web, "M100")["M100"] == 0).is_some(),
+        "lost while silent"
+    );
+    module.signal("CONT");
+    assert!(
+        until(Duration::from_secs(6), || {
+            let seen = devices(web, "M100,M101");
+            seen["M100"] == 1 && seen["M101"] == 1
+        })
+        .is_some(),
+        "{}",
+        http(web, "GET", "/api/io", "").1
+    );
+    assert_eq!(module.ask("di 0 0"), "ok");
+    assert!(
+        until(Duration::from_secs(3), || !module.coil(0)
+            && devices(web, "X10")["X10"] == 0)
+        .is_some(),
+        "inputs and outputs flow again"
+    );
     module.kill();
     assert!(
         until(Duration::from_secs(5), || {
