@@ -230,6 +230,23 @@ pub fn parse(text: &str) -> Result<RemoteIo, String> {
         if devices.iter().any(|d| d.name == device.name) {
             return Err(format!("{line}: a second device named `{}`", device.name));
         }
+        // Two devices for one module (the same address and unit) may not
+        // write the same coil or register either.
+        let module = devices
+            .iter()
+            .filter(|d| d.link == device.link && d.unit == device.unit);
+        for other in module {
+            if let Some(output) = device
+                .outputs
+                .iter()
+                .find(|o| other.outputs.iter().any(|p| writes_same(o, p)))
+            {
+                return Err(format!(
+                    "{line}: `{}` writes module address {} of the module `{}` writes too",
+                    device.name, output.address, other.name
+                ));
+            }
+        }
         if let Some(other) = devices.iter().find(|d| same_line(d, &device)) {
             if other.link != device.link {
                 return Err(format!(

@@ -141,6 +141,12 @@ fn errors_name_their_line() {
             "7:",
             "writes module address 7 which the output from Y0 writes too",
         ),
+        (
+            "[[device]]\ntcp = \"127.0.0.1:502\"\n[[device.output]]\ncoils = 4\ncount = 8\nfrom = \"Y0\"\n\
+             [[device]]\ntcp = \"127.0.0.1:502\"\n[[device.output]]\ncoils = 0\ncount = 5\nfrom = \"M0\"\n",
+            "7:",
+            "`device2` writes module address 0 of the module `device1` writes too",
+        ),
         ("[[device]]\ntcp = \"127.0.0.1:502\"\nunit = 300\n", "3:", ""),
         ("", "1:", "no [[device]]"),
     ];
@@ -172,9 +178,11 @@ fn several_units_share_a_serial_line_and_outputs_to_other_tables_may_share_addre
 
 #[test]
 fn the_values_a_file_maps_are_bounded() {
+    // Each device its own module (port), so the outputs do not overlap.
     let device = |n: u32| {
+        let port = 502 + n;
         format!(
-            "[[device]]\ntcp = \"127.0.0.1:502\"\nstatus = \"M{n}\"\nerrors = \"D{n}\"\n\
+            "[[device]]\ntcp = \"127.0.0.1:{port}\"\nstatus = \"M{n}\"\nerrors = \"D{n}\"\n\
              [[device.output]]\ncoils = 0\ncount = 2000\nfrom = \"M0\"\n"
         )
     };
