@@ -408,6 +408,77 @@ mod tests {
     use super::super::config::parse;
     use super::super::exchange::Exchange;
     use super::*;
+    use std::io::{Read, Write};
+    use std::sync::atomic::{AtomicU32, Ordering};
+
+    /// A Modbus TCP module that answers function 05 (write single coil,
+    /// whose answer echoes the request) and counts the requests.
+    fn coil_module(requests: Arc<AtomicU32>) -> std::net::SocketAddr {
+        let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+        let address = listener.local_addr().unwrap();
+        std::thread::spawn(move || {
+            for mut stream in listener.incoming().map_while(Result::ok) {
+                let requests = Arc::clone(&requests);
+                std::thread::spawn(move || {
+                    // MBAP header: transaction, protocol, length, unit.
+                    let mut header = [0u8; 7];
+                    while stream.read_exact(&mut header).is_ok() {
+                        let length = usize::from(u16::from_be_bytes([header[4], header[5]]));
+                        let mut pdu = vec![0u8; length.saturating_sub(1)];
+                        if stream.read_exact(&mut pdu).is_err() {
+                            return;
+                        }
+                        requests.fetch_add(1, Ordering::SeqCst);
+                        let _ = stream.write_all(&header).and_then(|()| stream.write_all(&pdu));
+                    }
+                });
+            }
+        });
+        address
+    }
+
+    #[test]
+    fn keep_alives_stop_while_the_scan_thread_hands_no_outputs_over() {
+        let requests = Arc::new(AtomicU32::new(0));
+        let address = coil_module(Arc::clone(&requests));
+        let io = parse(&format!(
+            "[[device]]\ntcp = \"{address}\"\nperiod_ms = 20\n\
+             [[device.output]]\ncoils = 0\ncount = 1\nfrom = \"Y0\"\n"
+        ))
+        .unwrap();
+        // Scans every 10 ms: stalled after 30 ms without a hand-off.
+        let exchange = Exchange::new(&io.devices, Duration::from_millis(10));
+        let memory = ladder_runtime::Memory::new_boxed();
+        let runtime = tokio::runtime::Builder::new_current_thread()
+            .enable_all()
+            .build()
+            .unwrap();
+        let (stop, stopped) = watch::channel(false);
+        let task = runtime.spawn(run(exchange.links().remove(0), vec![Duration::ZERO], stopped));
+        // One scan, then none: the first write and at most a keep-alive.
+        exchange.from_image(&memory);
+        runtime.block_on(async { tokio::time::sleep(Duration::from_millis(60)).await });
+        let first = requests.load(Ordering::SeqCst);
+        runtime.block_on(async { tokio::time::sleep(Duration::from_millis(300)).await });
+        let stalled = requests.load(Ordering::SeqCst) - first;
+        // Scans every 10 ms again: a keep-alive every 20 ms poll.
+        runtime.block_on(async {
+            for _ in 0..30 {
+                exchange.from_image(&memory);
+                tokio::time::sleep(Duration::from_millis(10)).await;
+            }
+        });
+        let beating = requests.load(Ordering::SeqCst) - first - stalled;
+        assert!(first >= 1, "the first outputs written");
+        assert_eq!(stalled, 0, "no keep-alive in 300 ms without a scan");
+        assert!(beating >= 5, "{beating} keep-alives in 300 ms of scans");
+        stop.send(true).unwrap();
+        let ended = runtime.block_on(async { tokio::time::timeout(Duration::from_secs(2), task).await });
+        assert!(ended.is_ok(), "the poller ends when told to stop");
+        // Once (a keep-alive may have been under way when counted).
+        let at_stop = requests.load(Ordering::SeqCst) - first - stalled - beating;
+        assert!((1..=2).contains(&at_stop), "{at_stop}: the outputs written OFF at stop");
+    }
 
     #[test]
     fn a_refused_connection_is_tried_again_at_the_next_poll_not_at_once() {
