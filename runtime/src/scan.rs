@@ -18,6 +18,16 @@ use crate::special::{
 };
 
 impl ImageMut<'_> {
+    /// The input refresh alone, as a CPU in STOP refreshes its inputs
+    /// without scanning: the input image to X, forced X over it (no edge
+    /// counted, no clock advanced).
+    pub fn refresh_inputs(&mut self) {
+        self.copy_bytes(Array::InputImage, Array::X);
+        if self.scalar(Scalar::ForcedCount) > 0 {
+            self.apply_forced_inputs();
+        }
+    }
+
     /// Steps 1 and 2: everything that happens before the program runs,
     /// with every part of the machine kept up to date.
     pub fn begin_scan(&mut self, elapsed_ms: u32) {

@@ -2,16 +2,19 @@
 # server (Modbus TCP, or RTU on a serial line) with 64 discrete inputs, 64
 # coils, 16 input registers and 16 holding registers, and a control socket
 # on which the test sets the inputs and reads the outputs, one line each:
-#   di N 0|1   ir N VALUE   co N   hr N   writes
-# (`co` and `hr` answer the value, `writes` how many write requests came).
+#   di N 0|1   ir N VALUE   co N   hr N   writes   wc N
+# (`co` and `hr` answer the value, `writes` how many write requests came,
+# `wc N` how many of them wrote coils from address N).
 # Usage: python3 module.py tcp PORT CONTROL_PORT | rtu TTY CONTROL_PORT
-# Prints `ready` once both listen.
+# Prints `ready` once both listen (the Modbus port answers a connection,
+# the serial line is open).
 import asyncio
+import os
 import sys
 
 from pymodbus.server import StartAsyncSerialServer, StartAsyncTcpServer
 
-state = {"d": [0] * 64, "c": [0] * 64, "i": [0] * 16, "h": [0] * 16, "writes": 0}
+state = {"d": [0] * 64, "c": [0] * 64, "i": [0] * 16, "h": [0] * 16, "writes": 0, "wc": [0] * 64}
 TABLE = {1: "c", 5: "c", 15: "c", 2: "d", 3: "h", 6: "h", 16: "h", 4: "i"}
 
 
@@ -36,6 +39,8 @@ async def action(function_code, start_address, address, count, registers, set_va
             registers[address - start_address + k] = int(table[address + k])
     else:
         state["writes"] += 1
+        if name == "c":
+            state["wc"][address] += 1
         for k, value in enumerate(set_values):
             table[address + k] = int(bool(value)) if name in "cd" else int(value)
     return None
@@ -57,6 +62,8 @@ async def control(reader, writer):
             answer = "ok"
         elif what in ("co", "hr"):
             answer = str(state[what[0]][int(line[1])])
+        elif what == "wc":
+            answer = str(state["wc"][int(line[1])])
         else:
             answer = str(state["writes"])
         writer.write((answer + "\n").encode())
@@ -76,9 +83,32 @@ async def main():
             device(), port=where, framer=FramerType.RTU, baudrate=115200, bytesize=8, parity="N", stopbits=1
         )
     task = asyncio.create_task(server)
-    await asyncio.sleep(0.3)
+    while not await listening(mode, where):
+        if task.done():
+            task.result()
+        await asyncio.sleep(0.01)
     print("ready", flush=True)
     await task
+
+
+async def listening(mode, where):
+    """Whether the Modbus server takes requests: its TCP port accepts a
+    connection, or this process holds the serial line open."""
+    if mode == "tcp":
+        try:
+            _, writer = await asyncio.open_connection("127.0.0.1", int(where))
+        except OSError:
+            return False
+        writer.close()
+        return True
+    line = os.path.realpath(where)
+    for fd in os.listdir("/proc/self/fd"):
+        try:
+            if os.path.realpath(f"/proc/self/fd/{fd}") == line:
+                return True
+        except OSError:
+            pass
+    return False
 
 
 asyncio.run(main())

@@ -5,9 +5,14 @@
 //! register reaches D and a D the module's holding register; the module
 //! killed, the status relay drops, inputs hold or clear as configured and
 //! the scans go on at their period; the module back, the device recovers
-//! by itself. Over RTU (a socat pty pair) the same round trip. A wrong
-//! file stops the server before a scan, naming its line; a program that
-//! writes a status relay is warned about.
+//! by itself. Over RTU (a socat pty pair, two units on the line) the same
+//! round trip. In STOP and paused the inputs are refreshed and a client's
+//! write to Y reaches the coil; the server stopping writes the coils OFF.
+//! Unchanged outputs are written by the keep-alive only, a change at once;
+//! a module that stops answering (SIGSTOP) is lost after its timeouts
+//! while the scans go on, and recovers by itself (SIGCONT). A wrong file
+//! stops the server before a scan, naming its line; a program that writes
+//! a status relay is warned about.
 
 use crate::common::server::{http, json, Server};
 use crate::common::tools::{ensure, ensure_python_module, skip};
@@ -78,6 +83,20 @@ impl Module {
 
     fn coil(&mut self, n: u16) -> bool {
         self.ask(&format!("co {n}")) == "1"
+    }
+
+    /// Write requests so far that wrote coils from address `n`.
+    fn coil_writes(&mut self, n: u16) -> u64 {
+        self.ask(&format!("wc {n}")).parse().unwrap()
+    }
+
+    /// Sends `signal` (`STOP`, `CONT`) to the module's process.
+    fn signal(&self, signal: &str) {
+        let sent = Command::new("kill")
+            .args([&format!("-{signal}"), &self.child.id().to_string()])
+            .status()
+            .unwrap();
+        assert!(sent.success());
     }
 
     fn kill(mut self) {
@@ -309,23 +328,62 @@ fn an_rtu_module_on_a_serial_line_drives_x_and_takes_y() {
     std::fs::write(
         &file,
         format!(
-            "[[device]]\nrtu = \"{}:115200,8N1\"\nunit = 1\nperiod_ms = {}\ntimeout_ms = 200\nstatus = \"M100\"\n\
+            "[[device]]\nrtu = \"{line}\"\nunit = 1\nperiod_ms = {period}\ntimeout_ms = 200\nstatus = \"M100\"\n\
              [[device.input]]\ndiscrete_inputs = 0\ncount = 8\nto = \"X0\"\n\
-             [[device.output]]\ncoils = 0\ncount = 8\nfrom = \"Y0\"\n",
-            plc.display(),
-            PERIOD.as_millis()
+             [[device.output]]\ncoils = 0\ncount = 8\nfrom = \"Y0\"\n\
+             [[device]]\nrtu = \"{line}\"\nunit = 2\nperiod_ms = {period}\ntimeout_ms = 200\nstatus = \"M101\"\n\
+             [[device.input]]\ndiscrete_inputs = 0\ncount = 8\nto = \"X10\"\n",
+            line = format_args!("{}:115200,8N1", plc.display()),
+            period = PERIOD.as_millis()
         ),
     )
     .unwrap();
     let server = Server::start_program(PROGRAM, &["--http", "127.0.0.1:0", "--io", file.to_str().unwrap()]);
     let web = server.web.unwrap();
-    let connected = until(Duration::from_secs(5), || devices(web, "M100")["M100"] == 1);
+    // Two units on the line (RS-485 multi-drop; the module answers both).
+    let connected = until(Duration::from_secs(5), || {
+        let seen = devices(web, "M100,M101");
+        seen["M100"] == 1 && seen["M101"] == 1
+    });
     assert!(connected.is_some(), "{}", http(web, "GET", "/api/io", "").1);
     round_trips(&mut module, "rtu");
-    module.kill();
+    assert!(
+        until(Duration::from_secs(1), || devices(web, "X10")["X10"] == 1).is_some(),
+        "the second unit's input"
+    );
+    // The module stops answering: the requests time out on a line kept
+    // open; back, it answers the requests queued meanwhile (late answers,
+    // flushed before each new request) and both units recover.
+    module.signal("STOP");
     assert!(
         until(Duration::from_secs(5), || devices(web, "M100")["M100"] == 0).is_some(),
-        "the status relay drops"
+        "lost while silent"
+    );
+    module.signal("CONT");
+    assert!(
+        until(Duration::from_secs(6), || {
+            let seen = devices(web, "M100,M101");
+            seen["M100"] == 1 && seen["M101"] == 1
+        })
+        .is_some(),
+        "{}",
+        http(web, "GET", "/api/io", "").1
+    );
+    assert_eq!(module.ask("di 0 0"), "ok");
+    assert!(
+        until(Duration::from_secs(3), || !module.coil(0)
+            && devices(web, "X10")["X10"] == 0)
+        .is_some(),
+        "inputs and outputs flow again"
+    );
+    module.kill();
+    assert!(
+        until(Duration::from_secs(5), || {
+            let seen = devices(web, "M100,M101");
+            seen["M100"] == 0 && seen["M101"] == 0
+        })
+        .is_some(),
+        "the status relays drop"
     );
 }
 
@@ -372,9 +430,20 @@ fn a_program_that_writes_a_status_relay_is_warned_about() {
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
+    // The lines read on a thread of their own, so a warning never printed
+    // fails the test at the deadline rather than hanging it.
+    let (lines, said_lines) = std::sync::mpsc::channel();
+    let stderr = child.stderr.take().unwrap();
+    std::thread::spawn(move || {
+        for line in BufReader::new(stderr).lines().map_while(Result::ok) {
+            if lines.send(line).is_err() {
+                break;
+            }
+        }
+    });
+    let deadline = Instant::now() + Duration::from_secs(20);
     let mut said = Vec::new();
-    for line in BufReader::new(child.stderr.take().unwrap()).lines() {
-        let line = line.unwrap();
+    while let Ok(line) = said_lines.recv_timeout(deadline.saturating_duration_since(Instant::now())) {
         let warned = line.starts_with("warning: --io");
         said.push(line);
         if warned {
@@ -387,5 +456,183 @@ fn a_program_that_writes_a_status_relay_is_warned_about() {
     assert!(
         warning.contains("the program writes M7600, which remote I/O device `device1` writes"),
         "{said:?}"
+    );
+}
+
+/// Two devices on one module: `changes` (inputs 0-7 to X0-X7, Y0-Y7 to
+/// coils 0-7, keep-alive a minute: written on change only) and
+/// `keepalive` (M0-M7, never changed, to coils 16-23 every 300 ms).
+fn writes_file(port: u16) -> String {
+    format!(
+        r#"
+[[device]]
+name = "changes"
+tcp = "127.0.0.1:{port}"
+period_ms = {period}
+timeout_ms = 200
+retries = 1
+keepalive_ms = 60000
+status = "M100"
+errors = "D100"
+[[device.input]]
+discrete_inputs = 0
+count = 8
+to = "X0"
+[[device.output]]
+coils = 0
+count = 8
+from = "Y0"
+
+[[device]]
+name = "keepalive"
+tcp = "127.0.0.1:{port}"
+period_ms = {period}
+timeout_ms = 200
+retries = 1
+keepalive_ms = 300
+status = "M101"
+errors = "D101"
+[[device.output]]
+coils = 16
+count = 8
+from = "M0"
+"#,
+        period = PERIOD.as_millis()
+    )
+}
+
+/// The module, and the server polling it with `writes_file`, once both
+/// devices answer; None (skipped) without pymodbus.
+fn started(test: &str) -> Option<(tempfile::TempDir, Module, Server)> {
+    if let Err(why) = module_ready() {
+        skip(test, &why);
+        return None;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let script = dir.path().join("module.py");
+    std::fs::write(&script, MODULE).unwrap();
+    let port = free_port();
+    let module = Module::start(&script, "tcp", &port.to_string(), free_port());
+    let file = dir.path().join("io.toml");
+    std::fs::write(&file, writes_file(port)).unwrap();
+    let server = Server::start_program(PROGRAM, &["--http", "127.0.0.1:0", "--io", file.to_str().unwrap()]);
+    let web = server.web.unwrap();
+    let connected = until(Duration::from_secs(5), || {
+        let seen = devices(web, "M100,M101");
+        seen["M100"] == 1 && seen["M101"] == 1
+    });
+    assert!(connected.is_some(), "{}", http(web, "GET", "/api/io", "").1);
+    Some((dir, module, server))
+}
+
+fn control(web: SocketAddr, action: &str) -> serde_json::Value {
+    json(&http(web, "POST", "/api/control", &format!(r#"{{"action": "{action}"}}"#)).1)
+}
+
+fn set(web: SocketAddr, device: &str, value: i32) {
+    let (status, body) = http(
+        web,
+        "POST",
+        "/api/set",
+        &format!(r#"{{"device": "{device}", "value": {value}}}"#),
+    );
+    assert_eq!(status, 200, "{body}");
+}
+
+#[test]
+fn stop_and_pause_refresh_the_remote_io_and_the_server_stopping_turns_outputs_off() {
+    let test = "stop_and_pause_refresh_the_remote_io_and_the_server_stopping_turns_outputs_off";
+    let Some((_dir, mut module, server)) = started(test) else {
+        return;
+    };
+    let web = server.web.unwrap();
+    // A mapped input is the module's to write: a client's write is refused.
+    let (status, body) = http(web, "POST", "/api/set", r#"{"device": "X1", "value": 1}"#);
+    assert_eq!(status, 409, "{body}");
+    assert!(body.contains("X1 is written by remote I/O device `changes`"), "{body}");
+    for (action, input, output) in [("stop", 1, 5), ("pause", 2, 6)] {
+        let state = control(web, action);
+        assert_eq!(
+            (state["mode"] == "stop", state["paused"] == true),
+            (action == "stop", action == "pause"),
+            "{state}"
+        );
+        // The inputs are refreshed without scans (a CPU's I/O refresh).
+        assert_eq!(module.ask(&format!("di {input} 1")), "ok");
+        let x = format!("X{input}");
+        assert!(
+            until(Duration::from_secs(3), || devices(web, &x)[&x] == 1).is_some(),
+            "{action}: the input reaches {x}"
+        );
+        // A client's write to a Y reaches the module at once.
+        set(web, &format!("Y{output}"), 1);
+        assert!(
+            until(Duration::from_secs(2), || module.coil(output)).is_some(),
+            "{action}: Y{output} reaches its coil"
+        );
+        control(web, "run");
+    }
+    // Paused again with Y6 ON: the server stopping writes the coils OFF.
+    control(web, "pause");
+    set(web, "Y6", 1);
+    assert!(until(Duration::from_secs(2), || module.coil(6)).is_some());
+    let (code, stderr) = server.stop();
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(!module.coil(6), "the outputs are OFF once the server has stopped");
+}
+
+#[test]
+fn keepalives_and_changes_are_written_and_a_silent_module_is_lost_and_recovers() {
+    let test = "keepalives_and_changes_are_written_and_a_silent_module_is_lost_and_recovers";
+    let Some((_dir, mut module, server)) = started(test) else {
+        return;
+    };
+    let web = server.web.unwrap();
+    // Nothing changes: `changes` writes nothing, `keepalive` every 300 ms.
+    std::thread::sleep(Duration::from_millis(300));
+    let before = (module.coil_writes(0), module.coil_writes(16));
+    std::thread::sleep(Duration::from_millis(1500));
+    let after = (module.coil_writes(0), module.coil_writes(16));
+    eprintln!("writes in 1.5 s without a change: {before:?} to {after:?}");
+    assert_eq!(after.0, before.0, "no change, no write");
+    assert!((3..=7).contains(&(after.1 - before.1)), "{before:?} {after:?}");
+    // A change is written at once, once.
+    assert_eq!(module.ask("di 0 1"), "ok");
+    assert!(until(Duration::from_secs(1), || module.coil(0)).is_some());
+    std::thread::sleep(Duration::from_millis(3 * PERIOD.as_millis() as u64));
+    assert_eq!(module.coil_writes(0), after.0 + 1, "one write for one change");
+    // The module stops answering (its process stopped, its port open):
+    // requests time out, the status relays drop, the scans go on.
+    module.signal("STOP");
+    let lost = until(Duration::from_secs(5), || {
+        let seen = devices(web, "M100,M101");
+        seen["M100"] == 0 && seen["M101"] == 0
+    });
+    assert!(lost.is_some(), "{}", http(web, "GET", "/api/io", "").1);
+    eprintln!(
+        "lost {} ms after the module stopped answering",
+        lost.unwrap().as_millis()
+    );
+    let errors = devices(web, "D100")["D100"].as_i64().unwrap();
+    let before = (Instant::now(), scans(web));
+    std::thread::sleep(Duration::from_secs(1));
+    let (since, scanned) = (before.0.elapsed(), scans(web) - before.1);
+    let expected = since.as_millis() as u64 / 10;
+    assert!(scanned * 10 >= expected * 8, "{scanned} scans, {expected} expected");
+    // One error per attempt: a timeout each, then backoffs of 100, 200,
+    // 400 ms... (not a burst of connection attempts).
+    let more = devices(web, "D100")["D100"].as_i64().unwrap() - errors;
+    assert!((1..=6).contains(&more), "{more} errors in a second while lost");
+    // The module answers again: both devices recover by themselves.
+    module.signal("CONT");
+    let back = until(Duration::from_secs(6), || {
+        let seen = devices(web, "M100,M101");
+        seen["M100"] == 1 && seen["M101"] == 1
+    });
+    assert!(back.is_some(), "{}", http(web, "GET", "/api/io", "").1);
+    assert_eq!(module.ask("di 0 0"), "ok");
+    assert!(
+        until(Duration::from_secs(2), || !module.coil(0)).is_some(),
+        "written again"
     );
 }

@@ -78,6 +78,10 @@ pub trait Engine {
     fn image(&self) -> Option<&Memory> {
         None
     }
+    /// The input refresh without a scan (a CPU in STOP): X takes the
+    /// inputs written since the last scan. Engines that hold no image here
+    /// refresh at their next scan.
+    fn refresh_inputs(&mut self) {}
     /// Replaces the device image (online change); false when the engine
     /// does not hold one in this process.
     fn load_image(&mut self, _image: &Memory) -> bool {
@@ -161,6 +165,10 @@ impl<R: ProgramRunner> Engine for InProcess<R> {
 
     fn image(&self) -> Option<&Memory> {
         Some(&self.memory)
+    }
+
+    fn refresh_inputs(&mut self) {
+        self.memory.image().refresh_inputs();
     }
 
     fn load_image(&mut self, image: &Memory) -> bool {

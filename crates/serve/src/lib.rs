@@ -147,12 +147,16 @@ pub fn serve(
     // client may stop the server as soon as it knows the address, and a
     // signal that came before its handler would kill the process.
     let signals = runtime.block_on(async { stop::StopSignals::register() });
+    if let Some(io) = &options.remote_io {
+        remote_io::check_serial_server(io, options.modbus_rtu.as_ref().map(|line| line.path.as_str()))?;
+    }
     // The listeners first: a port in use is an error before anything runs.
     let listeners = listeners::Listeners::open(&runtime, options, &shared)?;
     // The pollers before the first scan, which takes their inputs.
-    if let Some(io) = &options.remote_io {
-        remote_io::start(&runtime, io, &shared);
-    }
+    let pollers = options
+        .remote_io
+        .as_ref()
+        .map(|io| remote_io::start(&runtime, io, &shared, options.period));
     let scanner = scan::start(
         loaded,
         scan::Setup {
@@ -173,6 +177,10 @@ pub fn serve(
     // A scan thread that panicked stopped the server (`scan::start`); the
     // saver still writes the last published image before that is reported.
     let scanned = scanner.join();
+    // No scan hands outputs over any more: the remote outputs go OFF.
+    if let Some(pollers) = pollers {
+        pollers.stop(&runtime);
+    }
     // The saver writes once more after the last scan.
     if let Some(saver) = saver {
         saver.join().map_err(|_| "the retain thread failed".to_string())?;

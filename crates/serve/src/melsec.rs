@@ -163,6 +163,10 @@ impl Plc for Station {
             };
             queued.push(HostWrite::Set(device, value));
         }
+        // A device the remote I/O writes before every scan (`--io`).
+        if crate::remote_io::refused(&self.shared, &queued).is_some() {
+            return Err(Refusal::NotAllowed);
+        }
         let ticket = self.shared.queue(queued).ok_or(Refusal::Busy)?;
         self.ticket = Some(ticket);
         Ok(())

@@ -78,7 +78,12 @@ impl Service {
         };
         // A full queue of writes (clients writing faster than the scan
         // thread applies them): exception 06, server device busy.
+        // A device the remote I/O writes before every scan (`--io`): not
+        // writable here (exception 02), rather than answered and lost.
         let write = |writes: Vec<HostWrite>| -> Result<Option<Ticket>, ExceptionCode> {
+            if crate::remote_io::refused(&self.shared, &writes).is_some() {
+                return Err(IllegalDataAddress);
+            }
             self.shared.queue(writes).map(Some).ok_or(ServerDeviceBusy)
         };
         match request {

@@ -318,10 +318,16 @@ impl InMemoryNodeManagerImpl for Devices {
         if batch.is_empty() {
             return Ok(());
         }
-        let status = match self.shared.queue(batch) {
-            // The queue of writes is full.
-            None => StatusCode::BadTooManyOperations,
-            Some(ticket) => match self.shared.applied(ticket).await {
+        let queued = if crate::remote_io::refused(&self.shared, &batch).is_some() {
+            // A device the remote I/O writes before every scan (`--io`).
+            Err(StatusCode::BadNotWritable)
+        } else {
+            self.shared.queue(batch).ok_or(StatusCode::BadTooManyOperations)
+        };
+        let status = match queued {
+            // Refused, or the queue of writes is full.
+            Err(status) => status,
+            Ok(ticket) => match self.shared.applied(ticket).await {
                 Ok(()) => StatusCode::Good,
                 Err(NotApplied::TimedOut) => StatusCode::BadTimeout,
                 Err(NotApplied::Stopping) => StatusCode::BadShutdown,

@@ -191,8 +191,9 @@ fn run(
                 // Between two scans (or stopped, or paused): applied now,
                 // as END processing applies a request that comes while the
                 // CPU waits out its constant scan; the program sees them
-                // at its next scan, as before.
-                end_processing(engine, shared);
+                // at its next scan, as before. The remote outputs follow
+                // at once (a Y written in STOP reaches its coil).
+                end_processing(engine, shared, Outputs::Refresh);
                 continue;
             }
             Woken::Stop => return None,
@@ -206,16 +207,21 @@ fn run(
                 if entering {
                     all_outputs_off(engine);
                 }
-                if let Some(image) = engine.image() {
-                    // The remote outputs follow the image in STOP too.
-                    super::remote_io::after_scan(shared, image);
-                }
-                end_processing(engine, shared);
+                // The I/O refresh of a CPU in STOP: the remote inputs,
+                // status relays and error counts into the image, the
+                // writes applied, then the outputs to the modules.
+                refresh_inputs(engine, shared);
+                end_processing(engine, shared, Outputs::Refresh);
                 idle(clock, began);
             }
             // Writes while paused wake the thread and apply at once
-            // (`Woken::Writes`); a due time passes without a scan.
-            Due::Paused => idle(clock, began),
+            // (`Woken::Writes`); a due time passes without a scan, but
+            // with the I/O refreshed as in STOP.
+            Due::Paused => {
+                refresh_inputs(engine, shared);
+                end_processing(engine, shared, Outputs::Refresh);
+                idle(clock, began);
+            }
             Due::Scan { step } => {
                 // STOP→RUN as an FX does it: the non-latched devices
                 // cleared, and the first scan the first again (M8002).
@@ -323,7 +329,9 @@ fn scan(engine: &mut dyn Engine, clock: &mut Clock, shared: &Shared, began: Inst
         shared.sample(image);
         shared.control().after_scan(image, u64::from(image.scan_count));
     }
-    end_processing(engine, shared);
+    // The writes queued during the scan go out with the next scan's
+    // outputs (the program's result first, as an FX's END does).
+    end_processing(engine, shared, Outputs::Kept);
     let took = began.elapsed();
     clock.due += clock.period;
     let overrun = !step && Instant::now() > clock.due;
@@ -360,14 +368,37 @@ fn idle(clock: &mut Clock, now: Instant) {
     clock.carried = Duration::ZERO;
 }
 
+/// The input refresh of a CPU in STOP (or paused): the remote inputs,
+/// status relays and error counts written, and X takes its input image
+/// (a client's write to X shows too) without a scan.
+fn refresh_inputs(engine: &mut dyn Engine, shared: &Shared) {
+    super::remote_io::before_scan(shared, engine);
+    engine.refresh_inputs();
+}
+
+/// Whether END processing hands the outputs to the remote I/O.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Outputs {
+    /// After a scan: the scan handed them already; the writes go out
+    /// with the next scan's.
+    Kept,
+    /// Stopped, paused or between two scans: the image with the writes
+    /// applied is what the modules get now.
+    Refresh,
+}
+
 /// END processing of the host writes: those queued since the last batch
-/// applied, the image that shows them published (servers read that copy),
-/// then their writers answered, so a read after the answer sees the write.
-fn end_processing(engine: &mut dyn Engine, shared: &Shared) {
+/// applied, the remote outputs refreshed (`outputs`), the image that shows
+/// them published (servers read that copy), then their writers answered,
+/// so a read after the answer sees the write.
+fn end_processing(engine: &mut dyn Engine, shared: &Shared, outputs: Outputs) {
     for write in shared.take_writes() {
         apply(engine, write);
     }
     if let Some(image) = engine.image() {
+        if outputs == Outputs::Refresh {
+            super::remote_io::after_scan(shared, image);
+        }
         shared.publish(image);
     }
     shared.acknowledge();

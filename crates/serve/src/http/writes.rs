@@ -105,6 +105,10 @@ async fn queue(
     };
     match parse_write(&body).and_then(|(device, value)| make(device, value)) {
         Ok(write) => {
+            // A device the remote I/O writes before every scan (`--io`).
+            if let Some(message) = crate::remote_io::refused(&app.shared, &[write]) {
+                return error(StatusCode::CONFLICT, message);
+            }
             let Some(ticket) = app.shared.queue(vec![write]) else {
                 return busy();
             };

@@ -16,6 +16,9 @@ use toml::Spanned;
 pub const MOST_DEVICES: usize = 64;
 /// The most ranges (inputs and outputs together) of one device.
 pub const MOST_RANGES: usize = 32;
+/// The most values (bits and registers, inputs and outputs) one file maps:
+/// every scan walks them, so they stay a small part of a period.
+pub const MOST_VALUES: u32 = 4096;
 /// Modbus limits per request: bits and registers read, bits and registers
 /// written. A longer range is split into several requests.
 pub const READ_BITS: u16 = 2000;
@@ -185,6 +188,7 @@ pub fn parse(text: &str) -> Result<RemoteIo, String> {
     }
     let mut devices: Vec<Device> = Vec::with_capacity(raw.device.len());
     let mut lines = Vec::with_capacity(raw.device.len());
+    let mut values = 0u32;
     for (index, spanned) in raw.device.iter().enumerate() {
         let line = line_of(text, spanned.span().start);
         let raw = spanned.get_ref();
@@ -199,18 +203,63 @@ pub fn parse(text: &str) -> Result<RemoteIo, String> {
                 .push(input(spanned.get_ref()).map_err(|m| at(spanned.span(), m))?);
         }
         for spanned in &raw.output {
-            device
-                .outputs
-                .push(output(spanned.get_ref()).map_err(|m| at(spanned.span(), m))?);
+            let next = output(spanned.get_ref()).map_err(|m| at(spanned.span(), m))?;
+            if let Some(other) = device.outputs.iter().find(|o| writes_same(o, &next)) {
+                return Err(at(
+                    spanned.span(),
+                    format!(
+                        "this output writes module address {} which the output from {} writes too",
+                        next.address.max(other.address),
+                        source_name(other.from)
+                    ),
+                ));
+            }
+            device.outputs.push(next);
+        }
+        let counts = device
+            .inputs
+            .iter()
+            .map(|i| i.count)
+            .chain(device.outputs.iter().map(|o| o.count));
+        values += counts.map(u32::from).sum::<u32>();
+        if values > MOST_VALUES {
+            return Err(format!(
+                "{line}: the file maps {values} values so far; at most {MOST_VALUES}"
+            ));
         }
         if devices.iter().any(|d| d.name == device.name) {
             return Err(format!("{line}: a second device named `{}`", device.name));
         }
-        if let Some(other) = devices.iter().find(|d| shares_line(d, &device)) {
-            return Err(format!(
-                "{line}: `{}` is on the serial line of `{}`; one device per line",
-                device.name, other.name
-            ));
+        // Two devices for one module (the same address and unit) may not
+        // write the same coil or register either.
+        let module = devices
+            .iter()
+            .filter(|d| d.link == device.link && d.unit == device.unit);
+        for other in module {
+            if let Some(output) = device
+                .outputs
+                .iter()
+                .find(|o| other.outputs.iter().any(|p| writes_same(o, p)))
+            {
+                return Err(format!(
+                    "{line}: `{}` writes module address {} of the module `{}` writes too",
+                    device.name, output.address, other.name
+                ));
+            }
+        }
+        if let Some(other) = devices.iter().find(|d| same_line(d, &device)) {
+            if other.link != device.link {
+                return Err(format!(
+                    "{line}: `{}` is on the serial line of `{}` with another format",
+                    device.name, other.name
+                ));
+            }
+            if other.unit == device.unit {
+                return Err(format!(
+                    "{line}: `{}` has the unit id of `{}` on the same serial line",
+                    device.name, other.name
+                ));
+            }
         }
         devices.push(device);
         lines.push(line);
@@ -224,7 +273,22 @@ fn line_of(text: &str, at: usize) -> usize {
     text.get(..at).map_or(1, |before| before.matches('\n').count() + 1)
 }
 
-fn shares_line(a: &Device, b: &Device) -> bool {
+/// Whether two outputs write the same coil or holding register.
+fn writes_same(a: &Output, b: &Output) -> bool {
+    let end = |o: &Output| u32::from(o.address) + u32::from(o.count);
+    a.table == b.table && u32::from(a.address) < end(b) && u32::from(b.address) < end(a)
+}
+
+fn source_name(source: Source) -> String {
+    match source {
+        Source::Bits(area, n) => area.device_name(n),
+        Source::Words(n) => WordArea::D.device_name(n),
+    }
+}
+
+/// Whether two devices are on one serial line (RS-485 multi-drop: one
+/// poller serves their units in turn).
+pub fn same_line(a: &Device, b: &Device) -> bool {
     match (&a.link, &b.link) {
         (Link::Rtu { path: p, .. }, Link::Rtu { path: q, .. }) => p == q,
         (Link::Tcp(_), Link::Tcp(_) | Link::Rtu { .. }) | (Link::Rtu { .. }, Link::Tcp(_)) => false,
@@ -274,6 +338,14 @@ fn device(index: usize, raw: &RawDevice) -> Result<Device, String> {
         "keepalive_ms",
         1..=3_600_000,
     )?;
+    if keepalive < period {
+        // The keep-alive is written by a poll: it cannot come more often.
+        return Err(format!(
+            "keepalive_ms ({}) is less than period_ms ({}); the outputs are rewritten at most once a poll",
+            keepalive.as_millis(),
+            period.as_millis()
+        ));
+    }
     let retries = raw.retries.unwrap_or(2);
     if retries > 100 {
         return Err("retries is 0 to 100".to_string());
@@ -451,7 +523,8 @@ fn check_overlaps(devices: &[Device], lines: &[usize]) -> Result<(), String> {
     Ok(())
 }
 
-fn overlap((a, n): (Place, u32), (b, m): (Place, u32)) -> bool {
+/// Whether two runs of devices (first, count) share a device.
+pub fn overlap((a, n): (Place, u32), (b, m): (Place, u32)) -> bool {
     let span = |place: Place| match place {
         Place::Bit(area, i) => Some((Some(area), None, i)),
         Place::Word(area, i) => Some((None, Some(area), i)),

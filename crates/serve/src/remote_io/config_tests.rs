@@ -123,7 +123,29 @@ fn errors_name_their_line() {
         (
             "[[device]]\nrtu = \"/dev/ttyS9\"\n[[device]]\nrtu = \"/dev/ttyS9\"\n",
             "3:",
-            "one device per line",
+            "has the unit id of `device1` on the same serial line",
+        ),
+        (
+            "[[device]]\nrtu = \"/dev/ttyS9:9600,8N1\"\n[[device]]\nrtu = \"/dev/ttyS9:19200,8N1\"\nunit = 2\n",
+            "3:",
+            "with another format",
+        ),
+        (
+            "[[device]]\ntcp = \"127.0.0.1:502\"\nperiod_ms = 100\nkeepalive_ms = 50\n",
+            "1:",
+            "keepalive_ms (50) is less than period_ms (100)",
+        ),
+        (
+            "[[device]]\ntcp = \"127.0.0.1:502\"\n[[device.output]]\ncoils = 0\ncount = 8\nfrom = \"Y0\"\n\
+             [[device.output]]\ncoils = 7\ncount = 2\nfrom = \"M0\"\n",
+            "7:",
+            "writes module address 7 which the output from Y0 writes too",
+        ),
+        (
+            "[[device]]\ntcp = \"127.0.0.1:502\"\n[[device.output]]\ncoils = 4\ncount = 8\nfrom = \"Y0\"\n\
+             [[device]]\ntcp = \"127.0.0.1:502\"\n[[device.output]]\ncoils = 0\ncount = 5\nfrom = \"M0\"\n",
+            "7:",
+            "`device2` writes module address 0 of the module `device1` writes too",
         ),
         ("[[device]]\ntcp = \"127.0.0.1:502\"\nunit = 300\n", "3:", ""),
         ("", "1:", "no [[device]]"),
@@ -139,6 +161,37 @@ fn errors_name_their_line() {
 fn too_many_devices_are_refused() {
     let text = "[[device]]\ntcp = \"127.0.0.1:502\"\nstatus = \"M0\"\nerrors = \"D0\"\n".repeat(MOST_DEVICES + 1);
     assert!(parse(&text).unwrap_err().contains("at most 64"));
+}
+
+#[test]
+fn several_units_share_a_serial_line_and_outputs_to_other_tables_may_share_addresses() {
+    let io = parse(
+        "[[device]]\nrtu = \"/dev/ttyS9:9600,8N1\"\nunit = 1\n\
+         [[device.output]]\ncoils = 0\ncount = 8\nfrom = \"Y0\"\n\
+         [[device.output]]\nholding_registers = 0\ncount = 8\nfrom = \"D0\"\n\
+         [[device]]\nrtu = \"/dev/ttyS9:9600,8N1\"\nunit = 2\n",
+    )
+    .unwrap();
+    assert_eq!(io.devices.len(), 2);
+    assert!(same_line(&io.devices[0], &io.devices[1]));
+}
+
+#[test]
+fn the_values_a_file_maps_are_bounded() {
+    // Each device its own module (port), so the outputs do not overlap.
+    let device = |n: u32| {
+        let port = 502 + n;
+        format!(
+            "[[device]]\ntcp = \"127.0.0.1:{port}\"\nstatus = \"M{n}\"\nerrors = \"D{n}\"\n\
+             [[device.output]]\ncoils = 0\ncount = 2000\nfrom = \"M0\"\n"
+        )
+    };
+    let two: String = (0..2).map(device).collect();
+    assert!(parse(&two).is_ok(), "4000 values");
+    let three: String = (0..3).map(device).collect();
+    let error = parse(&three).unwrap_err();
+    assert!(error.starts_with("17:"), "{error}");
+    assert!(error.contains("6000 values so far; at most 4096"), "{error}");
 }
 
 #[test]

@@ -6,15 +6,22 @@
 //! monitor. Each lock is held for a copy of a few values, never across
 //! network I/O, and is a priority-inheriting one (`scan_lock`); a change
 //! of outputs wakes the poller through `wake.rs`, without a lock: the scan
-//! thread never waits on the network.
+//! thread never waits on the network. The scan thread's hand-offs also
+//! beat a heartbeat (`Beat`): a poller writes keep-alives only while it
+//! beats, so a stalled scan thread does not feed a module's watchdog.
 
 use super::config::{Device, InputTable, OnLoss, OutputTable, Source};
 use crate::scan_lock::{self, lock, ScanLock};
 use ladder_engine::Engine;
 use ladder_front::host_device::HostDevice;
 use ladder_runtime::{BitArea, Device as Place, Memory, Width, WordArea};
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
-use std::time::Instant;
+use std::time::{Duration, Instant};
+
+/// Scan periods without a hand-off of the outputs after which the scan
+/// thread counts as stalled and keep-alives stop.
+pub const STALLED_AFTER: u32 = 3;
 
 /// Every device's slot, in the file's order.
 pub struct Exchange {
@@ -27,9 +34,44 @@ pub struct Slot {
     inputs: ScanLock<Inputs>,
     outputs: ScanLock<Outputs>,
     /// Raised when a scan changed the outputs: the poller writes them now
-    /// rather than at its next poll.
-    pub changed: super::wake::Signal,
+    /// rather than at its next poll (one signal per link: the devices of a
+    /// serial line share it and their poller).
+    pub changed: Arc<super::wake::Signal>,
     state: Mutex<State>,
+    pub beat: Arc<Beat>,
+}
+
+/// When the scan thread last handed the outputs over (a scan, or a due
+/// time in STOP or paused), without a lock.
+#[derive(Debug)]
+pub struct Beat {
+    epoch: Instant,
+    /// Microseconds from `epoch` to the latest hand-off (0: none yet).
+    last: AtomicU64,
+    /// How long without a hand-off makes the scan thread stalled.
+    stalled_after: Duration,
+}
+
+impl Beat {
+    pub fn new(scan_period: Duration) -> Beat {
+        Beat {
+            epoch: Instant::now(),
+            last: AtomicU64::new(0),
+            stalled_after: scan_period * STALLED_AFTER,
+        }
+    }
+
+    /// A hand-off now (scan thread).
+    pub fn mark(&self) {
+        let micros = u64::try_from(self.epoch.elapsed().as_micros()).unwrap_or(u64::MAX);
+        self.last.store(micros.max(1), Ordering::Relaxed);
+    }
+
+    /// Whether the scan thread handed the outputs over recently.
+    pub fn alive(&self) -> bool {
+        let last = self.last.load(Ordering::Relaxed);
+        last != 0 && self.epoch.elapsed().saturating_sub(Duration::from_micros(last)) <= self.stalled_after
+    }
 }
 
 /// What the scan takes: the inputs in the order of the device's ranges
@@ -106,21 +148,46 @@ impl Outputs {
 }
 
 impl Exchange {
-    pub fn new(devices: &[Device]) -> Exchange {
-        Exchange {
-            slots: devices
+    /// The slots of `devices`, those of one serial line sharing a signal;
+    /// `scan_period` tells when the scan thread is stalled.
+    pub fn new(devices: &[Device], scan_period: Duration) -> Exchange {
+        let beat = Arc::new(Beat::new(scan_period));
+        let mut slots: Vec<Arc<Slot>> = Vec::with_capacity(devices.len());
+        for device in devices {
+            let changed = slots
                 .iter()
-                .map(|device| {
-                    Arc::new(Slot {
-                        inputs: scan_lock::new(Inputs::sized(device)),
-                        outputs: scan_lock::new(Outputs::sized(device)),
-                        changed: super::wake::Signal::new(),
-                        state: Mutex::new(State::default()),
-                        device: device.clone(),
-                    })
-                })
-                .collect(),
+                .find(|slot| super::config::same_line(&slot.device, device))
+                .map_or_else(
+                    || Arc::new(super::wake::Signal::new()),
+                    |slot| Arc::clone(&slot.changed),
+                );
+            slots.push(Arc::new(Slot {
+                inputs: scan_lock::new(Inputs::sized(device)),
+                outputs: scan_lock::new(Outputs::sized(device)),
+                changed,
+                state: Mutex::new(State::default()),
+                beat: Arc::clone(&beat),
+                device: device.clone(),
+            }));
         }
+        Exchange { slots }
+    }
+
+    /// The slots by link: one group per serial line (its devices in the
+    /// file's order), one per TCP device.
+    pub fn links(&self) -> Vec<Vec<Arc<Slot>>> {
+        let mut links: Vec<Vec<Arc<Slot>>> = Vec::new();
+        for slot in &self.slots {
+            let line = links.iter_mut().find(|link| {
+                link.first()
+                    .is_some_and(|first| super::config::same_line(&first.device, &slot.device))
+            });
+            match line {
+                Some(link) => link.push(Arc::clone(slot)),
+                None => links.push(vec![Arc::clone(slot)]),
+            }
+        }
+        links
     }
 
     /// Before a scan (scan thread): every device's freshest inputs, status
@@ -163,6 +230,9 @@ impl Exchange {
     /// After a scan (scan thread): every device's outputs from the image;
     /// a device whose outputs changed is told to write them.
     pub fn from_image(&self, image: &Memory) {
+        if let Some(slot) = self.slots.first() {
+            slot.beat.mark();
+        }
         for slot in &self.slots {
             let mut outputs = lock(&slot.outputs);
             let Outputs {

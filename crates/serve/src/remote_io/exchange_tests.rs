@@ -31,7 +31,7 @@ from = "D1"
 #[test]
 fn a_poll_and_a_loss_reach_the_scan_and_outputs_go_out_on_change() {
     let io = parse(FILE).unwrap();
-    let exchange = Exchange::new(&io.devices);
+    let exchange = Exchange::new(&io.devices, Duration::from_millis(10));
     let slot = &exchange.slots[0];
     slot.publish(&[true, false, true], &[0xFFFF], 0);
     {
@@ -70,4 +70,38 @@ fn a_poll_and_a_loss_reach_the_scan_and_outputs_go_out_on_change() {
 fn the_error_count_saturates() {
     assert_eq!(saturated(40_000), 32_767);
     assert_eq!(saturated(5), 5);
+}
+
+#[test]
+fn keep_alives_stop_when_the_scan_thread_stops_handing_outputs_over() {
+    let io = parse(FILE).unwrap();
+    let exchange = Exchange::new(&io.devices, Duration::from_millis(10));
+    let beat = &exchange.slots[0].beat;
+    assert!(!beat.alive(), "no scan yet");
+    exchange.from_image(&ladder_runtime::Memory::new_boxed());
+    assert!(beat.alive(), "a scan just handed the outputs over");
+    // Three scan periods and more without a hand-off: stalled.
+    std::thread::sleep(Duration::from_millis(40));
+    assert!(!beat.alive(), "stalled");
+    exchange.from_image(&ladder_runtime::Memory::new_boxed());
+    assert!(beat.alive(), "beating again");
+}
+
+#[test]
+fn the_units_of_one_serial_line_share_a_link_and_its_signal() {
+    let io = parse(
+        "[[device]]\nrtu = \"/dev/ttyS9:9600,8N1\"\nunit = 1\n\
+         [[device]]\ntcp = \"127.0.0.1:502\"\n\
+         [[device]]\nrtu = \"/dev/ttyS9:9600,8N1\"\nunit = 2\n",
+    )
+    .unwrap();
+    let exchange = Exchange::new(&io.devices, Duration::from_millis(10));
+    let links = exchange.links();
+    let names: Vec<Vec<&str>> = links
+        .iter()
+        .map(|link| link.iter().map(|slot| slot.device.name.as_str()).collect())
+        .collect();
+    assert_eq!(names, [vec!["device1", "device3"], vec!["device2"]]);
+    assert!(Arc::ptr_eq(&exchange.slots[0].changed, &exchange.slots[2].changed));
+    assert!(!Arc::ptr_eq(&exchange.slots[0].changed, &exchange.slots[1].changed));
 }

@@ -2,8 +2,8 @@
 //! `AsyncWrite`): the line opened and set up by the `serialport` crate (as
 //! `--modbus-rtu` opens its own), its descriptor made non-blocking and
 //! watched by tokio's reactor, so a poller waiting for an answer holds no
-//! thread. Unix only (a terminal device); elsewhere opening fails with a
-//! message.
+//! thread; its unread input can be discarded before a request (`Drain`).
+//! Unix only (a terminal device); elsewhere opening fails with a message.
 
 use ladder_modbus::rtu::{Format, Parity};
 
@@ -18,6 +18,30 @@ pub fn open(path: &str, _format: Format) -> std::io::Result<tokio::io::DuplexStr
     Err(std::io::Error::other(format!(
         "{path}: remote I/O over a serial line needs a Unix system"
     )))
+}
+
+/// What discards a serial line's unread input before a request.
+#[cfg(unix)]
+pub use unix::Drain;
+
+/// The drain of an open line (it lives as long as the line does: both are
+/// kept by the poller's connection).
+#[cfg(unix)]
+pub fn drain_of(line: &unix::Line) -> Option<Drain> {
+    Some(line.drain())
+}
+
+#[cfg(not(unix))]
+pub struct Drain;
+
+#[cfg(not(unix))]
+impl Drain {
+    pub fn flush_input(&self) {}
+}
+
+#[cfg(not(unix))]
+pub fn drain_of(_line: &tokio::io::DuplexStream) -> Option<Drain> {
+    None
 }
 
 /// The line's settings for `serialport`.
@@ -78,6 +102,29 @@ mod unix {
             // the poller's task, inside the runtime (its reactor).
             let fd = unsafe { AsyncFd::register(port) }.map_err(|e| io::Error::other(e.to_string()))?;
             Ok(Line { fd })
+        }
+    }
+
+    /// The line's descriptor, to discard its unread input.
+    pub struct Drain {
+        fd: std::os::fd::RawFd,
+    }
+
+    impl Line {
+        pub fn drain(&self) -> Drain {
+            Drain {
+                fd: self.fd.get_ref().as_raw_fd(),
+            }
+        }
+    }
+
+    impl Drain {
+        /// Discards what the line received and nobody read (tcflush).
+        pub fn flush_input(&self) {
+            // SAFETY: the descriptor belongs to the `Line` the poller's
+            // connection keeps open as long as this drain (they are
+            // dropped together); tcflush takes no pointers.
+            let _ = unsafe { libc::tcflush(self.fd, libc::TCIFLUSH) };
         }
     }
 
