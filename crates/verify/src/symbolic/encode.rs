@@ -527,18 +527,28 @@ impl State<'_, '_> {
         }
     }
 
-    /// `OUT Cn preset` as the runtime's coil runs it (`counter.rs`; no
-    /// forces here): 16-bit counters count rising edges up to the preset,
-    /// 32-bit ones up or down (M8200+) with wrap-around; the contact is ON
-    /// at or above the preset.
+    /// `OUT Cn preset` as the runtime's coil runs it (`counter.rs`):
+    /// 16-bit counters count rising edges up to the preset, 32-bit ones up
+    /// or down (M8200+) with wrap-around; the contact is ON at or above the
+    /// preset. A forced counter keeps its coil's edge and nothing else.
     fn counter_coil(&mut self, counter: u32, coil: Lit, preset: &[Lit]) {
         if counter >= COUNTER_COUNT {
             return;
         }
-        let guard = self.guard;
         let was = self.image.read((Array::CounterCoilWasOn, counter))[0];
         let rising = self.image.aig.and(coil, !was);
-        self.image.write((Array::CounterCoilWasOn, counter), guard, &[coil]);
+        self.image
+            .write((Array::CounterCoilWasOn, counter), self.guard, &[coil]);
+        let forced = self.image.read((Array::ForceCounter, counter))[0];
+        let saved = self.guard;
+        self.guard = self.image.aig.and(saved, !forced);
+        self.count(counter, rising, preset);
+        self.guard = saved;
+    }
+
+    /// The counting part of `counter_coil`, under `self.guard`.
+    fn count(&mut self, counter: u32, rising: Lit, preset: &[Lit]) {
+        let guard = self.guard;
         let value = if counter >= FIRST_WIDE_COUNTER {
             let old = self.image.read((Array::WideCounterValue, counter));
             let new = if counter < FIRST_HSC {

@@ -50,9 +50,6 @@ pub fn build(
     file: &PropertyFile,
     claim: &Claim,
 ) -> Result<System, Unsupported> {
-    if !file.forces.is_empty() {
-        return Err(Unsupported("`force` is not encoded".to_string()));
-    }
     let machine = model.machine();
     if machine.contains(MachineUse::HIGH_SPEED) || machine.contains(MachineUse::ALARMS) {
         return Err(Unsupported(
@@ -61,8 +58,9 @@ pub fn build(
     }
     // The first build learns every element the scan touches; the second
     // knows them all from the start, so an indexed store reaches each.
-    let (_, known) = build_once(model, ir, claim, FxHashSet::default())?;
-    let (system, _) = build_once(model, ir, claim, known)?;
+    let forces = &file.forces;
+    let (_, known) = build_once(model, ir, claim, forces, FxHashSet::default())?;
+    let (system, _) = build_once(model, ir, claim, forces, known)?;
     Ok(system.simplified())
 }
 
@@ -95,6 +93,7 @@ fn build_once(
     model: &Model,
     ir: &ladder_ir::Program,
     claim: &Claim,
+    forces: &[(BitArea, u32, bool)],
     known: FxHashSet<Key>,
 ) -> Result<(System, FxHashSet<Key>), Unsupported> {
     let mut aig = Aig::new();
@@ -166,6 +165,13 @@ fn build_once(
         if array == Array::X && !free_x.contains(&n) {
             let bit = input_image_bit(power_up, n);
             image.write((Array::X, n), Lit::TRUE, &[Lit::constant(bit)]);
+        }
+    }
+    // Forced inputs and timer or counter contacts win over the refresh
+    // (`force.rs`, step 1).
+    for &(area, n, on) in forces {
+        if forced_at_refresh(area) {
+            image.write((Array::of_bits(area), n), Lit::TRUE, &[Lit::constant(on)]);
         }
     }
     let (elapsed, free_elapsed) = match model.scan_time {
@@ -256,6 +262,12 @@ fn build_once(
 
     // Step 3: the program.
     encode::run_program(&mut image, ir)?;
+    // Step 4: forced outputs and relays over the program's results.
+    for &(area, n, on) in forces {
+        if !forced_at_refresh(area) {
+            image.write((Array::of_bits(area), n), Lit::TRUE, &[Lit::constant(on)]);
+        }
+    }
 
     // After the scan: the claim.
     let now_ok = image.aig.and(ok, valid);
@@ -475,6 +487,16 @@ fn write_device(image: &mut Image, device: HostDevice, value: &[Lit]) {
                 at += bits;
             }
         }
+    }
+}
+
+/// Whether a forced device of `area` takes its value at the input refresh
+/// (X, timer and counter contacts) rather than after the program (Y, M).
+fn forced_at_refresh(area: BitArea) -> bool {
+    match area {
+        BitArea::X | BitArea::TimerContact | BitArea::CounterContact => true,
+        // S and SM cannot be forced (`force` refuses them before this).
+        BitArea::Y | BitArea::M | BitArea::S | BitArea::Sm => false,
     }
 }
 
