@@ -342,6 +342,15 @@ fn decide(
     };
     let outcome = match answer {
         symbolic::bmc::Answer::Holds => {
+            // Vacuity: can the first scan's inputs meet the assumptions?
+            let first = symbolic::System {
+                bad: system.valid,
+                ..system.clone()
+            };
+            let mut bmc = symbolic::bmc::Bmc::new(&first, deadline);
+            if let Some(symbolic::bmc::Answer::Holds) | None = bmc.step(1, false) {
+                searched.transitions = 0;
+            }
             // Vacuity: can the condition be true at all?
             if let Some(condition) = system.condition {
                 let question = symbolic::System {

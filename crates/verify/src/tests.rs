@@ -173,6 +173,52 @@ fn vacuous_and_unused_are_warned() {
     assert!(reports[2].warnings.is_empty(), "{:?}", reports[2].warnings);
 }
 
+/// Found by a review of the SAT engines: each once proved wrongly there.
+#[test]
+fn the_sat_engines_keep_negative_numbers_digit_inputs_and_vacuity() {
+    let sat = Options {
+        engine: Engine::Symbolic,
+        ..Options::default()
+    };
+    let explicit = Options {
+        engine: Engine::Explicit,
+        ..Options::default()
+    };
+    let both = |text: &str| (verdicts(text, &explicit), verdicts(text, &sat));
+    // Negative numbers in comparisons (were unsigned past 64 bits).
+    let negative = "program <<\nLD M8000\nMOV K0 D0\n>>\nalways D0 <= -5\nnever D0 > -5\nnever D0 == HFFFF\n";
+    let (want, got) = both(negative);
+    assert_eq!(want[0].1, "violated at scan 1");
+    assert_eq!(got, want);
+    let copied = "program <<\nLD M8000\nMOV D1 D0\n>>\ninput D1 in -100..100\nnever D0 == -3\n";
+    let (want, got) = both(copied);
+    assert_eq!(want[0].1, "violated at scan 1");
+    assert_eq!(got, want);
+    // A word input over X bits goes through the input refresh.
+    let digits = "program <<\nLD X3\nOUT Y0\n>>\ninput K1X0 in 0..15\nnever Y0\n";
+    let (want, got) = both(digits);
+    assert_eq!(want[0].1, "violated at scan 1");
+    assert_eq!(got, want);
+    // Assumptions nothing meets: proved, and said to be vacuous.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("v.prop");
+    std::fs::write(
+        &path,
+        "program <<\nLD X0\nOUT Y0\n>>\ninput X0\nassume X0 & !X0\nnever Y0\n",
+    )
+    .unwrap();
+    let report = &verify_file(&path, &sat).unwrap()[0];
+    assert_eq!(report.verdict, Verdict::Proved);
+    assert!(
+        report
+            .warnings
+            .iter()
+            .any(|w| w.contains("rule out every input of the first scan")),
+        "{:?}",
+        report.warnings
+    );
+}
+
 #[test]
 fn limits_answer_unknown_never_a_wrong_verdict() {
     // A counter that needs 151 rising edges: violated at scan 301, unknown

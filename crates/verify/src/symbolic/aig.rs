@@ -119,6 +119,20 @@ impl Aig {
         if b == Lit::TRUE {
             return a;
         }
+        // ¬(x ∧ y) ∧ ¬(x ∧ ¬y) is ¬x: the two halves of a branch joined
+        // again (a block after an if-else) fold back to its guard.
+        if let (true, true, Some(Node::And(a1, a2)), Some(Node::And(b1, b2))) = (
+            a.negated(),
+            b.negated(),
+            self.nodes.get(a.node() as usize).copied(),
+            self.nodes.get(b.node() as usize).copied(),
+        ) {
+            for (x, y) in [(a1, a2), (a2, a1)] {
+                if (b1 == x && b2 == !y) || (b2 == x && b1 == !y) {
+                    return !x;
+                }
+            }
+        }
         let key = if a < b { (a, b) } else { (b, a) };
         if let Some(&lit) = self.hashed.get(&key) {
             return lit;

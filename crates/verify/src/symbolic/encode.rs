@@ -580,7 +580,8 @@ impl State<'_, '_> {
 
     /// BMOV and FMOV between fixed word places inside their areas, as the
     /// runtime moves them: every value read before any is written, at
-    /// most 512 units. `None` (not encoded here) for anything else.
+    /// most `MAX_TRANSFER_UNITS`. `None` (not encoded here) for anything
+    /// else.
     fn block_move(&mut self, helper: Helper, args: &[Value]) -> Option<()> {
         let constant = |s: &Self, i: usize| args.get(i).and_then(|&a| s.constant(a));
         let fill = matches!(helper, Helper::Fill);
@@ -704,7 +705,9 @@ impl State<'_, '_> {
             }
         } else if matches!(helper, Helper::RecordError) {
             let line = args.get(1).and_then(|&a| self.constant(a));
-            if let (Some(code), Some(line)) = (first, line) {
+            // The runtime records only the codes it knows.
+            let known = first.and_then(OperationError::from_code);
+            if let (Some(code), Some(line), Some(_)) = (first, line, known) {
                 self.record_error(i64::from(code), line & 0xFFFF);
                 return Ok(None);
             }

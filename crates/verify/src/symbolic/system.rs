@@ -41,6 +41,9 @@ pub struct System {
     pub elapsed: Option<Word>,
     /// What the model takes as arbitrary values.
     pub unmodelled: Vec<String>,
+    /// ON after scans whose inputs all met the assumptions and ranges (its
+    /// value after scan 1 says whether any input of the first scan does).
+    pub valid: Lit,
 }
 
 /// The system of `claim` on `model`'s program (`ir`) under `file`.
@@ -84,6 +87,7 @@ impl System {
             inputs: self.inputs.iter().map(|w| w.iter().map(|&l| at(l)).collect()).collect(),
             elapsed: self.elapsed.as_ref().map(|w| w.iter().map(|&l| at(l)).collect()),
             unmodelled: self.unmodelled,
+            valid: at(self.valid),
             aig,
         }
     }
@@ -145,6 +149,13 @@ fn build_once(
             Input::Word { device, low, high } => {
                 let word: Word = (0..device.bits()).map(|_| image.aig.input()).collect();
                 write_device(&mut image, device, &word);
+                // A host's write of X bits (`K4X0`) goes to the input
+                // image, which the refresh copies to X: they stay.
+                for ((array, n), _) in device_keys(device).0 {
+                    if array == Array::X {
+                        free_x.insert(n);
+                    }
+                }
                 let width = device.bits() + 2;
                 let value = words::resize(&word, width, true);
                 let below = words::less_signed(image.aig, &value, &words::constant(low, width));
@@ -304,6 +315,7 @@ fn build_once(
             inputs,
             elapsed: free_elapsed,
             unmodelled,
+            valid: ok,
         },
         known_after,
     ))

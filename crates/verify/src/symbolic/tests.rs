@@ -146,3 +146,26 @@ fn latches_step_from_their_initial_values() {
         assert_eq!(value, want, "after scan {}", scan + 1);
     }
 }
+
+#[test]
+fn wide_constants_and_comparisons_keep_their_sign() {
+    // Property comparisons are made wider than 64 bits.
+    let width = 66;
+    let mut aig = Aig::new();
+    let a = input_word(&mut aig, 16);
+    let wide = words::resize(&a, width, true);
+    for (value, number) in [(0i64, -5i64), (-7, -5), (-3, -5), (100, -1), (-1, -1), (-32768, 32767)] {
+        let n = words::constant(number, width);
+        assert_eq!(
+            words::constant_value(&n[..63]).map(|v| wrap(v, 63)),
+            Some(wrap(number, 63))
+        );
+        let less = words::less_signed(&mut aig, &wide, &n);
+        let equal = words::equal(&mut aig, &wide, &n);
+        let mut inputs = Vec::new();
+        assign(&mut inputs, value, 16);
+        let nodes = aig.simulate(&inputs, &[]);
+        assert_eq!(value_of(&nodes, less), value < number, "{value} < {number}");
+        assert_eq!(value_of(&nodes, equal), value == number, "{value} == {number}");
+    }
+}

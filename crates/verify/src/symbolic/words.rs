@@ -7,10 +7,10 @@ use super::aig::{Aig, Lit};
 
 pub type Word = Vec<Lit>;
 
-/// `value`'s low `width` bits.
+/// `value` in `width` bits: its low bits, sign-extended past 64.
 pub fn constant(value: i64, width: u32) -> Word {
     (0..width)
-        .map(|i| Lit::constant(i < 64 && (value >> i) & 1 == 1))
+        .map(|i| Lit::constant((value >> i.min(63)) & 1 == 1))
         .collect()
 }
 
