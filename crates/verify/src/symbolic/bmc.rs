@@ -7,7 +7,6 @@
 //! to k, the property holds. Without simple-path constraints it is sound
 //! but need not succeed: IC3 (`pdr.rs`) proves what it cannot.
 
-use super::aig::Lit;
 use super::sat::Unroller;
 use super::system::System;
 use std::time::Instant;
@@ -107,11 +106,7 @@ pub fn trace(unroller: &mut Unroller, system: &System, k: usize) -> Vec<Frame> {
     frames
 }
 
+/// Why an engine stopped without an answer at the `--timeout`.
 pub fn timeout() -> String {
     "the time limit was reached".to_string()
-}
-
-/// Whether `lit` is the constant FALSE (a claim no scan can break).
-pub fn never(lit: Lit) -> bool {
-    lit == Lit::FALSE
 }

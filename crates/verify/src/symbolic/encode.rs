@@ -373,13 +373,11 @@ impl State<'_, '_> {
                 }
                 return Ok(None);
             }
-            Inst::FillBits { area, start, count, on } => {
-                let _ = (start, count);
+            Inst::FillBits { area, on, .. } => {
                 self.fill(inst, area.count(), &[Lit::constant(*on)]);
                 return Ok(None);
             }
-            Inst::ClearWords { area, start, count } => {
-                let _ = (start, count);
+            Inst::ClearWords { area, .. } => {
                 self.fill(inst, area.count(), &words::constant(0, 16));
                 return Ok(None);
             }
